@@ -1,0 +1,91 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_config.h
+ * @brief Compile-time capacities and switches of the aenl core.
+ *
+ * Every capacity has a default behind `#ifndef` and a range check right after it. A project can
+ * set its own values with `-D`, or put them in a header named by `AENL_CONFIG_HEADER`
+ * (`-DAENL_CONFIG_HEADER='"my_aenl_config.h"'`), which is included first.
+ * Each line says what one unit of the capacity costs in RAM (float32 build, 4-byte reals).
+ */
+#ifndef AENL_CONFIG_H
+#define AENL_CONFIG_H
+
+#ifdef AENL_CONFIG_HEADER
+#include AENL_CONFIG_HEADER
+#endif
+
+/* ---- numeric type ------------------------------------------------------------------------- */
+
+/** 0: `float` (MCU build), 1: `double` (host build). Set as a PUBLIC definition by CMake. */
+#ifndef AENL_USE_DOUBLE
+#define AENL_USE_DOUBLE 0
+#endif
+#if (AENL_USE_DOUBLE != 0) && (AENL_USE_DOUBLE != 1)
+#error "AENL_USE_DOUBLE must be 0 or 1"
+#endif
+
+/* ---- aenl_moments ------------------------------------------------------------------------- */
+
+/** Most grid nodes per lag. Costs nothing by itself: storage is sized by MAX_CELLS. */
+#ifndef AENL_MOMENTS_MAX_GRID
+#define AENL_MOMENTS_MAX_GRID 256
+#endif
+#if (AENL_MOMENTS_MAX_GRID < 3) || (AENL_MOMENTS_MAX_GRID > 4096)
+#error "AENL_MOMENTS_MAX_GRID must be in [3, 4096]"
+#endif
+
+/** Most lags per estimator. 2 B each. */
+#ifndef AENL_MOMENTS_MAX_LAGS
+#define AENL_MOMENTS_MAX_LAGS 16
+#endif
+#if (AENL_MOMENTS_MAX_LAGS < 1) || (AENL_MOMENTS_MAX_LAGS > 64)
+#error "AENL_MOMENTS_MAX_LAGS must be in [1, 64]"
+#endif
+
+/** Largest lag in samples. History ring: 5 B per unit (one real plus one validity byte). */
+#ifndef AENL_MOMENTS_MAX_LAG
+#define AENL_MOMENTS_MAX_LAG 64
+#endif
+#if (AENL_MOMENTS_MAX_LAG < 1) || (AENL_MOMENTS_MAX_LAG > 65000)
+#error "AENL_MOMENTS_MAX_LAG must be in [1, 65000]"
+#endif
+
+/**
+ * Statistics cells: n_lags * n_grid * (2 with the direction split, else 1) must fit.
+ * 16 B per cell, 32 B with AENL_MOMENTS_COMPENSATED. The default 384 holds the standard
+ * configuration: 64 nodes, 3 lags, direction split.
+ */
+#ifndef AENL_MOMENTS_MAX_CELLS
+#define AENL_MOMENTS_MAX_CELLS 384
+#endif
+#if (AENL_MOMENTS_MAX_CELLS < 3) || (AENL_MOMENTS_MAX_CELLS > 1048576)
+#error "AENL_MOMENTS_MAX_CELLS must be in [3, 1048576]"
+#endif
+
+/**
+ * 1: every accumulated sum carries a compensation term (Neumaier), so a float32 estimator keeps
+ * full accuracy past 2^24 contributions per cell (10^8+ samples without forgetting). Doubles the
+ * cell size. 0: plain Welford; fine in double, and in float32 with a forgetting factor < 1 or
+ * fewer than ~10^7 contributions per cell. Default: on for float, off for double.
+ */
+#ifndef AENL_MOMENTS_COMPENSATED
+#if AENL_USE_DOUBLE
+#define AENL_MOMENTS_COMPENSATED 0
+#else
+#define AENL_MOMENTS_COMPENSATED 1
+#endif
+#endif
+#if (AENL_MOMENTS_COMPENSATED != 0) && (AENL_MOMENTS_COMPENSATED != 1)
+#error "AENL_MOMENTS_COMPENSATED must be 0 or 1"
+#endif
+
+/* ---- assertions --------------------------------------------------------------------------- */
+
+/** Internal invariants only (never argument checks). Override with a trap on target. */
+#ifndef AENL_ASSERT
+#include <assert.h>
+#define AENL_ASSERT(x) assert(x)
+#endif
+
+#endif /* AENL_CONFIG_H */

@@ -1,0 +1,151 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_moments.h
+ * @brief Streaming triangular-kernel conditional mean and variance on a fixed grid, several lags.
+ *
+ * For every configured lag L (the paper's j = -L) and grid node x_k the estimator keeps the
+ * Nadaraya-Watson estimates of
+ *
+ *     m_L(x) = E(X_n | X_{n-L} = x)   and   v_L(x) = Var(X_n | X_{n-L} = x)
+ *
+ * with the triangular kernel phi_h(u) = (1 - |u|/h)/h for |u| < h, 0 otherwise (the paper's
+ * formulas (10)-(11)): m = sum X_n phi(x - X_{n-L}) / sum phi(x - X_{n-L}), and v the same weighted
+ * mean of (X_n - m)^2. Each (lag, node[, direction]) cell holds the weight sum, the weighted mean
+ * and the weighted second central moment M2 updated in Welford form, so there is no
+ * sum(x^2) - sum(x)^2 cancellation; with AENL_MOMENTS_COMPENSATED (default in float32) every sum
+ * also carries a Kahan compensation term, so a float32 estimator stays accurate past 10^8 samples.
+ *
+ * Options: an exponential forgetting factor lambda (weight of a sample of age a is lambda^a), for
+ * non-stationary conditions; and a direction split, which accumulates separately for a rising
+ * (X_{n-L} > X_{n-L-1}) and a falling (otherwise) conditioning value: hysteresis shifts the kinks
+ * between the two.
+ *
+ * Memory: the caller owns the aenl_moments_t (declare it static on an MCU); the library never
+ * allocates. sizeof(aenl_moments_t) is fixed by the capacities in aenl_config.h.
+ * Threading: none; every function is re-entrant over its own state.
+ */
+#ifndef AENL_MOMENTS_H
+#define AENL_MOMENTS_H
+
+#include "aenl/aenl_types.h"
+
+/** Which conditioning-value direction a query reads. */
+typedef enum
+{
+    AENL_DIR_ALL = 0,     /**< every pair (rising and falling merged) */
+    AENL_DIR_RISING = 1,  /**< X_{n-L} > X_{n-L-1}; needs direction_split */
+    AENL_DIR_FALLING = 2  /**< X_{n-L} <= X_{n-L-1}; needs direction_split */
+} aenl_dir_t;
+
+/** Configuration, copied by aenl_moments_init(). */
+typedef struct aenl_moments_cfg
+{
+    aenl_real_t x_min;      /**< first grid node, input units, finite */
+    aenl_real_t x_max;      /**< last grid node, input units, finite, > x_min */
+    uint16_t n_grid;        /**< nodes, 3 .. AENL_MOMENTS_MAX_GRID, evenly spaced, ends included */
+    aenl_real_t bandwidth;  /**< kernel half-width h > 0, input units */
+    uint16_t n_lags;        /**< 1 .. AENL_MOMENTS_MAX_LAGS */
+    uint16_t lags[AENL_MOMENTS_MAX_LAGS]; /**< distinct, each 1 .. AENL_MOMENTS_MAX_LAG samples */
+    aenl_real_t forgetting; /**< lambda in (0, 1]; 1 = plain averages over the whole stream */
+    uint8_t direction_split; /**< 0 or 1 */
+} aenl_moments_cfg_t;
+
+/** One estimate at one (lag, node, direction). */
+typedef struct aenl_moments_point
+{
+    aenl_real_t x;      /**< node position, input units */
+    aenl_real_t mean;   /**< conditional mean, input units */
+    aenl_real_t var;    /**< conditional variance (>= 0), input units squared */
+    aenl_real_t weight; /**< kernel weight sum (forgetting applied), 1/input units */
+    aenl_real_t n_eff;  /**< effective sample size (sum w)^2 / sum w^2 */
+    aenl_real_t se;     /**< standard error of the mean, sqrt(var / n_eff) */
+} aenl_moments_point_t;
+
+/** Statistics of one cell. Read through aenl_moments_query(); fields are private. */
+typedef struct aenl_moments_cell
+{
+    aenl_real_t w;    /**< weight sum (times the forgetting scale) */
+    aenl_real_t mean; /**< weighted mean */
+    aenl_real_t m2;   /**< weighted second central moment (times the scale) */
+    aenl_real_t w2;   /**< sum of squared weights (times the scale squared) */
+#if AENL_MOMENTS_COMPENSATED
+    aenl_real_t w_c, mean_c, m2_c, w2_c; /**< Kahan compensation terms: value = sum - c */
+#endif
+} aenl_moments_cell_t;
+
+/** Estimator state. Caller-owned; every field is read-only for the caller. */
+typedef struct aenl_moments
+{
+    aenl_moments_cfg_t cfg; /**< the configuration as given */
+    aenl_real_t dx;         /**< grid spacing */
+    aenl_real_t inv_dx;     /**< 1 / dx */
+    aenl_real_t inv_h;      /**< 1 / bandwidth */
+    aenl_real_t inv_lambda; /**< 1 / forgetting */
+    aenl_real_t scale;      /**< weight of the newest sample relative to the cells, in [1, 2^20) */
+    uint16_t n_dir;         /**< 2 with the direction split, else 1 */
+    uint16_t max_lag;       /**< largest configured lag */
+    uint16_t head;          /**< ring index of the newest sample */
+    uint16_t n_hist;        /**< samples (incl. missing) in the ring, saturating at its length */
+    uint32_t n_samples;     /**< finite samples accepted (saturating) */
+    uint32_t n_missing;     /**< NaN/Inf samples received (saturating) */
+    uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
+    aenl_real_t hist[AENL_MOMENTS_MAX_LAG + 2]; /**< sample history ring */
+    uint8_t valid[AENL_MOMENTS_MAX_LAG + 2];    /**< 0 marks a missing sample */
+    aenl_moments_cell_t cell[AENL_MOMENTS_MAX_CELLS]; /**< [lag][dir][node], active part only */
+} aenl_moments_t;
+
+/**
+ * @brief Validate the configuration and set up an empty estimator.
+ * @param[out] m    state; its previous content (even garbage) is irrelevant
+ * @param[in]  cfg  configuration; copied
+ * @return AENL_OK; AENL_E_ARG for NULL, a non-finite or inverted grid, n_grid < 3, bandwidth <= 0,
+ *         n_lags = 0, a zero or repeated lag, forgetting outside (0, 1], direction_split not 0/1;
+ *         AENL_E_DIM for n_grid, n_lags or a lag above its compile-time maximum, or
+ *         n_lags * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS.
+ *         On error *m is not written.
+ * @note O(cells), no allocation.
+ */
+aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg);
+
+/**
+ * @brief Forget every sample and statistic; keep the configuration. NULL is ignored.
+ * @note O(cells).
+ */
+void aenl_moments_reset(aenl_moments_t *m);
+
+/**
+ * @brief Add one sample X_n: for each lag L the pair (X_{n-L}, X_n) updates the nodes within h of
+ *        X_{n-L} (with the split: the cells of its direction).
+ * @param[in,out] m       an initialised estimator
+ * @param[in]     sample  X_n in input units
+ * @return AENL_OK; AENL_E_ARG for NULL (nothing changed); AENL_E_NUMERIC for a NaN/Inf sample,
+ *         which is a *missing* sample: the statistics stay byte-identical, the history records the
+ *         gap (no pair is formed across it, time alignment is kept) and n_missing counts it.
+ * @note O(n_lags * min(n_grid, 2h/dx + 1)) per sample, no loop over the grid. With forgetting < 1,
+ *       one push in every ~(14 / -ln(lambda)) also rescales all active cells (O(cells)).
+ *       No allocation, stack < 96 B.
+ */
+aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample);
+
+/**
+ * @brief Read the estimate at one lag, node and direction.
+ * @param[in]  m          an initialised estimator
+ * @param[in]  lag_index  index into cfg.lags, < n_lags
+ * @param[in]  node       grid node, < n_grid
+ * @param[in]  dir        AENL_DIR_ALL, or RISING/FALLING when the split is on
+ * @param[out] out        the estimate
+ * @return AENL_OK; AENL_E_ARG for NULL, an index out of range, or a direction the configuration
+ *         lacks; AENL_E_EMPTY when no pair has weight at that node yet (out then holds x only, the
+ *         rest zero).
+ * @note O(1), no allocation.
+ */
+aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, uint16_t node,
+                                 aenl_dir_t dir, aenl_moments_point_t *out);
+
+/** Position of a grid node (no range check beyond returning x_max past the end). */
+static inline aenl_real_t aenl_moments_node_x(const aenl_moments_t *m, uint16_t node)
+{
+    return (node + 1u >= m->cfg.n_grid) ? m->cfg.x_max : m->cfg.x_min + (aenl_real_t)node * m->dx;
+}
+
+#endif /* AENL_MOMENTS_H */

@@ -1,0 +1,656 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_csv.c
+ * @brief Host tools: CSV reader/writer and atomic output files (aenl_csv.h, aenl_io.h).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <dirent.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "unity.h"
+
+#include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_io.h"
+
+#ifndef AENL_TEST_TMP_DIR
+#define AENL_TEST_TMP_DIR "."
+#endif
+
+static aenl_err_t g_err;
+static char g_path[1024];
+
+void setUp(void)
+{
+    aenl_err_clear(&g_err);
+}
+
+void tearDown(void)
+{
+}
+
+/* ---- helpers ------------------------------------------------------------------------------- */
+
+static const char *tmp_path(const char *name)
+{
+    (void)snprintf(g_path, sizeof g_path, "%s/%s", AENL_TEST_TMP_DIR, name);
+    return g_path;
+}
+
+static void write_bytes(const char *path, const char *bytes, size_t n)
+{
+    FILE *fp = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL_MESSAGE(fp, path);
+    TEST_ASSERT_EQUAL_size_t(n, fwrite(bytes, 1, n, fp));
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+}
+
+static void write_text(const char *path, const char *text)
+{
+    write_bytes(path, text, strlen(text));
+}
+
+static int file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* Number of entries in the test folder whose name contains `part` (temporaries: ".tmp."). */
+static int count_entries_with(const char *part)
+{
+    int n = 0;
+    struct dirent *e;
+    DIR *d = opendir(AENL_TEST_TMP_DIR);
+    TEST_ASSERT_NOT_NULL(d);
+    while ((e = readdir(d)) != NULL)
+    {
+        if (strstr(e->d_name, part) != NULL)
+        {
+            ++n;
+        }
+    }
+    (void)closedir(d);
+    return n;
+}
+
+static uint64_t g_lcg = 88172645463325252ULL;
+
+static double lcg_uniform(void)
+{
+    g_lcg = g_lcg * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static double bits_to_double(uint64_t b)
+{
+    double d;
+    memcpy(&d, &b, sizeof d);
+    return d;
+}
+
+/* Read `text` as a table expecting failure; check status and that the message holds `want`. */
+static void expect_read_error(const char *name, const char *text, size_t len,
+                              aenl_status_t want_status, const char *want)
+{
+    aenl_table_t t;
+    aenl_status_t st;
+    const char *path = tmp_path(name);
+    write_bytes(path, text, len);
+    aenl_err_clear(&g_err);
+    st = aenl_table_read(path, &t, &g_err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(want_status, st, g_err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, want), g_err.msg);
+    TEST_ASSERT_NULL(t.data);
+    TEST_ASSERT_NULL(t.names);
+    TEST_ASSERT_EQUAL_size_t(0, t.n_rows);
+    (void)remove(path);
+}
+
+/* ---- errors -------------------------------------------------------------------------------- */
+
+static void test_err_keeps_first_cause(void)
+{
+    aenl_err_set(&g_err, "first %d", 1);
+    aenl_err_set(&g_err, "second %d", 2);
+    TEST_ASSERT_EQUAL_STRING("first 1", g_err.msg);
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_STRING("", g_err.msg);
+    aenl_err_set(NULL, "ignored"); /* NULL err is allowed */
+}
+
+/* ---- round trips --------------------------------------------------------------------------- */
+
+static void test_table_round_trip_is_bit_exact(void)
+{
+    const char *names[] = {"t_s", "alpha", "beta"};
+    const size_t n_rows = 4000;
+    aenl_table_t t;
+    aenl_table_t r;
+    size_t i;
+    size_t c;
+    const char *path = tmp_path("round_trip.csv");
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n_rows, 3, names, &g_err));
+    for (i = 0; i < n_rows; ++i)
+    {
+        uint64_t bits = ((uint64_t)(lcg_uniform() * 4294967296.0) << 32) |
+                        (uint64_t)(lcg_uniform() * 4294967296.0);
+        double v = bits_to_double(bits);
+        aenl_table_col(&t, 0)[i] = (double)i * 0.1;
+        aenl_table_col(&t, 1)[i] = isfinite(v) ? v : 1.0 / 3.0; /* random bit patterns */
+        aenl_table_col(&t, 2)[i] = (lcg_uniform() - 0.5) * 1e-3;
+    }
+    /* Corner values. */
+    aenl_table_col(&t, 1)[0] = -0.0;
+    aenl_table_col(&t, 1)[1] = 4.9406564584124654e-324; /* smallest subnormal */
+    aenl_table_col(&t, 1)[2] = 1.7976931348623157e308;
+    aenl_table_col(&t, 1)[3] = -2.2250738585072014e-308;
+    aenl_table_col(&t, 2)[5] = (double)NAN;
+    aenl_table_col(&t, 2)[7] = (double)NAN;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_write(&t, path, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &r, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(n_rows, r.n_rows);
+    TEST_ASSERT_EQUAL_size_t(3, r.n_cols);
+    for (c = 0; c < 3; ++c)
+    {
+        TEST_ASSERT_EQUAL_STRING(names[c], r.names[c]);
+        for (i = 0; i < n_rows; ++i)
+        {
+            double a = aenl_table_col(&t, c)[i];
+            double b = aenl_table_col(&r, c)[i];
+            if (isnan(a))
+            {
+                TEST_ASSERT_TRUE(isnan(b));
+            }
+            else
+            {
+                TEST_ASSERT_EQUAL_MEMORY(&a, &b, sizeof a);
+            }
+        }
+    }
+    TEST_ASSERT_EQUAL_size_t(0, r.n_nan[0]);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_nan[1]);
+    TEST_ASSERT_EQUAL_size_t(2, r.n_nan[2]);
+    TEST_ASSERT_EQUAL_INT(1, (int)aenl_table_find(&r, "alpha"));
+    TEST_ASSERT_EQUAL_INT(-1, (int)aenl_table_find(&r, "gamma"));
+    aenl_table_free(&t);
+    aenl_table_free(&r);
+    aenl_table_free(&r); /* safe twice */
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)remove(path);
+}
+
+static void test_csv_writer_streams_rows(void)
+{
+    const char *names[] = {"t", "x"};
+    aenl_csv_writer_t w;
+    aenl_csv_t *csv = NULL;
+    double row[2];
+    int i;
+    int rc;
+    const char *path = tmp_path("writer.csv");
+    (void)remove(path);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_writer_open(&w, path, names, 2, &g_err));
+    for (i = 0; i < 10; ++i)
+    {
+        row[0] = i;
+        row[1] = (i == 3) ? (double)NAN : 0.5 * i;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_writer_row(&w, row, &g_err));
+    }
+    TEST_ASSERT_FALSE(file_exists(path));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_writer_commit(&w, &g_err));
+    TEST_ASSERT_TRUE(file_exists(path));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_open(&csv, path, &g_err));
+    TEST_ASSERT_EQUAL_size_t(2, aenl_csv_n_cols(csv));
+    TEST_ASSERT_EQUAL_STRING("x", aenl_csv_col_name(csv, 1));
+    TEST_ASSERT_NULL(aenl_csv_col_name(csv, 2));
+    TEST_ASSERT_EQUAL_INT(1, (int)aenl_csv_find(csv, "x"));
+    TEST_ASSERT_EQUAL_INT(-1, (int)aenl_csv_find(csv, "y"));
+    TEST_ASSERT_EQUAL_STRING(path, aenl_csv_path(csv));
+    for (i = 0; (rc = aenl_csv_next(csv, row, &g_err)) == 1; ++i)
+    {
+        TEST_ASSERT_EQUAL_DOUBLE((double)i, row[0]);
+        if (i == 3)
+        {
+            TEST_ASSERT_TRUE(isnan(row[1]));
+        }
+        else
+        {
+            TEST_ASSERT_EQUAL_DOUBLE(0.5 * i, row[1]);
+        }
+        TEST_ASSERT_EQUAL_UINT32((uint32_t)(i + 2), (uint32_t)aenl_csv_line(csv));
+    }
+    TEST_ASSERT_EQUAL_INT(0, rc);
+    TEST_ASSERT_EQUAL_INT(10, i);
+    aenl_csv_close(csv);
+    (void)remove(path);
+}
+
+static void test_csv_writer_rejects_bad_names_and_inf(void)
+{
+    const char *bad[] = {"t", "a,b"};
+    const char *dup[] = {"t", "t"};
+    const char *ok[] = {"t", "x"};
+    aenl_csv_writer_t w;
+    double row[2] = {1.0, (double)INFINITY};
+    const char *path = tmp_path("writer_bad.csv");
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_csv_writer_open(&w, path, bad, 2, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "invalid column name 'a,b'"), g_err.msg);
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_csv_writer_open(&w, path, dup, 2, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "duplicate column name 't'"), g_err.msg);
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_writer_open(&w, path, ok, 2, &g_err));
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_csv_writer_row(&w, row, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "column 2: infinite value"), g_err.msg);
+    /* The failed row dropped the file: commit fails, abort is safe, nothing is left. */
+    TEST_ASSERT_NOT_EQUAL(AENL_OK, aenl_csv_writer_commit(&w, NULL));
+    aenl_csv_writer_abort(&w);
+    TEST_ASSERT_FALSE(file_exists(path));
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+}
+
+/* ---- reading details ----------------------------------------------------------------------- */
+
+static void test_csv_reads_crlf(void)
+{
+    aenl_table_t t;
+    const char *path = tmp_path("crlf.csv");
+    write_text(path, "t,x\r\n0,1.5\r\n1,-2e-3\r\n2,\r\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(3, t.n_rows);
+    TEST_ASSERT_EQUAL_STRING("x", t.names[1]);
+    TEST_ASSERT_EQUAL_DOUBLE(1.5, aenl_table_col(&t, 1)[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(-2e-3, aenl_table_col(&t, 1)[1]);
+    TEST_ASSERT_TRUE(isnan(aenl_table_col(&t, 1)[2]));
+    TEST_ASSERT_EQUAL_size_t(1, t.n_nan[1]);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
+static void test_csv_strips_bom_and_trims_names(void)
+{
+    aenl_table_t t;
+    const char *path = tmp_path("bom.csv");
+    write_text(path, "\xEF\xBB\xBF t_s ,  alpha\t, \"beta\"\n 1 , 2 ,3\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_STRING("t_s", t.names[0]);
+    TEST_ASSERT_EQUAL_STRING("alpha", t.names[1]);
+    TEST_ASSERT_EQUAL_STRING("beta", t.names[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, aenl_table_col(&t, 0)[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, aenl_table_col(&t, 1)[0]);
+    TEST_ASSERT_EQUAL_DOUBLE(3.0, aenl_table_col(&t, 2)[0]);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
+static void test_csv_missing_cells_are_nan_and_counted(void)
+{
+    aenl_table_t t;
+    const char *path = tmp_path("missing.csv");
+    write_text(path, "t,x,y\n1,,2\n2,nan,NaN\n3,4,\n4,5,6\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(4, t.n_rows);
+    TEST_ASSERT_EQUAL_size_t(0, t.n_nan[0]);
+    TEST_ASSERT_EQUAL_size_t(2, t.n_nan[1]);
+    TEST_ASSERT_EQUAL_size_t(2, t.n_nan[2]);
+    TEST_ASSERT_EQUAL_DOUBLE(6.0, aenl_table_col(&t, 2)[3]);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
+static void test_csv_header_only_gives_zero_rows(void)
+{
+    aenl_table_t t;
+    const char *path = tmp_path("header_only.csv");
+    write_text(path, "t,x\n# nothing yet\n\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(0, t.n_rows);
+    TEST_ASSERT_EQUAL_size_t(2, t.n_cols);
+    TEST_ASSERT_EQUAL_STRING("x", t.names[1]);
+    TEST_ASSERT_EQUAL_size_t(0, t.n_nan[1]);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
+static void test_csv_skips_comments_and_blank_lines_counting_them(void)
+{
+    aenl_csv_t *csv = NULL;
+    double row[2];
+    const char *path = tmp_path("comments.csv");
+    write_text(path, "# recorded 2024\n\nt,x\n  # a note\n1,2\n\n   \n3,4\n5,oops\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_csv_open(&csv, path, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_UINT32(3, (uint32_t)aenl_csv_line(csv));
+    TEST_ASSERT_EQUAL_INT(1, aenl_csv_next(csv, row, &g_err));
+    TEST_ASSERT_EQUAL_UINT32(5, (uint32_t)aenl_csv_line(csv));
+    TEST_ASSERT_EQUAL_DOUBLE(2.0, row[1]);
+    TEST_ASSERT_EQUAL_INT(1, aenl_csv_next(csv, row, &g_err));
+    TEST_ASSERT_EQUAL_UINT32(8, (uint32_t)aenl_csv_line(csv));
+    TEST_ASSERT_EQUAL_DOUBLE(4.0, row[1]);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_csv_next(csv, row, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "comments.csv:9:2 (x): not a number 'oops'"),
+                                 g_err.msg);
+    /* Sticky: a later call fails too, never returns a row after an error. */
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_csv_next(csv, row, NULL));
+    aenl_csv_close(csv);
+    (void)remove(path);
+}
+
+static void test_csv_long_lines(void)
+{
+    const size_t n_cols = 5000;
+    size_t c;
+    char *text;
+    size_t pos = 0;
+    size_t cap = n_cols * 48 + 64;
+    aenl_table_t t;
+    const char *path = tmp_path("wide.csv");
+    text = (char *)malloc(cap);
+    TEST_ASSERT_NOT_NULL(text);
+    for (c = 0; c < n_cols; ++c)
+    {
+        pos += (size_t)snprintf(text + pos, cap - pos, "column_with_a_long_name_%05lu%c",
+                                (unsigned long)c, c + 1 < n_cols ? ',' : '\n');
+    }
+    for (c = 0; c < n_cols; ++c)
+    {
+        pos += (size_t)snprintf(text + pos, cap - pos, "%.17g%c", 0.001 * (double)c,
+                                c + 1 < n_cols ? ',' : '\n');
+    }
+    write_bytes(path, text, pos);
+    free(text);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(n_cols, t.n_cols);
+    TEST_ASSERT_EQUAL_size_t(1, t.n_rows);
+    TEST_ASSERT_EQUAL_STRING("column_with_a_long_name_04999", t.names[4999]);
+    TEST_ASSERT_EQUAL_DOUBLE(0.001 * 4999.0, aenl_table_col(&t, 4999)[0]);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
+/* ---- every error kind, with file:line:column --------------------------------------------- */
+
+static void test_csv_error_not_a_number(void)
+{
+    const char *s = "t,alpha,beta\n1,2,3\n# c\n4,x1,6\n";
+    expect_read_error("nan1.csv", s, strlen(s), AENL_E_ARG, "nan1.csv:4:2 (alpha): not a number 'x1'");
+}
+
+static void test_csv_error_trailing_garbage(void)
+{
+    const char *s = "t,alpha\n1,1.5x\n";
+    expect_read_error("garbage.csv", s, strlen(s), AENL_E_ARG,
+                      "garbage.csv:2:2 (alpha): not a number '1.5x'");
+}
+
+static void test_csv_error_inf(void)
+{
+    const char *s1 = "t,x,y\n1,2,inf\n";
+    const char *s2 = "t,x,y\n1,2,3\n2,-inf,3\n";
+    const char *s3 = "t,x,y\n1,2,1e999\n";
+    expect_read_error("inf1.csv", s1, strlen(s1), AENL_E_NUMERIC,
+                      "inf1.csv:2:3 (y): infinite value 'inf'");
+    expect_read_error("inf2.csv", s2, strlen(s2), AENL_E_NUMERIC,
+                      "inf2.csv:3:2 (x): infinite value '-inf'");
+    expect_read_error("inf3.csv", s3, strlen(s3), AENL_E_NUMERIC,
+                      "inf3.csv:2:3 (y): number out of range '1e999'");
+}
+
+static void test_csv_error_ragged_rows(void)
+{
+    const char *few = "t,x,y\n1,2,3\n4,5\n";
+    const char *many = "t,x\n1,2\n\n3,4,5,6\n";
+    expect_read_error("few.csv", few, strlen(few), AENL_E_ARG,
+                      "few.csv:3:3 (y): missing cell (row has 2 cells, header has 3)");
+    expect_read_error("many.csv", many, strlen(many), AENL_E_ARG,
+                      "many.csv:4:3: extra cell (row has 4 cells, header has 2)");
+}
+
+static void test_csv_error_bad_header(void)
+{
+    const char *dup = "# header follows\nt,x,x\n1,2,3\n";
+    const char *empty = "t,,x\n1,2,3\n";
+    const char *trailing = "t,x,\n1,2,3\n";
+    expect_read_error("dup.csv", dup, strlen(dup), AENL_E_ARG,
+                      "dup.csv:2:3 (x): duplicate column name 'x' (also column 2)");
+    expect_read_error("emptyname.csv", empty, strlen(empty), AENL_E_ARG,
+                      "emptyname.csv:1:2: empty column name");
+    expect_read_error("trailing.csv", trailing, strlen(trailing), AENL_E_ARG,
+                      "trailing.csv:1:3: empty column name");
+}
+
+static void test_csv_error_empty_file(void)
+{
+    aenl_csv_t *csv = NULL;
+    const char *path = tmp_path("empty.csv");
+    write_text(path, "");
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_csv_open(&csv, path, &g_err));
+    TEST_ASSERT_NULL(csv);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "empty.csv: empty file (no header row)"),
+                                 g_err.msg);
+    (void)remove(path);
+    expect_read_error("comments_only.csv", "# a\n\n# b\n", 9, AENL_E_EMPTY,
+                      "comments_only.csv: empty file (no header row");
+}
+
+static void test_csv_error_binary_line(void)
+{
+    const char nul[] = "t,x\n1,2\n3,\0\n";
+    const char ctl[] = "t,x\n1,2\n3,4\n5,\x01\x02\n";
+    expect_read_error("nul.csv", nul, sizeof nul - 1, AENL_E_ARG,
+                      "nul.csv:3: NUL byte at character 3");
+    expect_read_error("ctl.csv", ctl, sizeof ctl - 1, AENL_E_ARG,
+                      "ctl.csv:4: control byte 0x01");
+}
+
+static void test_csv_error_missing_file(void)
+{
+    aenl_table_t t;
+    const char *path = tmp_path("no_such_file.csv");
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_table_read(path, &t, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "no_such_file.csv: cannot open"), g_err.msg);
+}
+
+/* ---- a long file, streamed ----------------------------------------------------------------- */
+
+static void test_csv_streams_a_million_rows(void)
+{
+    const unsigned long n_rows = 1000000UL;
+    unsigned long i;
+    FILE *fp;
+    aenl_csv_t *csv = NULL;
+    double row[3];
+    double sum = 0.0;
+    unsigned long n = 0;
+    int rc;
+    clock_t t0;
+    char msg[128];
+    const char *path = tmp_path("million.csv");
+    fp = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(fp);
+    fputs("t,x,y\n", fp);
+    for (i = 0; i < n_rows; ++i)
+    {
+        fprintf(fp, "%lu,%.17g,%s\n", i, 0.25 * (double)(i % 8), (i % 1000 == 0) ? "" : "1");
+    }
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+    t0 = clock();
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_csv_open(&csv, path, &g_err));
+    while ((rc = aenl_csv_next(csv, row, &g_err)) == 1)
+    {
+        sum += row[1];
+        n += isnan(row[2]) ? 1UL : 0UL;
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, rc, g_err.msg);
+    TEST_ASSERT_EQUAL_UINT32(1000001UL, (uint32_t)aenl_csv_line(csv));
+    aenl_csv_close(csv);
+    (void)snprintf(msg, sizeof msg, "streamed 10^6 rows in %.2f s",
+                   (double)(clock() - t0) / (double)CLOCKS_PER_SEC);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_EQUAL_DOUBLE(0.25 * 28.0 * (double)(n_rows / 8), sum);
+    TEST_ASSERT_EQUAL_UINT32(1000, (uint32_t)n);
+    (void)remove(path);
+}
+
+/* ---- atomic output files ------------------------------------------------------------------- */
+
+static void test_outfile_not_visible_before_commit(void)
+{
+    aenl_outfile_t of;
+    const char *path = tmp_path("atomic.txt");
+    char buf[32] = {0};
+    FILE *fp;
+    (void)remove(path);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, path, &g_err));
+    TEST_ASSERT_NOT_NULL(of.fp);
+    fputs("hello\n", of.fp);
+    TEST_ASSERT_FALSE(file_exists(path));
+    TEST_ASSERT_TRUE(file_exists(of.tmp_path));
+    TEST_ASSERT_EQUAL_INT(1, count_entries_with(".atomic.txt.tmp."));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_commit(&of, &g_err));
+    TEST_ASSERT_NULL(of.fp);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    fp = fopen(path, "r");
+    TEST_ASSERT_NOT_NULL(fp);
+    TEST_ASSERT_NOT_NULL(fgets(buf, sizeof buf, fp));
+    (void)fclose(fp);
+    TEST_ASSERT_EQUAL_STRING("hello\n", buf);
+    aenl_outfile_abort(&of); /* safe on a committed outfile: must not remove the result */
+    TEST_ASSERT_TRUE(file_exists(path));
+    (void)remove(path);
+}
+
+static void test_outfile_abort_leaves_no_file(void)
+{
+    aenl_outfile_t of;
+    aenl_outfile_t zero;
+    const char *path = tmp_path("aborted.txt");
+    memset(&zero, 0, sizeof zero);
+    aenl_outfile_abort(&zero); /* safe on a zeroed outfile */
+    aenl_outfile_abort(NULL);
+    (void)remove(path);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, path, &g_err));
+    fputs("partial", of.fp);
+    aenl_outfile_abort(&of);
+    aenl_outfile_abort(&of); /* twice */
+    TEST_ASSERT_FALSE(file_exists(path));
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+}
+
+static void test_outfile_existing_file_kept_until_commit(void)
+{
+    aenl_outfile_t of;
+    const char *path = tmp_path("keep.txt");
+    char buf[32] = {0};
+    FILE *fp;
+    write_text(path, "old\n");
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, path, &g_err));
+    fputs("new\n", of.fp);
+    aenl_outfile_abort(&of);
+    fp = fopen(path, "r");
+    TEST_ASSERT_NOT_NULL(fp);
+    TEST_ASSERT_NOT_NULL(fgets(buf, sizeof buf, fp));
+    (void)fclose(fp);
+    TEST_ASSERT_EQUAL_STRING("old\n", buf);
+    (void)remove(path);
+}
+
+static void test_outfile_missing_folder_fails_cleanly(void)
+{
+    aenl_outfile_t of;
+    aenl_table_t t;
+    const char *names[] = {"t"};
+    char path[1024];
+    (void)snprintf(path, sizeof path, "%s/no_such_dir/out.csv", AENL_TEST_TMP_DIR);
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_open(&of, path, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "no_such_dir/out.csv: cannot create"),
+                                 g_err.msg);
+    TEST_ASSERT_NULL(of.fp);
+    TEST_ASSERT_NULL(of.tmp_path);
+    aenl_outfile_abort(&of);
+    /* Through the table writer as well. */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, 3, 1, names, &g_err));
+    TEST_ASSERT_EQUAL_size_t(3, t.n_nan[0]);
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_table_write(&t, path, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "no_such_dir/out.csv"), g_err.msg);
+    aenl_table_free(&t);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+}
+
+static void test_outfile_commit_failure_removes_temporary(void)
+{
+    aenl_outfile_t of;
+    const char *path = tmp_path("is_a_dir");
+    char inner[1100];
+    (void)snprintf(inner, sizeof inner, "%s/child", path);
+    (void)mkdir(path, 0777);
+    write_text(inner, "x"); /* a non-empty folder: rename over it must fail */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, tmp_path("is_a_dir"), &g_err));
+    fputs("data\n", of.fp);
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_commit(&of, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "is_a_dir: cannot rename into place"),
+                                 g_err.msg);
+    TEST_ASSERT_NULL(of.fp);
+    TEST_ASSERT_NULL(of.tmp_path);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)remove(inner);
+    (void)rmdir(tmp_path("is_a_dir"));
+}
+
+static void test_outfile_abort_all_removes_pending(void)
+{
+    aenl_outfile_t a;
+    aenl_outfile_t b;
+    char pa[1024];
+    char pb[1024];
+    (void)snprintf(pa, sizeof pa, "%s", tmp_path("pending_a.txt"));
+    (void)snprintf(pb, sizeof pb, "%s", tmp_path("pending_b.txt"));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&a, pa, &g_err));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&b, pb, &g_err));
+    TEST_ASSERT_EQUAL_INT(2, count_entries_with(".tmp."));
+    aenl_outfile_abort_all();
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    aenl_outfile_abort(&a); /* still safe afterwards; frees */
+    aenl_outfile_abort(&b);
+    TEST_ASSERT_FALSE(file_exists(pa));
+    TEST_ASSERT_FALSE(file_exists(pb));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_err_keeps_first_cause);
+    RUN_TEST(test_table_round_trip_is_bit_exact);
+    RUN_TEST(test_csv_writer_streams_rows);
+    RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);
+    RUN_TEST(test_csv_reads_crlf);
+    RUN_TEST(test_csv_strips_bom_and_trims_names);
+    RUN_TEST(test_csv_missing_cells_are_nan_and_counted);
+    RUN_TEST(test_csv_header_only_gives_zero_rows);
+    RUN_TEST(test_csv_skips_comments_and_blank_lines_counting_them);
+    RUN_TEST(test_csv_long_lines);
+    RUN_TEST(test_csv_error_not_a_number);
+    RUN_TEST(test_csv_error_trailing_garbage);
+    RUN_TEST(test_csv_error_inf);
+    RUN_TEST(test_csv_error_ragged_rows);
+    RUN_TEST(test_csv_error_bad_header);
+    RUN_TEST(test_csv_error_empty_file);
+    RUN_TEST(test_csv_error_binary_line);
+    RUN_TEST(test_csv_error_missing_file);
+    RUN_TEST(test_csv_streams_a_million_rows);
+    RUN_TEST(test_outfile_not_visible_before_commit);
+    RUN_TEST(test_outfile_abort_leaves_no_file);
+    RUN_TEST(test_outfile_existing_file_kept_until_commit);
+    RUN_TEST(test_outfile_missing_folder_fails_cleanly);
+    RUN_TEST(test_outfile_commit_failure_removes_temporary);
+    RUN_TEST(test_outfile_abort_all_removes_pending);
+    return UNITY_END();
+}

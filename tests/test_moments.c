@@ -1,0 +1,538 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_moments.c
+ * @brief aenl_moments against a brute-force evaluation of the paper's formula (10) and its variance
+ *        analogue, plus argument, missing-sample and long-stream checks. Builds as f32 and f64.
+ */
+#include <string.h>
+
+#include "aenl_test.h"
+
+#include "aenl/aenl_moments.h"
+
+static aenl_moments_t g_m;
+
+void setUp(void)
+{
+    memset(&g_m, 0xA5, sizeof(g_m));
+}
+
+void tearDown(void)
+{
+}
+
+/* ---- deterministic test signal ------------------------------------------------------------- */
+
+static uint64_t g_lcg;
+
+static double lcg_uniform(void)
+{
+    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* Sum of 12 uniforms minus 6: a portable, libm-free approximately normal deviate. */
+static double lcg_normal(void)
+{
+    double s = 0.0;
+    for (int i = 0; i < 12; ++i)
+    {
+        s += lcg_uniform();
+    }
+    return s - 6.0;
+}
+
+/* A damped two-frequency oscillation driven by noise: an AR(2) process plus measurement noise. */
+static void make_signal(aenl_real_t *x, size_t n, uint64_t seed, double offset)
+{
+    g_lcg = seed;
+    double y1 = 0.0, y2 = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        const double y = 1.6 * y1 - 0.8 * y2 + 0.3 * lcg_normal();
+        y2 = y1;
+        y1 = y;
+        x[i] = (aenl_real_t)(offset + y + 0.1 * lcg_normal());
+    }
+}
+
+/* ---- brute force: formula (10), its variance analogue, optional direction and forgetting ---- */
+
+typedef struct
+{
+    double mean, var, w, n_eff;
+    int empty;
+} ref_point_t;
+
+static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, double node, double h,
+                         int dir /* 0 all, 1 rising, 2 falling */, int split, double lambda)
+{
+    ref_point_t r = {0.0, 0.0, 0.0, 0.0, 1};
+    double sw = 0.0, swy = 0.0, sw2 = 0.0;
+    for (size_t i = lag; i < n; ++i)
+    {
+        const double u = (double)x[i - lag];
+        if (split)
+        {
+            if (i < (size_t)lag + 1u)
+            {
+                continue;
+            }
+            const int rising = u > (double)x[i - lag - 1u];
+            if ((dir == 1 && !rising) || (dir == 2 && rising))
+            {
+                continue;
+            }
+        }
+        const double d = u > node ? u - node : node - u;
+        if (d < h)
+        {
+            double w = (1.0 - d / h) / h;
+            if (lambda < 1.0)
+            {
+                w *= pow(lambda, (double)(n - 1u - i));
+            }
+            sw += w;
+            swy += w * (double)x[i];
+            sw2 += w * w;
+        }
+    }
+    if (sw > 0.0)
+    {
+        r.empty = 0;
+        r.w = sw;
+        r.mean = swy / sw;
+        double s = 0.0;
+        for (size_t i = lag; i < n; ++i)
+        {
+            const double u = (double)x[i - lag];
+            if (split)
+            {
+                if (i < (size_t)lag + 1u)
+                {
+                    continue;
+                }
+                const int rising = u > (double)x[i - lag - 1u];
+                if ((dir == 1 && !rising) || (dir == 2 && rising))
+                {
+                    continue;
+                }
+            }
+            const double d = u > node ? u - node : node - u;
+            if (d < h)
+            {
+                double w = (1.0 - d / h) / h;
+                if (lambda < 1.0)
+                {
+                    w *= pow(lambda, (double)(n - 1u - i));
+                }
+                s += w * ((double)x[i] - r.mean) * ((double)x[i] - r.mean);
+            }
+        }
+        r.var = s / sw;
+        r.n_eff = sw * sw / sw2;
+    }
+    return r;
+}
+
+static aenl_moments_cfg_t std_cfg(aenl_real_t x_min, aenl_real_t x_max, uint16_t n_grid)
+{
+    aenl_moments_cfg_t c;
+    memset(&c, 0, sizeof(c));
+    c.x_min = x_min;
+    c.x_max = x_max;
+    c.n_grid = n_grid;
+    c.bandwidth = AENL_R(3.0) * (x_max - x_min) / (aenl_real_t)(n_grid - 1u);
+    c.n_lags = 3;
+    c.lags[0] = 1;
+    c.lags[1] = 10;
+    c.lags[2] = 30;
+    c.forgetting = AENL_R(1.0);
+    c.direction_split = 1;
+    return c;
+}
+
+/* Compare every (lag, node, dir) with the brute force. Tolerances are relative to the signal's
+ * scale for the mean (which may cross zero) and to the value for the variance. */
+static void compare_all(const aenl_moments_t *m, const aenl_real_t *x, size_t n, double lambda,
+                        double scale)
+{
+    const double tol = AENL_TEST_REL_TOL;
+    int n_checked = 0;
+    for (uint16_t li = 0; li < m->cfg.n_lags; ++li)
+    {
+        for (int dir = 0; dir < (m->cfg.direction_split ? 3 : 1); ++dir)
+        {
+            for (uint16_t k = 0; k < m->cfg.n_grid; ++k)
+            {
+                aenl_moments_point_t p;
+                const aenl_status_t st = aenl_moments_query(m, li, k, (aenl_dir_t)dir, &p);
+                const ref_point_t r =
+                    brute(x, n, m->cfg.lags[li], (double)p.x, (double)m->cfg.bandwidth, dir,
+                          m->cfg.direction_split, lambda);
+                if (r.empty)
+                {
+                    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, st);
+                    continue;
+                }
+                TEST_ASSERT_EQUAL_INT(AENL_OK, st);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(r.mean) + scale), r.mean, (double)p.mean);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (r.var + 1e-3 * scale * scale) * 4.0, r.var,
+                                          (double)p.var);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * r.n_eff * 4.0, r.n_eff, (double)p.n_eff);
+                TEST_ASSERT_DOUBLE_WITHIN(sqrt(r.var / r.n_eff) * tol * 8.0 + tol * scale * 1e-3,
+                                          sqrt(r.var / r.n_eff), (double)p.se);
+                n_checked++;
+            }
+        }
+    }
+    /* Most nodes hold data (the brute force agrees on which ones are empty). */
+    TEST_ASSERT_GREATER_THAN_INT(m->cfg.n_lags * m->cfg.n_grid / 2, n_checked);
+}
+
+#define N_SIG 4000u
+static aenl_real_t g_x[N_SIG];
+
+static void test_moments_matches_brute_force(void)
+{
+    make_signal(g_x, N_SIG, 12345u, 0.25);
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-2.5), AENL_R(3.0), 48);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, g_x[i]));
+    }
+    compare_all(&g_m, g_x, N_SIG, 1.0, 1.0);
+}
+
+static void test_moments_no_split_matches_brute_force(void)
+{
+    make_signal(g_x, N_SIG, 777u, -0.5);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-3.0), AENL_R(2.0), 31);
+    c.direction_split = 0;
+    c.n_lags = 2;
+    c.lags[0] = 7;
+    c.lags[1] = 2;
+    c.bandwidth = AENL_R(0.37); /* not a multiple of the spacing */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, g_x[i]));
+    }
+    compare_all(&g_m, g_x, N_SIG, 1.0, 1.0);
+}
+
+static void test_moments_forgetting_matches_brute_force(void)
+{
+    /* lambda^-4000 = e^20 > 2^20: the cells are renormalised at least once on the way. */
+    make_signal(g_x, N_SIG, 99u, 0.0);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-2.0), AENL_R(2.0), 24);
+    c.forgetting = AENL_R(0.995);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, g_x[i]));
+    }
+    TEST_ASSERT_GREATER_OR_EQUAL_UINT32(1u, g_m.n_renorm);
+    compare_all(&g_m, g_x, N_SIG, (double)c.forgetting, 1.0);
+}
+
+static void test_moments_constant_input_zero_variance(void)
+{
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(0.0), AENL_R(2.0), 16);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (int i = 0; i < 500; ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(1.0)));
+    }
+    aenl_moments_point_t p;
+    /* Constant: every pair is "falling" (ties fall), none rising. */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 0, 7, AENL_DIR_ALL, &p));
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.mean);
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-12), AENL_R(0.0), p.var);
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-12), AENL_R(0.0), p.se);
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 7, AENL_DIR_RISING, &p));
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 0, AENL_DIR_ALL, &p));
+}
+
+static void test_moments_init_on_garbage_memory(void)
+{
+    /* setUp filled g_m with 0xA5; a fresh init must behave exactly like one on zeroed memory. */
+    static aenl_moments_t zeroed;
+    memset(&zeroed, 0, sizeof(zeroed));
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 21);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&zeroed, &c));
+    make_signal(g_x, 300, 5u, 0.0);
+    for (size_t i = 0; i < 300; ++i)
+    {
+        aenl_moments_push(&g_m, g_x[i]);
+        aenl_moments_push(&zeroed, g_x[i]);
+    }
+    TEST_ASSERT_EQUAL_MEMORY(&zeroed, &g_m, sizeof(g_m));
+}
+
+static void test_moments_init_rejects_bad_config(void)
+{
+    static aenl_moments_t before;
+    const aenl_moments_cfg_t good = std_cfg(AENL_R(-1.0), AENL_R(1.0), 21);
+    aenl_moments_cfg_t c;
+    memcpy(&before, &g_m, sizeof(g_m));
+
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(NULL, &good));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, NULL));
+    c = good;
+    c.x_max = c.x_min;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.x_min = (aenl_real_t)NAN;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.x_max = (aenl_real_t)INFINITY;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.n_grid = 2;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.n_grid = AENL_MOMENTS_MAX_GRID + 1;
+    TEST_ASSERT_EQUAL_INT(AENL_E_DIM, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.bandwidth = AENL_R(0.0);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.bandwidth = AENL_R(-0.1);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.bandwidth = (aenl_real_t)NAN;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.n_lags = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.n_lags = AENL_MOMENTS_MAX_LAGS + 1;
+    TEST_ASSERT_EQUAL_INT(AENL_E_DIM, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.lags[1] = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.lags[2] = c.lags[0];
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.lags[2] = AENL_MOMENTS_MAX_LAG + 1;
+    TEST_ASSERT_EQUAL_INT(AENL_E_DIM, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.forgetting = AENL_R(0.0);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.forgetting = AENL_R(1.5);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good;
+    c.direction_split = 2;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    /* Too many cells for the compile-time pool, each dimension within its own limit. */
+    c = good;
+    c.n_grid = AENL_MOMENTS_MAX_GRID;
+    c.n_lags = AENL_MOMENTS_MAX_LAGS;
+    for (uint16_t i = 0; i < c.n_lags; ++i)
+    {
+        c.lags[i] = (uint16_t)(i + 1u);
+    }
+    if ((uint32_t)c.n_grid * c.n_lags * 2u > AENL_MOMENTS_MAX_CELLS)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_E_DIM, aenl_moments_init(&g_m, &c));
+    }
+    /* None of the rejected calls wrote anything. */
+    TEST_ASSERT_EQUAL_MEMORY(&before, &g_m, sizeof(g_m));
+}
+
+static void test_moments_missing_sample_keeps_statistics(void)
+{
+    static aenl_moments_t snap;
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-3.0), AENL_R(3.0), 32);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    make_signal(g_x, 500, 3u, 0.0);
+    for (size_t i = 0; i < 500; ++i)
+    {
+        aenl_moments_push(&g_m, g_x[i]);
+    }
+    memcpy(&snap, &g_m, sizeof(g_m));
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_moments_push(&g_m, (aenl_real_t)NAN));
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_moments_push(&g_m, (aenl_real_t)INFINITY));
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_moments_push(&g_m, -(aenl_real_t)INFINITY));
+    /* Statistics byte-identical; the counters say what happened. */
+    TEST_ASSERT_EQUAL_MEMORY(snap.cell, g_m.cell, sizeof(g_m.cell));
+    TEST_ASSERT_EQUAL_UINT32(snap.n_samples, g_m.n_samples);
+    TEST_ASSERT_EQUAL_UINT32(3u, g_m.n_missing);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_push(NULL, AENL_R(1.0)));
+}
+
+static void test_moments_no_pair_across_a_gap(void)
+{
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11);
+    c.direction_split = 0;
+    c.n_lags = 2;
+    c.lags[0] = 1;
+    c.lags[1] = 2;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    /* a, gap, b: lag 1 sees (a,gap) and (gap,b): no pair; lag 2 sees (a, b): one pair. */
+    aenl_moments_push(&g_m, AENL_R(0.0));
+    aenl_moments_push(&g_m, (aenl_real_t)NAN);
+    aenl_moments_push(&g_m, AENL_R(0.5));
+    aenl_moments_point_t p;
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 5, AENL_DIR_ALL, &p));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 1, 5, AENL_DIR_ALL, &p));
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(0.5), p.mean);
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.n_eff);
+}
+
+static void test_moments_query_rejects_bad_arguments(void)
+{
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11);
+    c.direction_split = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    aenl_moments_point_t p[2];
+    memset(p, 0x5A, sizeof(p));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(NULL, 0, 0, AENL_DIR_ALL, &p[0]));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 0, 0, AENL_DIR_ALL, NULL));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 3, 0, AENL_DIR_ALL, &p[0]));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 0, 11, AENL_DIR_ALL, &p[0]));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 0, 0, AENL_DIR_RISING, &p[0]));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 0, 0, (aenl_dir_t)7, &p[0]));
+    /* Rejected queries wrote nothing; an accepted one writes exactly one point (guard intact). */
+    uint8_t guard[sizeof(p[1])];
+    memset(guard, 0x5A, sizeof(guard));
+    TEST_ASSERT_EQUAL_MEMORY(guard, &p[0], sizeof(guard));
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 4, AENL_DIR_ALL, &p[0]));
+    TEST_ASSERT_EQUAL_MEMORY(guard, &p[1], sizeof(guard));
+}
+
+static void test_moments_reset_keeps_config(void)
+{
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-3.0), AENL_R(3.0), 32);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    make_signal(g_x, 200, 8u, 0.0);
+    for (size_t i = 0; i < 200; ++i)
+    {
+        aenl_moments_push(&g_m, g_x[i]);
+    }
+    aenl_moments_reset(&g_m);
+    aenl_moments_reset(NULL);
+    static aenl_moments_t fresh;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&fresh, &c));
+    TEST_ASSERT_EQUAL_MEMORY(&fresh, &g_m, sizeof(g_m));
+}
+
+static void test_moments_far_outlier_is_harmless(void)
+{
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(1e30)));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(-1e30)));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(0.0)));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(0.0)));
+    aenl_moments_point_t p;
+    /* Lag 1: (0 after -1e30) is rising; the pairs conditioned on +-1e30 touch no node. */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 0, 5, AENL_DIR_RISING, &p));
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.n_eff);
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(0.0), p.mean);
+}
+
+#if !AENL_USE_DOUBLE
+/* float32 over 10^8 samples of a signal with mean 10^3: the estimator stays within 1e-3 relative
+ * of a double accumulation of the same pairs (checked at a spread of nodes, all lags, both
+ * directions). The reference sums y - 1000 (an exact shift), so it loses nothing to cancellation. */
+#define LONG_N       100000000u
+#define LONG_CHECKED 9u
+
+static void test_moments_float32_long_stream(void)
+{
+    aenl_moments_cfg_t c = std_cfg(AENL_R(996.0), AENL_R(1004.0), 64);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    static double sw[3][2][LONG_CHECKED], s1[3][2][LONG_CHECKED], s2[3][2][LONG_CHECKED];
+    static float hist[64];
+    memset(sw, 0, sizeof(sw));
+    memset(s1, 0, sizeof(s1));
+    memset(s2, 0, sizeof(s2));
+    uint16_t nodes[LONG_CHECKED];
+    double node_x[LONG_CHECKED];
+    for (unsigned k = 0; k < LONG_CHECKED; ++k)
+    {
+        nodes[k] = (uint16_t)(8u + 6u * k); /* 8 .. 56: the well-sampled interior */
+        node_x[k] = (double)aenl_moments_node_x(&g_m, nodes[k]);
+    }
+    const double h = (double)c.bandwidth;
+    g_lcg = 2024u;
+    double y1 = 0.0, y2 = 0.0;
+    for (uint32_t n = 0; n < LONG_N; ++n)
+    {
+        const double y = 1.6 * y1 - 0.8 * y2 + 0.3 * (lcg_uniform() + lcg_uniform() - 1.0) * 2.45;
+        y2 = y1;
+        y1 = y;
+        const float xf = (float)(1000.0 + y);
+        aenl_moments_push(&g_m, xf);
+        hist[n & 63u] = xf;
+        for (unsigned li = 0; li < 3u; ++li)
+        {
+            const uint32_t lag = c.lags[li];
+            if (n < lag + 1u)
+            {
+                continue;
+            }
+            const double u = (double)hist[(n - lag) & 63u];
+            const int d = u > (double)hist[(n - lag - 1u) & 63u] ? 0 : 1;
+            for (unsigned k = 0; k < LONG_CHECKED; ++k)
+            {
+                const double dist = fabs(u - node_x[k]);
+                if (dist < h)
+                {
+                    const double w = (1.0 - dist / h) / h;
+                    const double r = (double)xf - 1000.0;
+                    sw[li][d][k] += w;
+                    s1[li][d][k] += w * r;
+                    s2[li][d][k] += w * r * r;
+                }
+            }
+        }
+    }
+    for (unsigned li = 0; li < 3u; ++li)
+    {
+        for (int d = 0; d < 2; ++d)
+        {
+            for (unsigned k = 0; k < LONG_CHECKED; ++k)
+            {
+                aenl_moments_point_t p;
+                TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, (uint16_t)li, nodes[k],
+                                                                  (aenl_dir_t)(d + 1), &p));
+                const double mean_r = s1[li][d][k] / sw[li][d][k];
+                const double var = s2[li][d][k] / sw[li][d][k] - mean_r * mean_r;
+                TEST_ASSERT_DOUBLE_WITHIN(1e-3 * 1000.0, 1000.0 + mean_r, (double)p.mean);
+                /* The demanding part: the mean's deviation from 1000 and the variance. */
+                TEST_ASSERT_DOUBLE_WITHIN(1e-3 * (fabs(mean_r) + sqrt(var)), mean_r,
+                                          (double)p.mean - 1000.0);
+                TEST_ASSERT_DOUBLE_WITHIN(1e-3 * var, var, (double)p.var);
+                TEST_ASSERT_DOUBLE_WITHIN(1e-3 * sw[li][d][k], sw[li][d][k], (double)p.weight);
+            }
+        }
+    }
+}
+#endif
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_moments_matches_brute_force);
+    RUN_TEST(test_moments_no_split_matches_brute_force);
+    RUN_TEST(test_moments_forgetting_matches_brute_force);
+    RUN_TEST(test_moments_constant_input_zero_variance);
+    RUN_TEST(test_moments_init_on_garbage_memory);
+    RUN_TEST(test_moments_init_rejects_bad_config);
+    RUN_TEST(test_moments_missing_sample_keeps_statistics);
+    RUN_TEST(test_moments_no_pair_across_a_gap);
+    RUN_TEST(test_moments_query_rejects_bad_arguments);
+    RUN_TEST(test_moments_reset_keeps_config);
+    RUN_TEST(test_moments_far_outlier_is_harmless);
+#if !AENL_USE_DOUBLE
+    RUN_TEST(test_moments_float32_long_stream);
+#endif
+    return UNITY_END();
+}

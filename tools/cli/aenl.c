@@ -1,0 +1,139 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl.c
+ * @brief `aenl <subcommand>`: dispatch, usage, and the helpers every subcommand shares.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_cli.h"
+
+typedef struct
+{
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} subcommand_t;
+
+static const subcommand_t k_subcommands[] = {
+    {"moments", aenl_cmd_moments, "conditional mean/variance curves of a channel -> CSV (+ plot)"},
+    {"plot", aenl_cmd_plot, "figures from the CSV outputs of the other subcommands"},
+    {"demo", aenl_cmd_demo, "the worked examples end to end, with figures"},
+    {"bench", aenl_cmd_bench, "performance figures against simple references"},
+};
+
+static void usage(FILE *fp)
+{
+    fprintf(fp, "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n\n");
+    for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
+    {
+        fprintf(fp, "  %-10s %s\n", k_subcommands[i].name, k_subcommands[i].summary);
+    }
+}
+
+void aenl_cli_error(const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "aenl %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+int aenl_cli_exit(aenl_status_t st)
+{
+    return st == AENL_OK ? AENL_EXIT_OK : AENL_EXIT_USAGE;
+}
+
+int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, double *out)
+{
+    char *end = NULL;
+    if (s == NULL || *s == '\0')
+    {
+        aenl_cli_error(cmd, "%s needs a number", opt);
+        return -1;
+    }
+    const double v = strtod(s, &end);
+    if (end == s || *end != '\0' || !isfinite(v))
+    {
+        aenl_cli_error(cmd, "%s: '%s' is not a finite number", opt, s);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out)
+{
+    char *end = NULL;
+    if (s == NULL || *s == '\0')
+    {
+        aenl_cli_error(cmd, "%s needs a whole number", opt);
+        return -1;
+    }
+    const long v = strtol(s, &end, 10);
+    if (end == s || *end != '\0' || v < lo || v > hi)
+    {
+        aenl_cli_error(cmd, "%s: '%s' is not a whole number in %ld..%ld", opt, s, lo, hi);
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i)
+{
+    if (*i + 1 >= argc)
+    {
+        aenl_cli_error(cmd, "option %s needs a value", argv[*i]);
+        return NULL;
+    }
+    *i += 1;
+    return argv[*i];
+}
+
+static void on_signal(int sig)
+{
+    aenl_outfile_abort_all();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2)
+    {
+        usage(stderr);
+        return AENL_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0)
+    {
+        usage(stdout);
+        return AENL_EXIT_OK;
+    }
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
+    {
+        if (strcmp(argv[1], k_subcommands[i].name) == 0)
+        {
+            const int rc = k_subcommands[i].run(argc - 1, argv + 1);
+            aenl_outfile_abort_all(); /* nothing half-written survives, whatever the path out */
+            if (fflush(stdout) != 0 && rc == AENL_EXIT_OK)
+            {
+                aenl_cli_error(argv[1], "writing to standard output failed");
+                return AENL_EXIT_FAIL;
+            }
+            return rc;
+        }
+    }
+    aenl_cli_error(argv[1], "unknown subcommand (aenl --help lists them)");
+    return AENL_EXIT_USAGE;
+}

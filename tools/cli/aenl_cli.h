@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_cli.h
+ * @brief The subcommands of the single `aenl` command. Each is a thin layer over the host library.
+ *
+ * Every subcommand returns the process exit status: 0 success, 2 bad input or usage (one message on
+ * stderr through aenl_cli_error, nothing on stdout, no output file left), 1 an internal failure.
+ */
+#ifndef AENL_CLI_H
+#define AENL_CLI_H
+
+#include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_io.h"
+
+#define AENL_EXIT_OK    0
+#define AENL_EXIT_FAIL  1
+#define AENL_EXIT_USAGE 2
+
+/** Print "aenl <cmd>: <message>\n" on stderr. */
+void aenl_cli_error(const char *cmd, const char *fmt, ...) AENL_PRINTF_LIKE(2, 3);
+
+/** Exit status for a host status: 0 for AENL_OK, 2 otherwise. */
+int aenl_cli_exit(aenl_status_t st);
+
+/** Parse a finite double; on failure print "<opt>: ..." and return -1. */
+int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, double *out);
+/** Parse a whole number in [lo, hi]; on failure print and return -1. */
+int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
+/** The value after option argv[*i] (advancing *i), or NULL after printing "needs a value". */
+const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
+
+/** 1 for the names a time column goes by: t, t_s, time, time_s, tau. */
+int aenl_cli_is_time_column(const char *name);
+/** Column of `channel` (or of the only non-time column when NULL); -1 after printing why. */
+long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
+                           const char *channel);
+
+int aenl_cmd_moments(int argc, char **argv);
+int aenl_cmd_simulate(int argc, char **argv);
+int aenl_cmd_flutter(int argc, char **argv);
+int aenl_cmd_plot(int argc, char **argv);
+int aenl_cmd_demo(int argc, char **argv);
+int aenl_cmd_bench(int argc, char **argv);
+
+#endif /* AENL_CLI_H */

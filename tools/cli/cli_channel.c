@@ -1,0 +1,62 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cli_channel.c
+ * @brief Reading one channel of a CSV record for the subcommands.
+ */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_cli.h"
+
+int aenl_cli_is_time_column(const char *name)
+{
+    static const char *const k_time[] = {"t", "t_s", "time", "time_s", "tau"};
+    for (size_t i = 0; i < sizeof(k_time) / sizeof(k_time[0]); ++i)
+    {
+        if (strcmp(name, k_time[i]) == 0)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
+                           const char *channel)
+{
+    if (channel != NULL)
+    {
+        const long c = aenl_table_find(t, channel);
+        if (c < 0)
+        {
+            char names[512] = "";
+            for (size_t i = 0; i < t->n_cols; ++i)
+            {
+                if (strlen(names) + strlen(t->names[i]) + 3 < sizeof(names))
+                {
+                    strcat(names, i ? ", " : "");
+                    strcat(names, t->names[i]);
+                }
+            }
+            aenl_cli_error(cmd, "%s: no channel '%s' (columns: %s)", path, channel, names);
+        }
+        return c;
+    }
+    long found = -1;
+    size_t n_data = 0;
+    for (size_t i = 0; i < t->n_cols; ++i)
+    {
+        if (!aenl_cli_is_time_column(t->names[i]))
+        {
+            n_data++;
+            found = (long)i;
+        }
+    }
+    if (n_data != 1)
+    {
+        aenl_cli_error(cmd, "%s: %zu data channels: name one with --channel", path, n_data);
+        return -1;
+    }
+    return found;
+}

@@ -1,0 +1,322 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_moments.c
+ * @brief `aenl moments`: conditional mean/variance curves of one channel (paper Figs. 5-9).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "aenl_cli.h"
+#include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_curves.h"
+#include "aenl_tools/aenl_plot.h"
+
+static const char *const k_cmd = "moments";
+
+static void help(void)
+{
+    printf("usage: aenl moments DATA.csv [--channel C] [--lags 1,10,30] [--grid MIN:MAX:N]\n"
+           "                    [--bandwidth cv|H] [--direction all|rising|falling] [--no-split]\n"
+           "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n\n"
+           "Kernel estimates of E(X_n | X_{n-L} = x) and Var(X_n | X_{n-L} = x) on a grid, for each\n"
+           "lag L (the paper's j = -L). CSV columns: lag,x,mean,var,n_eff,se (after '#' lines that\n"
+           "give the source, the bandwidth and how it was chosen). Without -o the CSV goes to stdout.\n"
+           "Defaults: lags 1,10,30; grid over the 0.1%%..99.9%% quantiles with 64 nodes; bandwidth\n"
+           "by leave-one-out cross-validation; rising/falling accumulated separately.\n");
+}
+
+static int parse_grid(const char *s, aenl_curves_opts_t *o)
+{
+    char buf[256];
+    if (strlen(s) >= sizeof(buf))
+    {
+        aenl_cli_error(k_cmd, "--grid: value too long");
+        return -1;
+    }
+    strcpy(buf, s);
+    char *a = buf;
+    char *b = strchr(a, ':');
+    char *c = b ? strchr(b + 1, ':') : NULL;
+    if (b == NULL || c == NULL)
+    {
+        aenl_cli_error(k_cmd, "--grid: '%s' is not MIN:MAX:N", s);
+        return -1;
+    }
+    *b++ = '\0';
+    *c++ = '\0';
+    long n = 0;
+    if (aenl_cli_parse_double(k_cmd, "--grid MIN", a, &o->x_min) != 0 ||
+        aenl_cli_parse_double(k_cmd, "--grid MAX", b, &o->x_max) != 0 ||
+        aenl_cli_parse_long(k_cmd, "--grid N", c, 3, AENL_MOMENTS_MAX_GRID, &n) != 0)
+    {
+        return -1;
+    }
+    if (!(o->x_max > o->x_min))
+    {
+        aenl_cli_error(k_cmd, "--grid: MAX (%g) must be above MIN (%g)", o->x_max, o->x_min);
+        return -1;
+    }
+    o->n_grid = (uint16_t)n;
+    o->grid_given = 1;
+    return 0;
+}
+
+int aenl_cmd_moments(int argc, char **argv)
+{
+    const char *data = NULL, *channel = NULL, *out = NULL, *plot = NULL;
+    int dir = AENL_DIR_ALL;
+    aenl_curves_opts_t o;
+    aenl_curves_opts_default(&o);
+    aenl_err_t err;
+    aenl_err_clear(&err);
+
+    for (int i = 1; i < argc; ++i)
+    {
+        const char *a = argv[i];
+        const char *v = NULL;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
+        {
+            help();
+            return AENL_EXIT_OK;
+        }
+        else if (strcmp(a, "--channel") == 0)
+        {
+            if ((channel = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--lags") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (aenl_curves_parse_lags(v, &o, &err) != AENL_OK)
+            {
+                aenl_cli_error(k_cmd, "%s", err.msg);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--grid") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL || parse_grid(v, &o) != 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--bandwidth") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (strcmp(v, "cv") == 0)
+            {
+                o.bandwidth = 0.0;
+            }
+            else if (aenl_cli_parse_double(k_cmd, "--bandwidth", v, &o.bandwidth) != 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            else if (!(o.bandwidth > 0.0))
+            {
+                aenl_cli_error(k_cmd, "--bandwidth: %s must be positive (or 'cv')", v);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--direction") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (strcmp(v, "all") == 0)
+            {
+                dir = AENL_DIR_ALL;
+            }
+            else if (strcmp(v, "rising") == 0)
+            {
+                dir = AENL_DIR_RISING;
+            }
+            else if (strcmp(v, "falling") == 0)
+            {
+                dir = AENL_DIR_FALLING;
+            }
+            else
+            {
+                aenl_cli_error(k_cmd, "--direction: '%s' is not all, rising or falling", v);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--no-split") == 0)
+        {
+            o.split = 0;
+        }
+        else if (strcmp(a, "--forgetting") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
+                aenl_cli_parse_double(k_cmd, "--forgetting", v, &o.forgetting) != 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (!(o.forgetting > 0.0) || o.forgetting > 1.0)
+            {
+                aenl_cli_error(k_cmd, "--forgetting: %s is outside (0, 1]", v);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0)
+        {
+            if ((out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--plot") == 0)
+        {
+            if ((plot = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (a[0] == '-' && a[1] != '\0')
+        {
+            aenl_cli_error(k_cmd, "unknown option %s (aenl moments --help)", a);
+            return AENL_EXIT_USAGE;
+        }
+        else if (data == NULL)
+        {
+            data = a;
+        }
+        else
+        {
+            aenl_cli_error(k_cmd, "one data file only (got '%s' and '%s')", data, a);
+            return AENL_EXIT_USAGE;
+        }
+    }
+    if (data == NULL)
+    {
+        aenl_cli_error(k_cmd, "no data file (usage: aenl moments DATA.csv --channel C ...)");
+        return AENL_EXIT_USAGE;
+    }
+    if (dir != AENL_DIR_ALL && !o.split)
+    {
+        aenl_cli_error(k_cmd, "--direction %s needs the direction split (drop --no-split)",
+                       dir == AENL_DIR_RISING ? "rising" : "falling");
+        return AENL_EXIT_USAGE;
+    }
+    if (plot != NULL && !aenl_plot_available())
+    {
+        aenl_cli_error(k_cmd, "--plot needs gnuplot on PATH (Debian: apt-get install gnuplot-nox)");
+        return AENL_EXIT_USAGE;
+    }
+
+    aenl_table_t t;
+    if (aenl_table_read(data, &t, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return AENL_EXIT_USAGE;
+    }
+    const long col = aenl_cli_pick_channel(k_cmd, &t, data, channel);
+    if (col < 0)
+    {
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    char chan[256];
+    snprintf(chan, sizeof(chan), "%s", t.names[col]);
+    if (t.n_rows == 0)
+    {
+        aenl_cli_error(k_cmd, "%s: no data rows (header only)", data);
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    aenl_curves_t c;
+    aenl_status_t st = aenl_curves_compute(aenl_table_col(&t, (size_t)col), t.n_rows, &o, &c, &err);
+    aenl_table_free(&t);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s, channel %s: %s", data, chan, err.msg);
+        return AENL_EXIT_USAGE;
+    }
+
+    /* The plot needs the CSV on disk: the output file, or a temporary one. */
+    char tmp_csv[64] = "";
+    const char *csv_path = out;
+    if (plot != NULL && (out == NULL || strcmp(out, "-") == 0))
+    {
+        strcpy(tmp_csv, "/tmp/aenl_moments_XXXXXX");
+        const int fd = mkstemp(tmp_csv);
+        if (fd < 0)
+        {
+            aenl_cli_error(k_cmd, "cannot create a temporary file in /tmp");
+            aenl_curves_free(&c);
+            return AENL_EXIT_FAIL;
+        }
+        close(fd);
+        st = aenl_curves_write_csv(&c, dir, data, chan, tmp_csv, &err);
+        csv_path = tmp_csv;
+    }
+    if (st == AENL_OK && (out == NULL || strcmp(out, "-") == 0) && plot == NULL)
+    {
+        st = aenl_curves_write_csv(&c, dir, data, chan, NULL, &err);
+    }
+    else if (st == AENL_OK && out != NULL && strcmp(out, "-") != 0)
+    {
+        st = aenl_curves_write_csv(&c, dir, data, chan, out, &err);
+    }
+    if (st == AENL_OK && plot != NULL)
+    {
+        char lags[256] = "";
+        for (uint16_t i = 0; i < c.n_lags; ++i)
+        {
+            char one[16];
+            snprintf(one, sizeof(one), "%s%u", i ? " " : "", (unsigned)c.lags[i]);
+            strcat(lags, one);
+        }
+        char title[600];
+        const char *base = strrchr(data, '/') ? strrchr(data, '/') + 1 : data;
+        snprintf(title, sizeof(title), "%s: %s (h = %.3g, %s)", base, chan, c.bandwidth,
+                 dir == AENL_DIR_ALL ? "all pairs" : dir == AENL_DIR_RISING ? "rising" : "falling");
+        for (char *p = title; *p; ++p)
+        {
+            *p = (*p == '\'' || *p == '\n') ? ' ' : *p;
+        }
+        const aenl_plot_var_t vars[] = {{"in", csv_path}, {"lags", lags}, {"title", title},
+                                        {"xlabel", chan}};
+        st = aenl_plot_run("moments", vars, sizeof(vars) / sizeof(vars[0]), plot, &err);
+        if (st != AENL_OK && out != NULL && strcmp(out, "-") != 0)
+        {
+            remove(out); /* all or nothing: no CSV without its requested figure */
+        }
+    }
+    if (tmp_csv[0] != '\0')
+    {
+        remove(tmp_csv);
+    }
+    if (st == AENL_OK && out != NULL && strcmp(out, "-") != 0)
+    {
+        printf("%s: channel %s, %zu samples (%zu missing), lags", data, chan, c.n_samples,
+               c.n_missing);
+        for (uint16_t i = 0; i < c.n_lags; ++i)
+        {
+            printf("%s%u", i ? "," : " ", (unsigned)c.lags[i]);
+        }
+        printf(", grid [%.6g, %.6g] x %u, bandwidth %.6g (%s) -> %s%s%s\n", c.x[0],
+               c.x[c.n_grid - 1u], (unsigned)c.n_grid, c.bandwidth,
+               c.bw_method < 0 ? "given" : aenl_bw_method_str(c.bw_method), out, plot ? ", " : "",
+               plot ? plot : "");
+    }
+    aenl_curves_free(&c);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return st == AENL_E_IO ? AENL_EXIT_USAGE : AENL_EXIT_USAGE;
+    }
+    return AENL_EXIT_OK;
+}

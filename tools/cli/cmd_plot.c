@@ -1,0 +1,198 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_plot.c
+ * @brief `aenl plot KIND IN.csv -o OUT.png`: figures from the CSV outputs of the other subcommands.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_cli.h"
+#include "aenl_tools/aenl_plot.h"
+
+static const char *const k_cmd = "plot";
+
+static void help(void)
+{
+    printf("usage: aenl plot KIND IN.csv -o OUT.png [--title T] [--marks x1,x2,...]\n\n"
+           "KIND  moments     IN from `aenl moments`: mean and variance per lag (--marks draws\n"
+           "                  vertical lines, e.g. at switching points)\n"
+           "      timeseries  IN from `aenl simulate` or any record: every channel against time\n");
+}
+
+/* The distinct lags of a moments CSV (column "lag"), space-separated, in order of appearance. */
+static int moments_lags(const char *in, char *lags, size_t n)
+{
+    aenl_table_t t;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    if (aenl_table_read(in, &t, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return -1;
+    }
+    const long c = aenl_table_find(&t, "lag");
+    if (c < 0 || aenl_table_find(&t, "mean") < 0 || aenl_table_find(&t, "var") < 0 || t.n_rows == 0)
+    {
+        aenl_cli_error(k_cmd, "%s: not a moments CSV (needs rows and columns lag,x,mean,var)", in);
+        aenl_table_free(&t);
+        return -1;
+    }
+    const double *lag = aenl_table_col(&t, (size_t)c);
+    lags[0] = '\0';
+    double last = -1.0;
+    for (size_t r = 0; r < t.n_rows; ++r)
+    {
+        if (lag[r] > last || lag[r] < last)
+        {
+            char one[32];
+            snprintf(one, sizeof(one), "%s%.0f", lags[0] ? " " : "", lag[r]);
+            if (strlen(lags) + strlen(one) + 1 < n && strstr(lags, one) == NULL)
+            {
+                strcat(lags, one);
+            }
+            last = lag[r];
+        }
+    }
+    aenl_table_free(&t);
+    return 0;
+}
+
+int aenl_cmd_plot(int argc, char **argv)
+{
+    const char *kind = NULL, *in = NULL, *out = NULL, *title = NULL, *marks = NULL;
+    for (int i = 1; i < argc; ++i)
+    {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
+        {
+            help();
+            return AENL_EXIT_OK;
+        }
+        else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0)
+        {
+            if ((out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--title") == 0)
+        {
+            if ((title = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--marks") == 0)
+        {
+            if ((marks = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (a[0] == '-' && a[1] != '\0')
+        {
+            aenl_cli_error(k_cmd, "unknown option %s (aenl plot --help)", a);
+            return AENL_EXIT_USAGE;
+        }
+        else if (kind == NULL)
+        {
+            kind = a;
+        }
+        else if (in == NULL)
+        {
+            in = a;
+        }
+        else
+        {
+            aenl_cli_error(k_cmd, "unexpected argument '%s'", a);
+            return AENL_EXIT_USAGE;
+        }
+    }
+    if (kind == NULL || in == NULL || out == NULL)
+    {
+        aenl_cli_error(k_cmd, "usage: aenl plot KIND IN.csv -o OUT.png (aenl plot --help)");
+        return AENL_EXIT_USAGE;
+    }
+    aenl_plot_var_t vars[6];
+    size_t nv = 0;
+    char lags[256];
+    char mark_words[512] = "";
+    vars[nv++] = (aenl_plot_var_t){"in", in};
+    vars[nv++] = (aenl_plot_var_t){"title", title ? title : in};
+    if (strcmp(kind, "moments") == 0)
+    {
+        if (moments_lags(in, lags, sizeof(lags)) != 0)
+        {
+            return AENL_EXIT_USAGE;
+        }
+        vars[nv++] = (aenl_plot_var_t){"lags", lags};
+        if (marks != NULL)
+        {
+            if (strlen(marks) >= sizeof(mark_words))
+            {
+                aenl_cli_error(k_cmd, "--marks: list too long");
+                return AENL_EXIT_USAGE;
+            }
+            for (const char *p = marks; *p; ++p)
+            {
+                double v;
+                char *end;
+                v = strtod(p, &end);
+                if (end == p || (*end != ',' && *end != '\0') || !isfinite(v))
+                {
+                    aenl_cli_error(k_cmd, "--marks: '%s' is not a comma-separated list of numbers",
+                                   marks);
+                    return AENL_EXIT_USAGE;
+                }
+                p = end;
+                if (*p == '\0')
+                {
+                    break;
+                }
+            }
+            size_t j = 0;
+            for (const char *p = marks; *p; ++p)
+            {
+                mark_words[j++] = (*p == ',') ? ' ' : *p;
+            }
+            mark_words[j] = '\0';
+            vars[nv++] = (aenl_plot_var_t){"marks", mark_words};
+        }
+    }
+    else if (strcmp(kind, "timeseries") != 0)
+    {
+        aenl_cli_error(k_cmd, "unknown kind '%s' (moments or timeseries)", kind);
+        return AENL_EXIT_USAGE;
+    }
+    else
+    {
+        /* Validate the input before gnuplot sees it: a clear error beats gnuplot's. */
+        aenl_table_t t;
+        aenl_err_t e;
+        aenl_err_clear(&e);
+        if (aenl_table_read(in, &t, &e) != AENL_OK)
+        {
+            aenl_cli_error(k_cmd, "%s", e.msg);
+            return AENL_EXIT_USAGE;
+        }
+        const int ok = t.n_rows > 0 && t.n_cols >= 2;
+        aenl_table_free(&t);
+        if (!ok)
+        {
+            aenl_cli_error(k_cmd, "%s: a time series needs a time column, a channel and rows", in);
+            return AENL_EXIT_USAGE;
+        }
+    }
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    const aenl_status_t st = aenl_plot_run(kind, vars, nv, out, &err);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return AENL_EXIT_USAGE;
+    }
+    printf("%s\n", out);
+    return AENL_EXIT_OK;
+}

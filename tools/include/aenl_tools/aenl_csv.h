@@ -1,0 +1,84 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_csv.h
+ * @brief Host-only CSV reading (streaming and whole-table) and writing.
+ *
+ * Format: a header row naming the columns, comma separators, optional CRLF line ends, C locale
+ * numbers. A cell may be empty, "nan" or "NaN" (a missing sample: read as NaN and counted).
+ * Any other non-numeric cell, a ragged row, an "inf" cell, a duplicated or empty column name is an
+ * error whose message names file:line:column. Lines that are empty or start with '#' are skipped.
+ * Writers use "%.17g" so doubles round-trip, and go through aenl_outfile_t (no partial files).
+ */
+#ifndef AENL_TOOLS_CSV_H
+#define AENL_TOOLS_CSV_H
+
+#include <stddef.h>
+
+#include "aenl_tools/aenl_io.h"
+
+/* ---- streaming reader: memory does not grow with the file's length ------------------------ */
+
+typedef struct aenl_csv aenl_csv_t; /**< opaque reader */
+
+/** Open `path` ("-" is stdin) and read its header row. */
+aenl_status_t aenl_csv_open(aenl_csv_t **csv, const char *path, aenl_err_t *err);
+size_t aenl_csv_n_cols(const aenl_csv_t *csv);
+const char *aenl_csv_col_name(const aenl_csv_t *csv, size_t col);
+/** Column index of `name`, or -1 when absent. */
+long aenl_csv_find(const aenl_csv_t *csv, const char *name);
+/**
+ * @brief Read the next data row into row[0 .. n_cols-1] (missing cells as NaN).
+ * @return 1 a row was read, 0 end of file, a negative aenl_status_t on error (err: file:line:col).
+ */
+int aenl_csv_next(aenl_csv_t *csv, double *row, aenl_err_t *err);
+/** 1-based line number of the row last read (for messages). */
+unsigned long aenl_csv_line(const aenl_csv_t *csv);
+/** The path as given to aenl_csv_open. */
+const char *aenl_csv_path(const aenl_csv_t *csv);
+void aenl_csv_close(aenl_csv_t *csv);
+
+/* ---- whole table in memory --------------------------------------------------------------- */
+
+/** Column-major table: column c, row r is data[c * n_rows + r]. */
+typedef struct aenl_table
+{
+    size_t n_rows, n_cols;
+    char **names;   /**< n_cols names */
+    double *data;   /**< n_cols * n_rows values, NaN = missing */
+    size_t *n_nan;  /**< per column: missing cells */
+} aenl_table_t;
+
+/** Read a whole file. On error *out is left empty (all zero) and nothing leaks. */
+aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *err);
+/** A new table of n_rows x n_cols, values NaN, names copied. */
+aenl_status_t aenl_table_alloc(aenl_table_t *t, size_t n_rows, size_t n_cols,
+                               const char *const *names, aenl_err_t *err);
+/** Column index of `name`, or -1 when absent. */
+long aenl_table_find(const aenl_table_t *t, const char *name);
+/** Pointer to column c (n_rows values). */
+double *aenl_table_col(const aenl_table_t *t, size_t c);
+/** Free and zero. Safe on a zeroed table. */
+void aenl_table_free(aenl_table_t *t);
+
+/** Write a table (header + rows, "%.17g", missing as "nan") to `path` atomically. */
+aenl_status_t aenl_table_write(const aenl_table_t *t, const char *path, aenl_err_t *err);
+
+/* ---- streaming writer -------------------------------------------------------------------- */
+
+typedef struct aenl_csv_writer
+{
+    aenl_outfile_t out;
+    size_t n_cols;
+} aenl_csv_writer_t;
+
+/** Open `path` (atomically, see aenl_outfile_t) and write the header row. */
+aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path,
+                                   const char *const *names, size_t n_cols, aenl_err_t *err);
+/** Append one row of n_cols values. */
+aenl_status_t aenl_csv_writer_row(aenl_csv_writer_t *w, const double *values, aenl_err_t *err);
+/** Finish: the file appears under its final name only now. */
+aenl_status_t aenl_csv_writer_commit(aenl_csv_writer_t *w, aenl_err_t *err);
+/** Drop everything written; no file is left. */
+void aenl_csv_writer_abort(aenl_csv_writer_t *w);
+
+#endif /* AENL_TOOLS_CSV_H */

@@ -1,0 +1,63 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_io.h
+ * @brief Host-only: error messages and output files that appear only when complete.
+ *
+ * Host functions report failures as an aenl_status_t plus one human-readable message in an
+ * aenl_err_t (what and where: "data.csv:12:3: not a number 'x1'"). Only `main` prints.
+ * Every file the tools write goes through aenl_outfile_t: it is written under a temporary name
+ * in the same folder and renamed into place by aenl_outfile_commit(), so a failure (or an exit
+ * before commit) never leaves a partial output file behind.
+ */
+#ifndef AENL_TOOLS_IO_H
+#define AENL_TOOLS_IO_H
+
+#include <stdio.h>
+
+#include "aenl/aenl_types.h"
+
+#if defined(__GNUC__)
+#define AENL_PRINTF_LIKE(f, a) __attribute__((format(printf, f, a)))
+#else
+#define AENL_PRINTF_LIKE(f, a)
+#endif
+
+/** One error message; the first cause is kept (later aenl_err_set calls do not overwrite). */
+typedef struct aenl_err
+{
+    char msg[768];
+} aenl_err_t;
+
+/** Empty the message. */
+void aenl_err_clear(aenl_err_t *err);
+
+/** Set the message (printf-style) unless one is already set. err may be NULL. */
+void aenl_err_set(aenl_err_t *err, const char *fmt, ...) AENL_PRINTF_LIKE(2, 3);
+
+/** An output file under construction. Fields are private. */
+typedef struct aenl_outfile
+{
+    FILE *fp;        /**< write through this between open and commit */
+    char *path;      /**< final path */
+    char *tmp_path;  /**< temporary path in the same folder */
+} aenl_outfile_t;
+
+/**
+ * @brief Create `path`'s temporary twin for writing. Fails with AENL_E_IO (message names the path)
+ *        if the folder does not exist or is not writable. The final path is not touched.
+ */
+aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t *err);
+
+/**
+ * @brief Flush, close and rename into place. On any write error the temporary is removed and
+ *        AENL_E_IO returned; the final path is then untouched.
+ */
+aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err);
+
+/** Close and remove the temporary. Safe on a zeroed, aborted or committed outfile. */
+void aenl_outfile_abort(aenl_outfile_t *of);
+
+/** Remove every temporary still open (called at exit; also usable by a signal handler). */
+void aenl_outfile_abort_all(void);
+
+#endif /* AENL_TOOLS_IO_H */

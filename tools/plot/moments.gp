@@ -1,0 +1,22 @@
+# SPDX-License-Identifier: MIT
+# Conditional mean (top) and variance (bottom) per lag, as in the paper's Figs. 5-9.
+# Variables: in (CSV from `aenl moments`), out (PNG), lags ("1 10 30"), title, xlabel;
+# optional: marks ("x1 x2 ...": switching points drawn as vertical lines).
+if (!exists("title")) title = ''
+if (!exists("xlabel")) xlabel = 'x'
+if (!exists("marks")) marks = ''
+set terminal pngcairo size 900,900 enhanced font ',11'
+set output out
+set datafile separator comma
+set datafile columnheaders
+set datafile missing 'nan'
+set grid
+set key top left
+set multiplot layout 2,1 title title noenhanced
+do for [m in marks] { set arrow from m+0, graph 0 to m+0, graph 1 nohead dt 2 lc rgb '#aa0000' }
+set xlabel xlabel noenhanced
+set ylabel sprintf('E(X_n | X_{n-L} = %s)', xlabel) noenhanced
+plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s', l)
+set ylabel sprintf('Var(X_n | X_{n-L} = %s)', xlabel) noenhanced
+plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s', l)
+unset multiplot

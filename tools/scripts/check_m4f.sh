@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# Cortex-M4F gate (STYLE.md sections 7 and 11): cross-build aenl_core_f32 with arm-none-eabi-gcc,
+# then (1) every undefined symbol must be on the allow-list (float libm, mem*, integer EABI helpers:
+# no heap, no stdio, no double-precision helper), (2) print arm-none-eabi-size of the core,
+# (3) print the state sizes and (4) the largest stack frames from -fstack-usage.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${1:-$root/build/m4f}
+cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/tools/cmake/arm-none-eabi.cmake" \
+      -DCMAKE_BUILD_TYPE=Release -DAENL_BUILD_TESTS=OFF -DAENL_BUILD_TOOLS=OFF >/dev/null
+cmake --build "$build" --target aenl_core_f32 -j2 >/dev/null
+lib=$(find "$build" -name 'libaenl_core_f32.a' | head -n 1)
+
+allowed='^(expf|sqrtf|logf|fabsf|floorf|ceilf|memset|memcpy|memmove|__aeabi_mem(set|clr|cpy|move)[48]?|__aeabi_u?idiv(mod)?|__aeabi_u?ldivmod|__aeabi_l(asr|lsl|lsr|mul|cmp)|__aeabi_ulcmp)$'
+undef=$(arm-none-eabi-nm -u "$lib" | awk 'NF==2{print $2}' | sort -u)
+bad=$(echo "$undef" | grep -vE "$allowed" | grep -v '^$' || true)
+echo "m4f: undefined symbols of the core: $(echo $undef)"
+if [[ -n $bad ]]; then
+  echo "m4f: FAIL: symbols outside the allow-list (heap, stdio or double precision?): $(echo $bad)"
+  exit 1
+fi
+echo "m4f: allow-list ok"
+echo "m4f: arm-none-eabi-size of the core (float32, -Os):"
+arm-none-eabi-size -t "$lib"
+
+probe="$build/m4f_sizeof.o"
+arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -std=c99 -Os \
+  -I"$root/include" -c "$root/tools/scripts/m4f_sizeof.c" -o "$probe"
+echo "m4f: state sizes (float32, default aenl_config.h):"
+arm-none-eabi-nm -S "$probe" | while read -r _addr size _kind name; do
+  [[ $name == aenl_sizeof_* ]] && echo "  sizeof(aenl_${name#aenl_sizeof_}_t) = $((16#$size)) B"
+done
+
+arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -std=c99 -Os \
+  -DAENL_MOMENTS_COMPENSATED=0 -I"$root/include" -c "$root/tools/scripts/m4f_sizeof.c" -o "$probe"
+echo "m4f: the same with AENL_MOMENTS_COMPENSATED=0 (plain Welford cells):"
+arm-none-eabi-nm -S "$probe" | while read -r _addr size _kind name; do
+  [[ $name == aenl_sizeof_* ]] && echo "  sizeof(aenl_${name#aenl_sizeof_}_t) = $((16#$size)) B"
+done
+
+sufiles=$(find "$build" -name '*.su' -path '*aenl_core_f32*')
+echo "m4f: largest stack frames (-fstack-usage):"
+cat $sufiles | sort -t$'\t' -k2,2nr | head -n 8 | sed 's/^/  /'
+worst=$(cat $sufiles | awk -F'\t' '{if ($2+0 > m) m = $2+0} END {print m+0}')
+if grep -h -E 'dynamic' $sufiles >/dev/null 2>&1; then
+  echo "m4f: FAIL: a function has dynamic stack usage (VLA or alloca)"; exit 1
+fi
+if ((worst > 1024)); then
+  echo "m4f: FAIL: a function uses $worst B of stack (limit 1024)"; exit 1
+fi
+echo "m4f: ok (worst frame $worst B)"

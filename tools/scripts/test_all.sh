@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# The whole test command (README "Quick start", second line; .ci/run calls exactly this):
+#   1. install missing Debian packages;
+#   2. strict build (warnings as errors, header self-check) and the full ctest suite
+#      (Unity suites f32/f64, host tools, core purity);
+#   3. the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer;
+#   4. the Cortex-M4F cross build of aenl_core_f32 with the undefined-symbol allow-list and sizes.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
+jobs=$(nproc)
+"$root/tools/scripts/deps.sh" all
+
+step() { printf '\n=== %s\n' "$*"; }
+
+step "strict build (-Werror) + ctest"
+cmake -S "$root" -B "$root/build/strict" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_WERROR=ON >/dev/null
+cmake --build "$root/build/strict" -j"$jobs"
+ctest --test-dir "$root/build/strict" -j"$jobs" --output-on-failure
+
+step "ASan + UBSan build + ctest"
+cmake -S "$root" -B "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_SANITIZE=ON >/dev/null
+cmake --build "$root/build/asan" -j"$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir "$root/build/asan" -j"$jobs" --output-on-failure
+
+step "Cortex-M4F cross build of the core"
+"$root/tools/scripts/check_m4f.sh" "$root/build/m4f"
+
+step "all checks passed"

@@ -1,0 +1,906 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_csv.c
+ * @brief Host-only CSV reading (streaming and whole-table) and writing. See aenl_csv.h.
+ *
+ * Reader: getline(3) into one buffer that grows only for a longer line, so memory does not grow
+ * with the file's length. Physical lines are counted (comments and blank lines included), so
+ * "FILE:LINE:COLUMN" points at what an editor shows; COLUMN is the 1-based field index and the
+ * header name follows in parentheses. Numbers go through strtod(); the tools never call
+ * setlocale(), so that is the C locale.
+ *
+ * Statuses: AENL_E_IO cannot open/read/write; AENL_E_EMPTY no header row (empty file);
+ * AENL_E_ARG malformed content (not a number, ragged row, bad header, binary data) or bad
+ * arguments; AENL_E_NUMERIC an infinite or out-of-range number.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "aenl_tools/aenl_csv.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+
+struct aenl_csv
+{
+    FILE *fp;
+    int own_fp;              /* 0 for stdin */
+    char *path;
+    char *line;              /* getline buffer */
+    size_t cap;
+    unsigned long line_no;   /* physical line of the last line read */
+    size_t n_cols;
+    char **names;
+    aenl_status_t failed;    /* sticky: once a read failed, later calls fail too */
+};
+
+/* ---- small helpers ------------------------------------------------------------------------- */
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = (char *)malloc(n);
+    if (d != NULL)
+    {
+        memcpy(d, s, n);
+    }
+    return d;
+}
+
+static int is_blank(char c)
+{
+    return c == ' ' || c == '\t';
+}
+
+/* Trim blanks on both sides in place; returns the new start. */
+static char *trim(char *s)
+{
+    size_t n;
+    while (is_blank(*s))
+    {
+        ++s;
+    }
+    n = strlen(s);
+    while (n > 0 && is_blank(s[n - 1]))
+    {
+        s[--n] = '\0';
+    }
+    return s;
+}
+
+static int ascii_lower(int c)
+{
+    return (c >= 'A' && c <= 'Z') ? c - 'A' + 'a' : c;
+}
+
+/* "nan" or "-nan" in any letter case. */
+static int is_nan_word(const char *s)
+{
+    if (*s == '-')
+    {
+        ++s;
+    }
+    return ascii_lower((unsigned char)s[0]) == 'n' && ascii_lower((unsigned char)s[1]) == 'a' &&
+           ascii_lower((unsigned char)s[2]) == 'n' && s[3] == '\0';
+}
+
+static void free_names(char **names, size_t n)
+{
+    size_t i;
+    if (names == NULL)
+    {
+        return;
+    }
+    for (i = 0; i < n; ++i)
+    {
+        free(names[i]);
+    }
+    free(names);
+}
+
+/* ---- line reading -------------------------------------------------------------------------- */
+
+enum
+{
+    LINE_OK = 1,
+    LINE_EOF = 0
+};
+
+/**
+ * Read one physical line into csv->line without its "\n" / "\r\n". Rejects NUL and control bytes
+ * (binary data). Returns LINE_OK, LINE_EOF or a negative status.
+ */
+static int read_line(aenl_csv_t *csv, aenl_err_t *err)
+{
+    ssize_t got;
+    size_t len;
+    size_t i;
+    char *s;
+
+    errno = 0;
+    got = getline(&csv->line, &csv->cap, csv->fp);
+    if (got < 0)
+    {
+        if (ferror(csv->fp))
+        {
+            aenl_err_set(err, "%s:%lu: read error (%s)", csv->path, csv->line_no + 1UL,
+                         strerror(errno != 0 ? errno : EIO));
+            return AENL_E_IO;
+        }
+        return LINE_EOF;
+    }
+    ++csv->line_no;
+    len = (size_t)got;
+    s = csv->line;
+    if (len > 0 && s[len - 1] == '\n')
+    {
+        s[--len] = '\0';
+    }
+    if (len > 0 && s[len - 1] == '\r')
+    {
+        s[--len] = '\0';
+    }
+    if (csv->line_no == 1 && len >= 3 && (unsigned char)s[0] == 0xEFU &&
+        (unsigned char)s[1] == 0xBBU && (unsigned char)s[2] == 0xBFU)
+    {
+        memmove(s, s + 3, len - 3 + 1); /* UTF-8 byte order mark */
+        len -= 3;
+    }
+    for (i = 0; i < len; ++i)
+    {
+        unsigned char c = (unsigned char)s[i];
+        if (c == 0U)
+        {
+            aenl_err_set(err, "%s:%lu: NUL byte at character %lu (binary file?)", csv->path,
+                         csv->line_no, (unsigned long)(i + 1));
+            return AENL_E_ARG;
+        }
+        if ((c < 0x20U && c != (unsigned char)'\t') || c == 0x7FU)
+        {
+            aenl_err_set(err, "%s:%lu: control byte 0x%02x at character %lu (binary file?)",
+                         csv->path, csv->line_no, (unsigned)c, (unsigned long)(i + 1));
+            return AENL_E_ARG;
+        }
+    }
+    return LINE_OK;
+}
+
+/* Blank (only spaces/tabs) or a comment ('#' as first non-blank character). */
+static int skip_line(const char *s)
+{
+    while (is_blank(*s))
+    {
+        ++s;
+    }
+    return *s == '\0' || *s == '#';
+}
+
+/* Next line that is not blank or a comment. */
+static int read_content_line(aenl_csv_t *csv, aenl_err_t *err)
+{
+    for (;;)
+    {
+        int rc = read_line(csv, err);
+        if (rc != LINE_OK)
+        {
+            return rc;
+        }
+        if (!skip_line(csv->line))
+        {
+            return LINE_OK;
+        }
+    }
+}
+
+/* ---- header -------------------------------------------------------------------------------- */
+
+static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
+{
+    size_t n = 1;
+    size_t c;
+    const char *p;
+    char *cell;
+    char *next;
+
+    for (p = csv->line; *p != '\0'; ++p)
+    {
+        n += (*p == ',') ? 1U : 0U;
+    }
+    csv->names = (char **)calloc(n, sizeof *csv->names);
+    if (csv->names == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", csv->path);
+        return AENL_E_IO;
+    }
+    cell = csv->line;
+    for (c = 0; c < n; ++c)
+    {
+        char *name;
+        size_t len;
+        size_t k;
+        next = strchr(cell, ',');
+        if (next != NULL)
+        {
+            *next = '\0';
+        }
+        name = trim(cell);
+        len = strlen(name);
+        if (len >= 2 && name[0] == '"' && name[len - 1] == '"')
+        {
+            name[len - 1] = '\0'; /* a quoted name: "t" */
+            name = trim(name + 1);
+        }
+        if (name[0] == '\0')
+        {
+            aenl_err_set(err, "%s:%lu:%lu: empty column name in the header row", csv->path,
+                         csv->line_no, (unsigned long)(c + 1));
+            csv->n_cols = c;
+            return AENL_E_ARG;
+        }
+        for (k = 0; k < c; ++k)
+        {
+            if (strcmp(csv->names[k], name) == 0)
+            {
+                aenl_err_set(err, "%s:%lu:%lu (%s): duplicate column name '%s' (also column %lu)",
+                             csv->path, csv->line_no, (unsigned long)(c + 1), name, name,
+                             (unsigned long)(k + 1));
+                csv->n_cols = c;
+                return AENL_E_ARG;
+            }
+        }
+        csv->names[c] = dup_str(name);
+        if (csv->names[c] == NULL)
+        {
+            aenl_err_set(err, "%s: out of memory", csv->path);
+            csv->n_cols = c;
+            return AENL_E_IO;
+        }
+        cell = (next != NULL) ? next + 1 : cell + strlen(cell);
+    }
+    csv->n_cols = n;
+    return AENL_OK;
+}
+
+/* ---- streaming reader ---------------------------------------------------------------------- */
+
+void aenl_csv_close(aenl_csv_t *csv)
+{
+    if (csv == NULL)
+    {
+        return;
+    }
+    if (csv->fp != NULL && csv->own_fp)
+    {
+        (void)fclose(csv->fp);
+    }
+    free_names(csv->names, csv->n_cols);
+    free(csv->line);
+    free(csv->path);
+    free(csv);
+}
+
+aenl_status_t aenl_csv_open(aenl_csv_t **out, const char *path, aenl_err_t *err)
+{
+    aenl_csv_t *csv;
+    int rc;
+    aenl_status_t st;
+
+    if (out == NULL || path == NULL || path[0] == '\0')
+    {
+        aenl_err_set(err, "aenl_csv_open: NULL or empty argument");
+        return AENL_E_ARG;
+    }
+    *out = NULL;
+    csv = (aenl_csv_t *)calloc(1, sizeof *csv);
+    if (csv == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    csv->path = dup_str(path);
+    if (csv->path == NULL)
+    {
+        free(csv);
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    if (strcmp(path, "-") == 0)
+    {
+        csv->fp = stdin;
+        csv->own_fp = 0;
+    }
+    else
+    {
+        csv->fp = fopen(path, "r");
+        csv->own_fp = 1;
+        if (csv->fp == NULL)
+        {
+            aenl_err_set(err, "%s: cannot open (%s)", path, strerror(errno));
+            aenl_csv_close(csv);
+            return AENL_E_IO;
+        }
+    }
+    rc = read_content_line(csv, err);
+    if (rc == LINE_EOF)
+    {
+        if (csv->line_no == 0)
+        {
+            aenl_err_set(err, "%s: empty file (no header row)", path);
+        }
+        else
+        {
+            aenl_err_set(err, "%s: empty file (no header row; only comments or blank lines)",
+                         path);
+        }
+        aenl_csv_close(csv);
+        return AENL_E_EMPTY;
+    }
+    if (rc < 0)
+    {
+        aenl_csv_close(csv);
+        return (aenl_status_t)rc;
+    }
+    st = parse_header(csv, err);
+    if (st != AENL_OK)
+    {
+        aenl_csv_close(csv);
+        return st;
+    }
+    *out = csv;
+    return AENL_OK;
+}
+
+size_t aenl_csv_n_cols(const aenl_csv_t *csv)
+{
+    return (csv != NULL) ? csv->n_cols : 0U;
+}
+
+const char *aenl_csv_col_name(const aenl_csv_t *csv, size_t col)
+{
+    return (csv != NULL && col < csv->n_cols) ? csv->names[col] : NULL;
+}
+
+static long find_name(char *const *names, size_t n, const char *name)
+{
+    size_t i;
+    if (names == NULL || name == NULL)
+    {
+        return -1;
+    }
+    for (i = 0; i < n; ++i)
+    {
+        if (strcmp(names[i], name) == 0)
+        {
+            return (long)i;
+        }
+    }
+    return -1;
+}
+
+long aenl_csv_find(const aenl_csv_t *csv, const char *name)
+{
+    return (csv != NULL) ? find_name(csv->names, csv->n_cols, name) : -1;
+}
+
+unsigned long aenl_csv_line(const aenl_csv_t *csv)
+{
+    return (csv != NULL) ? csv->line_no : 0UL;
+}
+
+const char *aenl_csv_path(const aenl_csv_t *csv)
+{
+    return (csv != NULL) ? csv->path : NULL;
+}
+
+/* One cell → value (NaN for a missing cell). `cell` is already trimmed. */
+static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cell, double *value,
+                                aenl_err_t *err)
+{
+    char *end = NULL;
+    double v;
+    if (cell[0] == '\0' || is_nan_word(cell))
+    {
+        *value = (double)NAN;
+        return AENL_OK;
+    }
+    errno = 0;
+    v = strtod(cell, &end);
+    if (end == cell || *end != '\0' || isnan(v))
+    {
+        aenl_err_set(err, "%s:%lu:%lu (%s): not a number '%.60s'", csv->path, csv->line_no,
+                     (unsigned long)(c + 1), csv->names[c], cell);
+        return AENL_E_ARG;
+    }
+    if (isinf(v))
+    {
+        if (errno == ERANGE)
+        {
+            aenl_err_set(err, "%s:%lu:%lu (%s): number out of range '%.60s'", csv->path,
+                         csv->line_no, (unsigned long)(c + 1), csv->names[c], cell);
+        }
+        else
+        {
+            aenl_err_set(err,
+                         "%s:%lu:%lu (%s): infinite value '%.60s' (use nan or an empty cell for "
+                         "a missing sample)",
+                         csv->path, csv->line_no, (unsigned long)(c + 1), csv->names[c], cell);
+        }
+        return AENL_E_NUMERIC;
+    }
+    *value = v; /* an underflow to a subnormal or zero is accepted */
+    return AENL_OK;
+}
+
+static aenl_status_t parse_row(const aenl_csv_t *csv, char *line, double *row, aenl_err_t *err)
+{
+    size_t c = 0;
+    char *cell = line;
+    for (;;)
+    {
+        char *next = strchr(cell, ',');
+        aenl_status_t st;
+        if (next != NULL)
+        {
+            *next = '\0';
+        }
+        if (c >= csv->n_cols)
+        {
+            size_t n_cells = c + 1;
+            while (next != NULL)
+            {
+                next = strchr(next + 1, ',');
+                ++n_cells;
+            }
+            aenl_err_set(err, "%s:%lu:%lu: extra cell (row has %lu cells, header has %lu)",
+                         csv->path, csv->line_no, (unsigned long)(c + 1), (unsigned long)n_cells,
+                         (unsigned long)csv->n_cols);
+            return AENL_E_ARG;
+        }
+        st = parse_cell(csv, c, trim(cell), &row[c], err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        ++c;
+        if (next == NULL)
+        {
+            break;
+        }
+        cell = next + 1;
+    }
+    if (c < csv->n_cols)
+    {
+        aenl_err_set(err, "%s:%lu:%lu (%s): missing cell (row has %lu cells, header has %lu)",
+                     csv->path, csv->line_no, (unsigned long)(c + 1), csv->names[c],
+                     (unsigned long)c, (unsigned long)csv->n_cols);
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+int aenl_csv_next(aenl_csv_t *csv, double *row, aenl_err_t *err)
+{
+    int rc;
+    aenl_status_t st;
+    if (csv == NULL || row == NULL)
+    {
+        aenl_err_set(err, "aenl_csv_next: NULL argument");
+        return (int)AENL_E_ARG;
+    }
+    if (csv->failed != AENL_OK)
+    {
+        aenl_err_set(err, "%s:%lu: reading stopped at an earlier error", csv->path,
+                     csv->line_no);
+        return (int)csv->failed;
+    }
+    rc = read_content_line(csv, err);
+    if (rc == LINE_EOF)
+    {
+        return 0;
+    }
+    if (rc < 0)
+    {
+        csv->failed = (aenl_status_t)rc;
+        return rc;
+    }
+    st = parse_row(csv, csv->line, row, err);
+    if (st != AENL_OK)
+    {
+        csv->failed = st;
+        return (int)st;
+    }
+    return 1;
+}
+
+/* ---- whole table --------------------------------------------------------------------------- */
+
+static void table_zero(aenl_table_t *t)
+{
+    t->n_rows = 0;
+    t->n_cols = 0;
+    t->names = NULL;
+    t->data = NULL;
+    t->n_nan = NULL;
+}
+
+void aenl_table_free(aenl_table_t *t)
+{
+    if (t == NULL)
+    {
+        return;
+    }
+    free_names(t->names, t->names != NULL ? t->n_cols : 0U);
+    free(t->data);
+    free(t->n_nan);
+    table_zero(t);
+}
+
+long aenl_table_find(const aenl_table_t *t, const char *name)
+{
+    return (t != NULL) ? find_name(t->names, t->n_cols, name) : -1;
+}
+
+double *aenl_table_col(const aenl_table_t *t, size_t c)
+{
+    if (t == NULL || t->data == NULL || c >= t->n_cols)
+    {
+        return NULL;
+    }
+    return t->data + c * t->n_rows;
+}
+
+/* names[0..n-1] copied; NULL on allocation failure. */
+static char **copy_names(const char *const *names, size_t n)
+{
+    size_t i;
+    char **out = (char **)calloc(n, sizeof *out);
+    if (out == NULL)
+    {
+        return NULL;
+    }
+    for (i = 0; i < n; ++i)
+    {
+        out[i] = dup_str(names[i]);
+        if (out[i] == NULL)
+        {
+            free_names(out, i);
+            return NULL;
+        }
+    }
+    return out;
+}
+
+/**
+ * Grow the column-major buffer (column stride cap) to new_cap rows in place: realloc, then move
+ * the columns up from the last to the first (a column's destination never overlaps a column
+ * that has not moved yet).
+ */
+static double *grow_columns(double *data, size_t n_cols, size_t n_rows, size_t cap,
+                            size_t new_cap)
+{
+    size_t c;
+    double *grown = (double *)realloc(data, n_cols * new_cap * sizeof *grown);
+    if (grown == NULL)
+    {
+        return NULL;
+    }
+    for (c = n_cols; c-- > 1;)
+    {
+        memmove(grown + c * new_cap, grown + c * cap, n_rows * sizeof *grown);
+    }
+    return grown;
+}
+
+aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *err)
+{
+    aenl_csv_t *csv = NULL;
+    aenl_status_t st;
+    double *row = NULL;
+    double *data = NULL;
+    size_t *n_nan = NULL;
+    size_t n_cols;
+    size_t n_rows = 0;
+    size_t cap = 0;
+    size_t c;
+    int rc;
+
+    if (out == NULL)
+    {
+        aenl_err_set(err, "aenl_table_read: NULL table");
+        return AENL_E_ARG;
+    }
+    table_zero(out);
+    st = aenl_csv_open(&csv, path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    n_cols = csv->n_cols;
+    row = (double *)malloc(n_cols * sizeof *row);
+    n_nan = (size_t *)calloc(n_cols, sizeof *n_nan);
+    if (row == NULL || n_nan == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path);
+        st = AENL_E_IO;
+        goto fail;
+    }
+    while ((rc = aenl_csv_next(csv, row, err)) == 1)
+    {
+        if (n_rows == cap)
+        {
+            size_t new_cap = (cap == 0) ? 1024U : 2U * cap;
+            double *grown;
+            if (new_cap > SIZE_MAX / sizeof(double) / n_cols)
+            {
+                aenl_err_set(err, "%s:%lu: table too large", path, csv->line_no);
+                st = AENL_E_IO;
+                goto fail;
+            }
+            grown = grow_columns(data, n_cols, n_rows, cap, new_cap);
+            if (grown == NULL)
+            {
+                aenl_err_set(err, "%s:%lu: out of memory (%lu rows)", path, csv->line_no,
+                             (unsigned long)n_rows);
+                st = AENL_E_IO;
+                goto fail;
+            }
+            data = grown;
+            cap = new_cap;
+        }
+        for (c = 0; c < n_cols; ++c)
+        {
+            data[c * cap + n_rows] = row[c];
+            n_nan[c] += isnan(row[c]) ? 1U : 0U;
+        }
+        ++n_rows;
+    }
+    if (rc < 0)
+    {
+        st = (aenl_status_t)rc;
+        goto fail;
+    }
+    /* Compact to stride n_rows (destinations below sources: move first to last), then shrink. */
+    if (data != NULL && n_rows < cap)
+    {
+        double *shrunk;
+        for (c = 1; c < n_cols; ++c)
+        {
+            memmove(data + c * n_rows, data + c * cap, n_rows * sizeof *data);
+        }
+        shrunk = (double *)realloc(data, n_cols * n_rows * sizeof *data);
+        if (shrunk != NULL)
+        {
+            data = shrunk;
+        }
+    }
+    out->names = csv->names; /* take the header names over from the reader */
+    csv->names = NULL;
+    out->n_cols = n_cols;
+    out->n_rows = n_rows;
+    out->data = data;
+    out->n_nan = n_nan;
+    aenl_csv_close(csv);
+    free(row);
+    return AENL_OK;
+
+fail:
+    aenl_csv_close(csv);
+    free(row);
+    free(data);
+    free(n_nan);
+    table_zero(out);
+    return st;
+}
+
+aenl_status_t aenl_table_alloc(aenl_table_t *t, size_t n_rows, size_t n_cols,
+                               const char *const *names, aenl_err_t *err)
+{
+    size_t i;
+    size_t n_vals;
+    if (t == NULL)
+    {
+        aenl_err_set(err, "aenl_table_alloc: NULL table");
+        return AENL_E_ARG;
+    }
+    table_zero(t);
+    if (names == NULL || n_cols == 0)
+    {
+        aenl_err_set(err, "aenl_table_alloc: no column names");
+        return AENL_E_ARG;
+    }
+    for (i = 0; i < n_cols; ++i)
+    {
+        if (names[i] == NULL)
+        {
+            aenl_err_set(err, "aenl_table_alloc: column %lu has a NULL name",
+                         (unsigned long)(i + 1));
+            return AENL_E_ARG;
+        }
+    }
+    if (n_rows > SIZE_MAX / sizeof(double) / n_cols)
+    {
+        aenl_err_set(err, "aenl_table_alloc: %lu x %lu table too large", (unsigned long)n_rows,
+                     (unsigned long)n_cols);
+        return AENL_E_ARG;
+    }
+    n_vals = n_rows * n_cols;
+    t->names = copy_names(names, n_cols);
+    t->data = (double *)malloc((n_vals > 0 ? n_vals : 1U) * sizeof *t->data);
+    t->n_nan = (size_t *)malloc(n_cols * sizeof *t->n_nan);
+    t->n_cols = n_cols;
+    if (t->names == NULL || t->data == NULL || t->n_nan == NULL)
+    {
+        aenl_table_free(t);
+        aenl_err_set(err, "aenl_table_alloc: out of memory");
+        return AENL_E_IO;
+    }
+    t->n_rows = n_rows;
+    for (i = 0; i < n_vals; ++i)
+    {
+        t->data[i] = (double)NAN;
+    }
+    for (i = 0; i < n_cols; ++i)
+    {
+        t->n_nan[i] = n_rows; /* every cell starts missing */
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_table_write(const aenl_table_t *t, const char *path, aenl_err_t *err)
+{
+    aenl_csv_writer_t w;
+    aenl_status_t st;
+    double *row;
+    size_t r;
+    size_t c;
+    if (t == NULL || t->names == NULL || t->n_cols == 0 || (t->data == NULL && t->n_rows > 0))
+    {
+        aenl_err_set(err, "aenl_table_write: empty or NULL table");
+        return AENL_E_ARG;
+    }
+    row = (double *)malloc(t->n_cols * sizeof *row);
+    if (row == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path != NULL ? path : "(null)");
+        return AENL_E_IO;
+    }
+    st = aenl_csv_writer_open(&w, path, (const char *const *)t->names, t->n_cols, err);
+    for (r = 0; st == AENL_OK && r < t->n_rows; ++r)
+    {
+        for (c = 0; c < t->n_cols; ++c)
+        {
+            row[c] = t->data[c * t->n_rows + r];
+        }
+        st = aenl_csv_writer_row(&w, row, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = aenl_csv_writer_commit(&w, err);
+    }
+    else
+    {
+        aenl_csv_writer_abort(&w);
+    }
+    free(row);
+    return st;
+}
+
+/* ---- streaming writer ---------------------------------------------------------------------- */
+
+aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path,
+                                   const char *const *names, size_t n_cols, aenl_err_t *err)
+{
+    size_t c;
+    size_t k;
+    aenl_status_t st;
+    if (w == NULL)
+    {
+        aenl_err_set(err, "aenl_csv_writer_open: NULL writer");
+        return AENL_E_ARG;
+    }
+    w->out.fp = NULL;
+    w->out.path = NULL;
+    w->out.tmp_path = NULL;
+    w->n_cols = 0;
+    if (names == NULL || n_cols == 0)
+    {
+        aenl_err_set(err, "%s: no columns to write", path != NULL ? path : "(null)");
+        return AENL_E_ARG;
+    }
+    /* A name the reader would reject must not be written. */
+    for (c = 0; c < n_cols; ++c)
+    {
+        const char *s = names[c];
+        if (s == NULL || s[0] == '\0' || strpbrk(s, ",\r\n\"") != NULL || is_blank(s[0]) ||
+            is_blank(s[strlen(s) - 1]) || s[0] == '#')
+        {
+            aenl_err_set(err, "%s: column %lu: invalid column name '%s'",
+                         path != NULL ? path : "(null)", (unsigned long)(c + 1),
+                         s != NULL ? s : "(null)");
+            return AENL_E_ARG;
+        }
+        for (k = 0; k < c; ++k)
+        {
+            if (strcmp(names[k], s) == 0)
+            {
+                aenl_err_set(err, "%s: column %lu: duplicate column name '%s'",
+                             path != NULL ? path : "(null)", (unsigned long)(c + 1), s);
+                return AENL_E_ARG;
+            }
+        }
+    }
+    st = aenl_outfile_open(&w->out, path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    for (c = 0; c < n_cols; ++c)
+    {
+        if (fputs(names[c], w->out.fp) < 0 || fputc(c + 1 < n_cols ? ',' : '\n', w->out.fp) < 0)
+        {
+            aenl_err_set(err, "%s: write error (%s)", path, strerror(errno));
+            aenl_outfile_abort(&w->out);
+            return AENL_E_IO;
+        }
+    }
+    w->n_cols = n_cols;
+    return AENL_OK;
+}
+
+aenl_status_t aenl_csv_writer_row(aenl_csv_writer_t *w, const double *values, aenl_err_t *err)
+{
+    size_t c;
+    if (w == NULL || w->out.fp == NULL || values == NULL)
+    {
+        aenl_err_set(err, "aenl_csv_writer_row: writer not open or NULL values");
+        return AENL_E_ARG;
+    }
+    for (c = 0; c < w->n_cols; ++c)
+    {
+        int n;
+        char sep = (c + 1 < w->n_cols) ? ',' : '\n';
+        if (isnan(values[c]))
+        {
+            n = fprintf(w->out.fp, "nan%c", sep);
+        }
+        else if (isinf(values[c]))
+        {
+            aenl_err_set(err, "%s: column %lu: infinite value cannot be written", w->out.path,
+                         (unsigned long)(c + 1));
+            aenl_outfile_abort(&w->out); /* documented: a failed row drops the file */
+            return AENL_E_NUMERIC;
+        }
+        else
+        {
+            n = fprintf(w->out.fp, "%.17g%c", values[c], sep);
+        }
+        if (n < 0)
+        {
+            aenl_err_set(err, "%s: write error (%s)", w->out.path, strerror(errno));
+            aenl_outfile_abort(&w->out);
+            return AENL_E_IO;
+        }
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_csv_writer_commit(aenl_csv_writer_t *w, aenl_err_t *err)
+{
+    if (w == NULL)
+    {
+        aenl_err_set(err, "aenl_csv_writer_commit: NULL writer");
+        return AENL_E_ARG;
+    }
+    return aenl_outfile_commit(&w->out, err);
+}
+
+void aenl_csv_writer_abort(aenl_csv_writer_t *w)
+{
+    if (w != NULL)
+    {
+        aenl_outfile_abort(&w->out);
+    }
+}

@@ -1,0 +1,373 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_curves.c
+ * @brief Whole-channel conditional moment curves through the core estimator (host, double).
+ */
+#include "aenl_tools/aenl_curves.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_bandwidth.h"
+
+#define DEFAULT_NODES 64u
+#define QUANTILE_LO   0.001
+
+void aenl_curves_opts_default(aenl_curves_opts_t *o)
+{
+    memset(o, 0, sizeof(*o));
+    o->n_lags = 3;
+    o->lags[0] = 1;
+    o->lags[1] = 10;
+    o->lags[2] = 30;
+    o->n_grid = DEFAULT_NODES;
+    o->bandwidth = 0.0;
+    o->forgetting = 1.0;
+    o->split = 1;
+}
+
+void aenl_curves_free(aenl_curves_t *c)
+{
+    if (c == NULL)
+    {
+        return;
+    }
+    free(c->x);
+    free(c->mean);
+    free(c->var);
+    free(c->n_eff);
+    free(c->se);
+    memset(c, 0, sizeof(*c));
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a;
+    const double y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Quantile of sorted values by linear interpolation between order statistics. */
+static double quantile_sorted(const double *s, size_t n, double q)
+{
+    const double pos = q * (double)(n - 1u);
+    const size_t i = (size_t)pos;
+    if (i + 1u >= n)
+    {
+        return s[n - 1u];
+    }
+    const double f = pos - (double)i;
+    return s[i] + f * (s[i + 1u] - s[i]);
+}
+
+aenl_status_t aenl_curves_parse_lags(const char *s, aenl_curves_opts_t *opts, aenl_err_t *err)
+{
+    uint16_t n = 0;
+    const char *p = s;
+    if (s == NULL || *s == '\0')
+    {
+        aenl_err_set(err, "--lags: empty list (expected e.g. 1,10,30)");
+        return AENL_E_ARG;
+    }
+    while (*p != '\0')
+    {
+        char *end = NULL;
+        errno = 0;
+        const long v = strtol(p, &end, 10);
+        if (end == p || errno != 0 || (*end != ',' && *end != '\0'))
+        {
+            aenl_err_set(err, "--lags: '%s' is not a comma-separated list of whole numbers", s);
+            return AENL_E_ARG;
+        }
+        if (v < 1 || v > AENL_MOMENTS_MAX_LAG)
+        {
+            aenl_err_set(err, "--lags: lag %ld is outside 1..%d (the compile-time maximum)", v,
+                         AENL_MOMENTS_MAX_LAG);
+            return AENL_E_ARG;
+        }
+        if (n >= AENL_MOMENTS_MAX_LAGS)
+        {
+            aenl_err_set(err, "--lags: more than %d lags (the compile-time maximum)",
+                         AENL_MOMENTS_MAX_LAGS);
+            return AENL_E_ARG;
+        }
+        for (uint16_t i = 0; i < n; ++i)
+        {
+            if (opts->lags[i] == (uint16_t)v)
+            {
+                aenl_err_set(err, "--lags: lag %ld is given twice", v);
+                return AENL_E_ARG;
+            }
+        }
+        opts->lags[n++] = (uint16_t)v;
+        p = (*end == ',') ? end + 1 : end;
+        if (*end == ',' && *p == '\0')
+        {
+            aenl_err_set(err, "--lags: '%s' ends with a comma", s);
+            return AENL_E_ARG;
+        }
+    }
+    opts->n_lags = n;
+    return AENL_OK;
+}
+
+static aenl_status_t check_opts(const aenl_curves_opts_t *o, aenl_err_t *err)
+{
+    if (o->n_lags == 0 || o->n_lags > AENL_MOMENTS_MAX_LAGS)
+    {
+        aenl_err_set(err, "between 1 and %d lags are needed, got %u", AENL_MOMENTS_MAX_LAGS,
+                     (unsigned)o->n_lags);
+        return AENL_E_ARG;
+    }
+    for (uint16_t i = 0; i < o->n_lags; ++i)
+    {
+        if (o->lags[i] < 1 || o->lags[i] > AENL_MOMENTS_MAX_LAG)
+        {
+            aenl_err_set(err, "lag %u is outside 1..%d", (unsigned)o->lags[i], AENL_MOMENTS_MAX_LAG);
+            return AENL_E_ARG;
+        }
+    }
+    if (o->n_grid < 3 || o->n_grid > AENL_MOMENTS_MAX_GRID)
+    {
+        aenl_err_set(err, "the grid needs 3..%d nodes, got %u", AENL_MOMENTS_MAX_GRID,
+                     (unsigned)o->n_grid);
+        return AENL_E_ARG;
+    }
+    if (o->grid_given && (!isfinite(o->x_min) || !isfinite(o->x_max) || !(o->x_max > o->x_min)))
+    {
+        aenl_err_set(err, "the grid [%g, %g] is not an increasing finite interval", o->x_min,
+                     o->x_max);
+        return AENL_E_ARG;
+    }
+    if (!isfinite(o->bandwidth) || o->bandwidth < 0.0)
+    {
+        aenl_err_set(err, "the bandwidth %g must be positive (or 0 for cross-validation)",
+                     o->bandwidth);
+        return AENL_E_ARG;
+    }
+    if (!isfinite(o->forgetting) || !(o->forgetting > 0.0) || o->forgetting > 1.0)
+    {
+        aenl_err_set(err, "the forgetting factor %g must be in (0, 1]", o->forgetting);
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                  aenl_curves_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    aenl_status_t st = check_opts(opts, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    size_t n_fin = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        n_fin += isfinite(x[i]) ? 1u : 0u;
+    }
+    if (n_fin == 0)
+    {
+        aenl_err_set(err, "no finite sample (%zu samples, all missing)", n);
+        return AENL_E_ARG;
+    }
+    uint16_t max_lag = 0;
+    for (uint16_t i = 0; i < opts->n_lags; ++i)
+    {
+        max_lag = opts->lags[i] > max_lag ? opts->lags[i] : max_lag;
+    }
+    double *sorted = malloc(n_fin * sizeof(double));
+    if (sorted == NULL)
+    {
+        aenl_err_set(err, "out of memory (%zu samples)", n_fin);
+        return AENL_E_IO;
+    }
+    for (size_t i = 0, j = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            sorted[j++] = x[i];
+        }
+    }
+    qsort(sorted, n_fin, sizeof(double), cmp_double);
+    const double lo_all = sorted[0], hi_all = sorted[n_fin - 1u];
+    const double lo_q = quantile_sorted(sorted, n_fin, QUANTILE_LO);
+    const double hi_q = quantile_sorted(sorted, n_fin, 1.0 - QUANTILE_LO);
+    free(sorted);
+    if (!(hi_all > lo_all) || !(hi_all - lo_all > 1e-12 * (fabs(hi_all) + fabs(lo_all))))
+    {
+        aenl_err_set(err, "constant signal (every finite sample equals %.17g): no conditional curve",
+                     lo_all);
+        return AENL_E_ARG;
+    }
+    if (n_fin < (size_t)max_lag + 3u)
+    {
+        aenl_err_set(err, "%zu finite samples are too few for lag %u", n_fin, (unsigned)max_lag);
+        return AENL_E_ARG;
+    }
+
+    aenl_moments_cfg_t cfg;
+    memset(&cfg, 0, sizeof(cfg));
+    cfg.x_min = opts->grid_given ? opts->x_min : lo_q;
+    cfg.x_max = opts->grid_given ? opts->x_max : hi_q;
+    if (!(cfg.x_max > cfg.x_min))
+    {
+        cfg.x_min = lo_all;
+        cfg.x_max = hi_all;
+    }
+    cfg.n_grid = opts->n_grid;
+    cfg.n_lags = opts->n_lags;
+    memcpy(cfg.lags, opts->lags, sizeof(cfg.lags));
+    cfg.forgetting = opts->forgetting;
+    cfg.direction_split = opts->split ? 1u : 0u;
+
+    out->bw_method = -1;
+    if (opts->bandwidth > 0.0)
+    {
+        cfg.bandwidth = opts->bandwidth;
+    }
+    else
+    {
+        aenl_bw_result_t bw;
+        st = aenl_bw_select(x, n, opts->lags, opts->n_lags, NULL, &bw, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        cfg.bandwidth = bw.h;
+        out->bw_method = bw.method;
+    }
+
+    aenl_moments_t *m = malloc(sizeof(*m));
+    if (m == NULL)
+    {
+        aenl_err_set(err, "out of memory (estimator state)");
+        return AENL_E_IO;
+    }
+    st = aenl_moments_init(m, &cfg);
+    if (st != AENL_OK)
+    {
+        free(m);
+        aenl_err_set(err,
+                     "estimator rejected the configuration (%s): %u nodes x %u lags%s exceeds the "
+                     "capacity of %d cells, or a value is out of range",
+                     aenl_status_str(st), (unsigned)cfg.n_grid, (unsigned)cfg.n_lags,
+                     cfg.direction_split ? " x 2 directions" : "", AENL_MOMENTS_MAX_CELLS);
+        return st == AENL_E_DIM ? AENL_E_DIM : AENL_E_ARG;
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+        (void)aenl_moments_push(m, x[i]); /* NaN: a counted gap, by design */
+    }
+
+    out->n_lags = cfg.n_lags;
+    out->n_grid = cfg.n_grid;
+    out->n_dir = cfg.direction_split ? 3u : 1u;
+    memcpy(out->lags, cfg.lags, sizeof(out->lags));
+    out->bandwidth = cfg.bandwidth;
+    out->n_samples = m->n_samples;
+    out->n_missing = m->n_missing;
+    const size_t total = (size_t)out->n_dir * out->n_lags * out->n_grid;
+    out->x = malloc(out->n_grid * sizeof(double));
+    out->mean = malloc(total * sizeof(double));
+    out->var = malloc(total * sizeof(double));
+    out->n_eff = malloc(total * sizeof(double));
+    out->se = malloc(total * sizeof(double));
+    if (out->x == NULL || out->mean == NULL || out->var == NULL || out->n_eff == NULL ||
+        out->se == NULL)
+    {
+        free(m);
+        aenl_curves_free(out);
+        aenl_err_set(err, "out of memory (curves)");
+        return AENL_E_IO;
+    }
+    for (uint16_t k = 0; k < out->n_grid; ++k)
+    {
+        out->x[k] = aenl_moments_node_x(m, k);
+    }
+    for (int d = 0; d < (int)out->n_dir; ++d)
+    {
+        for (uint16_t li = 0; li < out->n_lags; ++li)
+        {
+            for (uint16_t k = 0; k < out->n_grid; ++k)
+            {
+                aenl_moments_point_t p;
+                const size_t at = aenl_curves_at(out, d, li, k);
+                if (aenl_moments_query(m, li, k, (aenl_dir_t)d, &p) == AENL_OK)
+                {
+                    out->mean[at] = p.mean;
+                    out->var[at] = p.var;
+                    out->n_eff[at] = p.n_eff;
+                    out->se[at] = p.se;
+                }
+                else
+                {
+                    out->mean[at] = NAN;
+                    out->var[at] = NAN;
+                    out->n_eff[at] = 0.0;
+                    out->se[at] = NAN;
+                }
+            }
+        }
+    }
+    free(m);
+    return AENL_OK;
+}
+
+static const char *method_name(int method)
+{
+    return method < 0 ? "given" : aenl_bw_method_str(method);
+}
+
+aenl_status_t aenl_curves_write_csv(const aenl_curves_t *c, int dir, const char *source,
+                                    const char *channel, const char *path, aenl_err_t *err)
+{
+    static const char *const dir_names[3] = {"all", "rising", "falling"};
+    if (dir < 0 || dir >= (int)c->n_dir)
+    {
+        aenl_err_set(err, "direction %s needs the direction split", dir_names[dir < 0 ? 0 : dir % 3]);
+        return AENL_E_ARG;
+    }
+    aenl_outfile_t of;
+    memset(&of, 0, sizeof(of));
+    FILE *fp = stdout;
+    const int to_stdout = (path == NULL || strcmp(path, "-") == 0);
+    if (!to_stdout)
+    {
+        const aenl_status_t st = aenl_outfile_open(&of, path, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        fp = of.fp;
+    }
+    fprintf(fp, "# aenl moments: source=%s channel=%s\n", source, channel);
+    fprintf(fp, "# bandwidth=%.17g method=%s direction=%s\n", c->bandwidth,
+            method_name(c->bw_method), dir_names[dir]);
+    fprintf(fp, "# samples=%zu missing=%zu grid=%.17g:%.17g:%u\n", c->n_samples, c->n_missing,
+            c->x[0], c->x[c->n_grid - 1u], (unsigned)c->n_grid);
+    fprintf(fp, "lag,x,mean,var,n_eff,se\n");
+    for (uint16_t li = 0; li < c->n_lags; ++li)
+    {
+        for (uint16_t k = 0; k < c->n_grid; ++k)
+        {
+            const size_t at = aenl_curves_at(c, dir, li, k);
+            fprintf(fp, "%u,%.17g,%.17g,%.17g,%.17g,%.17g\n", (unsigned)c->lags[li], c->x[k],
+                    c->mean[at], c->var[at], c->n_eff[at], c->se[at]);
+        }
+    }
+    if (to_stdout)
+    {
+        if (fflush(stdout) != 0 || ferror(stdout))
+        {
+            aenl_err_set(err, "writing to standard output failed");
+            return AENL_E_IO;
+        }
+        return AENL_OK;
+    }
+    return aenl_outfile_commit(&of, err);
+}

@@ -1,0 +1,335 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_io.c
+ * @brief Host-only: first-cause error messages and output files that appear only when complete.
+ *
+ * An output file is written as ".<name>.tmp.<pid>.<counter>" in the folder of its final path
+ * (same file system, so rename(2) is atomic) and renamed into place by aenl_outfile_commit().
+ * Every open temporary is listed in a process-wide table; aenl_outfile_abort_all() (registered
+ * with atexit on the first open) unlinks what is still listed. The table is not thread-safe: the
+ * tools are single-threaded. abort_all only calls unlink(), so a signal handler may call it.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "aenl_tools/aenl_io.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- error messages ------------------------------------------------------------------------ */
+
+void aenl_err_clear(aenl_err_t *err)
+{
+    if (err != NULL)
+    {
+        err->msg[0] = '\0';
+    }
+}
+
+void aenl_err_set(aenl_err_t *err, const char *fmt, ...)
+{
+    va_list ap;
+    if (err == NULL || fmt == NULL || err->msg[0] != '\0')
+    {
+        return; /* the first cause wins */
+    }
+    va_start(ap, fmt);
+    (void)vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+    va_end(ap);
+}
+
+/* ---- table of pending temporaries ---------------------------------------------------------- */
+
+/* Pointers to the tmp_path strings of open outfiles (owned by the outfiles). A slot is NULL when
+ * free. volatile sig_atomic_t count so a signal handler sees a consistent bound. */
+static char **g_pending;
+static size_t g_pending_cap;
+static volatile sig_atomic_t g_atexit_done;
+static unsigned long g_tmp_counter;
+
+static int pending_add(char *tmp_path)
+{
+    size_t i;
+    char **grown;
+    size_t new_cap;
+    for (i = 0; i < g_pending_cap; ++i)
+    {
+        if (g_pending[i] == NULL)
+        {
+            g_pending[i] = tmp_path;
+            return 0;
+        }
+    }
+    new_cap = (g_pending_cap == 0) ? 8 : 2 * g_pending_cap;
+    grown = (char **)realloc(g_pending, new_cap * sizeof *grown);
+    if (grown == NULL)
+    {
+        return -1;
+    }
+    for (i = g_pending_cap; i < new_cap; ++i)
+    {
+        grown[i] = NULL;
+    }
+    grown[g_pending_cap] = tmp_path;
+    g_pending = grown;
+    g_pending_cap = new_cap;
+    return 0;
+}
+
+static void pending_remove(const char *tmp_path)
+{
+    size_t i;
+    for (i = 0; i < g_pending_cap; ++i)
+    {
+        if (g_pending[i] == tmp_path)
+        {
+            g_pending[i] = NULL;
+            return;
+        }
+    }
+}
+
+void aenl_outfile_abort_all(void)
+{
+    size_t i;
+    for (i = 0; i < g_pending_cap; ++i)
+    {
+        if (g_pending[i] != NULL)
+        {
+            (void)unlink(g_pending[i]);
+            /* The string stays owned by its outfile; the slot is forgotten so a second call (a
+             * signal, then exit) does nothing. Nothing is freed: not async-signal-safe. */
+            g_pending[i] = NULL;
+        }
+    }
+}
+
+static void pending_release_table(void)
+{
+    size_t i;
+    for (i = 0; i < g_pending_cap; ++i)
+    {
+        if (g_pending[i] != NULL)
+        {
+            return; /* still in use */
+        }
+    }
+    free(g_pending);
+    g_pending = NULL;
+    g_pending_cap = 0;
+}
+
+/* atexit handler: remove the temporaries, then release the (now empty) table. */
+static void outfile_at_exit(void)
+{
+    aenl_outfile_abort_all();
+    pending_release_table();
+}
+
+/* ---- output files -------------------------------------------------------------------------- */
+
+static char *dup_str(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    char *d = (char *)malloc(n);
+    if (d != NULL)
+    {
+        memcpy(d, s, n);
+    }
+    return d;
+}
+
+/* "<dir>/.<base>.tmp.<pid>.<counter>" for path "<dir>/<base>" (dir may be empty). */
+static char *make_tmp_name(const char *path, unsigned long counter)
+{
+    const char *slash = strrchr(path, '/');
+    size_t dir_len = (slash != NULL) ? (size_t)(slash - path) + 1U : 0U;
+    const char *base = path + dir_len;
+    size_t need = strlen(path) + 64U;
+    char *tmp = (char *)malloc(need);
+    if (tmp == NULL)
+    {
+        return NULL;
+    }
+    memcpy(tmp, path, dir_len);
+    (void)snprintf(tmp + dir_len, need - dir_len, ".%s.tmp.%ld.%lu", base, (long)getpid(),
+                   counter);
+    return tmp;
+}
+
+static void outfile_zero(aenl_outfile_t *of)
+{
+    of->fp = NULL;
+    of->path = NULL;
+    of->tmp_path = NULL;
+}
+
+aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t *err)
+{
+    int fd = -1;
+    int attempt;
+    char *tmp = NULL;
+    char *final_path;
+    size_t len;
+
+    if (of == NULL)
+    {
+        aenl_err_set(err, "aenl_outfile_open: NULL outfile");
+        return AENL_E_ARG;
+    }
+    outfile_zero(of);
+    if (path == NULL || path[0] == '\0')
+    {
+        aenl_err_set(err, "output file: empty path");
+        return AENL_E_ARG;
+    }
+    len = strlen(path);
+    if (path[len - 1] == '/')
+    {
+        aenl_err_set(err, "%s: is a folder, not a file name", path);
+        return AENL_E_ARG;
+    }
+    final_path = dup_str(path);
+    if (final_path == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    for (attempt = 0; attempt < 100; ++attempt)
+    {
+        tmp = make_tmp_name(path, g_tmp_counter++);
+        if (tmp == NULL)
+        {
+            break;
+        }
+        /* 0666 & ~umask: the final file gets ordinary permissions (mkstemp would give 0600). */
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0 || errno != EEXIST)
+        {
+            break;
+        }
+        free(tmp);
+        tmp = NULL;
+    }
+    if (tmp == NULL)
+    {
+        free(final_path);
+        aenl_err_set(err, "%s: cannot create a temporary file (out of memory or names exhausted)",
+                     path);
+        return AENL_E_IO;
+    }
+    if (fd < 0)
+    {
+        int e = errno;
+        free(tmp);
+        free(final_path);
+        aenl_err_set(err, "%s: cannot create (%s)", path, strerror(e));
+        return AENL_E_IO;
+    }
+    if (pending_add(tmp) != 0)
+    {
+        (void)close(fd);
+        (void)unlink(tmp);
+        free(tmp);
+        free(final_path);
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    if (!g_atexit_done)
+    {
+        if (atexit(outfile_at_exit) == 0)
+        {
+            g_atexit_done = 1;
+        }
+    }
+    of->fp = fdopen(fd, "w");
+    if (of->fp == NULL)
+    {
+        int e = errno;
+        pending_remove(tmp);
+        (void)close(fd);
+        (void)unlink(tmp);
+        free(tmp);
+        free(final_path);
+        aenl_err_set(err, "%s: cannot open a stream (%s)", path, strerror(e));
+        return AENL_E_IO;
+    }
+    of->path = final_path;
+    of->tmp_path = tmp;
+    return AENL_OK;
+}
+
+aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
+{
+    int failed = 0;
+    int e = 0;
+    const char *what = "";
+    if (of == NULL || of->fp == NULL || of->tmp_path == NULL || of->path == NULL)
+    {
+        aenl_err_set(err, "aenl_outfile_commit: the output file is not open");
+        aenl_outfile_abort(of);
+        return AENL_E_ARG;
+    }
+    /* Every step is checked: a full disk shows up at fflush or fclose, not at fprintf. */
+    if (fflush(of->fp) != 0)
+    {
+        failed = 1;
+        e = errno;
+        what = "write";
+    }
+    else if (ferror(of->fp))
+    {
+        failed = 1;
+        e = EIO;
+        what = "write";
+    }
+    if (fclose(of->fp) != 0 && !failed)
+    {
+        failed = 1;
+        e = errno;
+        what = "close";
+    }
+    of->fp = NULL;
+    if (!failed && rename(of->tmp_path, of->path) != 0)
+    {
+        failed = 1;
+        e = errno;
+        what = "rename into place";
+    }
+    if (failed)
+    {
+        aenl_err_set(err, "%s: cannot %s (%s)", of->path, what, strerror(e));
+        aenl_outfile_abort(of); /* removes the temporary, frees, zeroes */
+        return AENL_E_IO;
+    }
+    pending_remove(of->tmp_path);
+    free(of->tmp_path);
+    free(of->path);
+    outfile_zero(of);
+    return AENL_OK;
+}
+
+void aenl_outfile_abort(aenl_outfile_t *of)
+{
+    if (of == NULL)
+    {
+        return;
+    }
+    if (of->fp != NULL)
+    {
+        (void)fclose(of->fp);
+    }
+    if (of->tmp_path != NULL)
+    {
+        pending_remove(of->tmp_path);
+        (void)unlink(of->tmp_path);
+        free(of->tmp_path);
+    }
+    free(of->path);
+    outfile_zero(of);
+}
