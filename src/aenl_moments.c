@@ -4,18 +4,18 @@
  * @brief Streaming triangular-kernel conditional moments (DESIGN.md section 2.1).
  *
  * Cell update (weighted Welford, West 1979), for a pair (u, y) with kernel weight w at a node:
- *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),  W2' = W2 + w^2
- * Forgetting: rather than multiplying every cell by lambda at every sample (O(grid)), the newest
- * sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W, W^2/W2) are unchanged.
- * When the scale reaches 2^20 all active cells are multiplied by 2^-20 (exact in binary floating
- * point) and the scale divided by 2^20, so nothing overflows and no rounding is added.
+ *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),  W2' = W2 +
+ * w^2 Forgetting: rather than multiplying every cell by lambda at every sample (O(grid)), the
+ * newest sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W, W^2/W2) are
+ * unchanged. When the scale reaches 2^20 all active cells are multiplied by 2^-20 (exact in binary
+ * floating point) and the scale divided by 2^20, so nothing overflows and no rounding is added.
  */
 #include <string.h>
 
 #include "aenl/aenl_moments.h"
 
-#define RING_LEN ((uint16_t)(AENL_MOMENTS_MAX_LAG + 2))
-#define SCALE_LIMIT AENL_R(1048576.0)        /* 2^20 */
+#define RING_LEN     ((uint16_t)(AENL_MOMENTS_MAX_LAG + 2))
+#define SCALE_LIMIT  AENL_R(1048576.0)          /* 2^20 */
 #define SCALE_SHRINK AENL_R(9.5367431640625e-7) /* 2^-20 */
 
 /* Kahan summation: the represented value is s - c. */
@@ -236,39 +236,48 @@ static void ring_store(aenl_moments_t *m, aenl_real_t v, uint8_t ok)
     }
 }
 
-/* Clamp a real node coordinate into [-1, n_grid] before converting it, so that a conditioning
- * value far outside the grid can never overflow the integer conversion. */
-static int32_t node_clamp(aenl_real_t v, uint16_t n_grid)
+/* First node index >= v (ceil) and last node index <= v (floor), for v in grid units, clamped to
+ * [-1, n_grid] before any conversion so that a far-off value cannot overflow the integer. Written
+ * without ceil/floor: those are library calls on many targets, and this is the hot path. */
+static int32_t node_ceil(aenl_real_t v, uint16_t n_grid)
 {
     if (!(v > AENL_R(-1.0)))
     {
-        return -1;
+        return 0;
     }
     if (v > (aenl_real_t)n_grid)
     {
         return (int32_t)n_grid;
     }
-    return (int32_t)v;
+    const int32_t k = (int32_t)v; /* truncation: v > -1, so 0 <= k <= the ceiling of v */
+    return ((aenl_real_t)k < v) ? k + 1 : k;
 }
 
+static int32_t node_floor(aenl_real_t v, uint16_t n_grid)
+{
+    if (!(v >= AENL_R(0.0)))
+    {
+        return -1;
+    }
+    if (v >= (aenl_real_t)(n_grid - 1u))
+    {
+        return (int32_t)n_grid - 1;
+    }
+    return (int32_t)v; /* v >= 0: truncation is floor */
+}
+
+/* Pair (u, y) into the nodes of one cell row. Kernel phi_h(d) = (1 - |d|/h)/h, |d| < h. */
 static void accumulate(aenl_moments_t *m, aenl_moments_cell_t *row, aenl_real_t u, aenl_real_t y)
 {
-    const aenl_real_t h = m->cfg.bandwidth;
+    const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
+    const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
+    const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
+    const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
     const aenl_real_t wscale = m->scale * m->inv_h;
-    int32_t k0 = node_clamp(aenl_ceil((u - h - m->cfg.x_min) * m->inv_dx), m->cfg.n_grid);
-    int32_t k1 = node_clamp(aenl_floor((u + h - m->cfg.x_min) * m->inv_dx), m->cfg.n_grid);
-    if (k0 < 0)
-    {
-        k0 = 0;
-    }
-    if (k1 > (int32_t)m->cfg.n_grid - 1)
-    {
-        k1 = (int32_t)m->cfg.n_grid - 1;
-    }
     for (int32_t k = k0; k <= k1; ++k)
     {
         const aenl_real_t d = aenl_fabs(aenl_moments_node_x(m, (uint16_t)k) - u);
-        if (d < h)
+        if (d < m->cfg.bandwidth)
         {
             cell_update(&row[k], wscale * (AENL_R(1.0) - d * m->inv_h), y);
         }

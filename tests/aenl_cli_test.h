@@ -21,11 +21,11 @@
 
 typedef struct
 {
-    int status;       /* exit status, or -1 when the process did not exit normally (a crash) */
-    char out[65536];  /* stdout (truncated) */
-    char err[8192];   /* stderr (truncated) */
-    size_t n_out;     /* bytes on stdout (full count) */
-    int err_lines;    /* lines on stderr */
+    int status;      /* exit status, or -1 when the process did not exit normally (a crash) */
+    char out[65536]; /* stdout (truncated) */
+    char err[8192];  /* stderr (truncated) */
+    size_t n_out;    /* bytes on stdout (full count) */
+    int err_lines;   /* lines on stderr */
 } cli_result_t;
 
 static inline size_t cli_slurp(const char *path, char *buf, size_t cap)

@@ -161,8 +161,8 @@ static void test_bw_loo_fast_matches_brute_with_ties_and_gaps(void)
     {
         x[i] = (double)NAN; /* a gap */
     }
-    x[1000] = (double)INFINITY; /* treated as missing */
-    compare_fast_brute(x, n, lags, 3, 0.25);  /* exactly the quantisation step */
+    x[1000] = (double)INFINITY;              /* treated as missing */
+    compare_fast_brute(x, n, lags, 3, 0.25); /* exactly the quantisation step */
     compare_fast_brute(x, n, lags, 3, 0.6);
     compare_fast_brute(x, n, lags, 3, 3.0);
     free(x);
@@ -226,8 +226,8 @@ static void test_bw_select_ar2_three_lags(void)
     char msg[160];
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_bw_select(x, n, lags, 3, NULL, &r, &g_err),
                                   g_err.msg);
-    (void)snprintf(msg, sizeof msg, "h=%g score=%g rule=%g cand=%lu fb=%s", r.h, r.score,
-                   r.h_rule, (unsigned long)r.n_candidates, aenl_bw_fallback_str(r.fallback));
+    (void)snprintf(msg, sizeof msg, "h=%g score=%g rule=%g cand=%lu fb=%s", r.h, r.score, r.h_rule,
+                   (unsigned long)r.n_candidates, aenl_bw_fallback_str(r.fallback));
     TEST_MESSAGE(msg);
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_BW_CV, r.method, msg);
     TEST_ASSERT_EQUAL_size_t((n - 1) + (n - 10) + (n - 30), r.n_pairs);

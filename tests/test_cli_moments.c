@@ -34,7 +34,8 @@ static const char *write_signal(const char *name, size_t n, int with_nan)
         }
         else
         {
-            pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%.4f,%.9f,%.6f\n", t, a, 0.5 * a);
+            pos +=
+                (size_t)snprintf(text + pos, sizeof(text) - pos, "%.4f,%.9f,%.6f\n", t, a, 0.5 * a);
         }
     }
     return cli_file(name, text);
@@ -43,8 +44,9 @@ static const char *write_signal(const char *name, size_t n, int with_nan)
 static void test_cli_moments_csv_matches_direct_formula(void)
 {
     const char *data = write_signal("sig.csv", 3000, 0);
-    const char *args[] = {"moments", data, "--channel", "alpha", "--lags", "1,5", "--grid",
-                          "-0.5:0.5:11", "--bandwidth", "0.2", "-o", "out_ok.csv", NULL};
+    const char *args[] = {"moments", data,         "--channel",   "alpha",       "--lags",
+                          "1,5",     "--grid",     "-0.5:0.5:11", "--bandwidth", "0.2",
+                          "-o",      "out_ok.csv", NULL};
     cli_result_t r;
     cli_run(&r, args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -69,8 +71,8 @@ static void test_cli_moments_csv_matches_direct_formula(void)
     {
         unsigned lag;
         double node, mean, var, neff, se;
-        if (line[0] == '#' || sscanf(line, "%u,%lf,%lf,%lf,%lf,%lf", &lag, &node, &mean, &var,
-                                     &neff, &se) != 6)
+        if (line[0] == '#' ||
+            sscanf(line, "%u,%lf,%lf,%lf,%lf,%lf", &lag, &node, &mean, &var, &neff, &se) != 6)
         {
             continue;
         }
@@ -134,7 +136,8 @@ static void test_cli_moments_rejects_bad_input(void)
     const char *header_only = cli_file("header.csv", "t,alpha\n");
     const char *empty = cli_file("empty.csv", "");
 
-    const char *a1[] = {"moments", "/nonexistent/x.csv", "--channel", "alpha", "-o", "bad_out.csv", NULL};
+    const char *a1[] = {"moments", "/nonexistent/x.csv", "--channel", "alpha",
+                        "-o",      "bad_out.csv",        NULL};
     expect_rejected(a1, "/nonexistent/x.csv");
     const char *a2[] = {"moments", good, "--channel", "beta", "-o", "bad_out.csv", NULL};
     expect_rejected(a2, "no channel 'beta'");
@@ -142,11 +145,14 @@ static void test_cli_moments_rejects_bad_input(void)
     expect_rejected(a3, "no finite sample");
     const char *a4[] = {"moments", constant, "-o", "bad_out.csv", NULL};
     expect_rejected(a4, "constant signal");
-    const char *a5[] = {"moments", good, "--channel", "alpha", "--grid", "-1:1:2", "-o", "bad_out.csv", NULL};
+    const char *a5[] = {"moments", good, "--channel",   "alpha", "--grid",
+                        "-1:1:2",  "-o", "bad_out.csv", NULL};
     expect_rejected(a5, "--grid N");
-    const char *a6[] = {"moments", good, "--channel", "alpha", "--bandwidth", "-0.1", "-o", "bad_out.csv", NULL};
+    const char *a6[] = {"moments", good, "--channel",   "alpha", "--bandwidth",
+                        "-0.1",    "-o", "bad_out.csv", NULL};
     expect_rejected(a6, "--bandwidth");
-    const char *a7[] = {"moments", good, "--channel", "alpha", "--lags", "1,99999", "-o", "bad_out.csv", NULL};
+    const char *a7[] = {"moments", good, "--channel",   "alpha", "--lags",
+                        "1,99999", "-o", "bad_out.csv", NULL};
     expect_rejected(a7, "compile-time maximum");
     const char *a8[] = {"moments", garbage, "--channel", "alpha", "-o", "bad_out.csv", NULL};
     expect_rejected(a8, "garbage.csv:3:2");
@@ -162,7 +168,8 @@ static void test_cli_moments_rejects_bad_input(void)
     expect_rejected(a13, "no data file");
     const char *a14[] = {"moments", good, "-o", "bad_out.csv", NULL};
     expect_rejected(a14, "--channel");
-    const char *a15[] = {"moments", good, "--channel", "alpha", "-o", "/nonexistent/dir/bad_out.csv", NULL};
+    const char *a15[] = {
+        "moments", good, "--channel", "alpha", "-o", "/nonexistent/dir/bad_out.csv", NULL};
     expect_rejected(a15, "/nonexistent/dir");
     const char *a16[] = {"moments", good, "--channel", "alpha", "--lags", "0", NULL};
     expect_rejected(a16, "--lags");

@@ -380,7 +380,8 @@ static void test_csv_long_lines(void)
 static void test_csv_error_not_a_number(void)
 {
     const char *s = "t,alpha,beta\n1,2,3\n# c\n4,x1,6\n";
-    expect_read_error("nan1.csv", s, strlen(s), AENL_E_ARG, "nan1.csv:4:2 (alpha): not a number 'x1'");
+    expect_read_error("nan1.csv", s, strlen(s), AENL_E_ARG,
+                      "nan1.csv:4:2 (alpha): not a number 'x1'");
 }
 
 static void test_csv_error_trailing_garbage(void)
@@ -446,8 +447,7 @@ static void test_csv_error_binary_line(void)
     const char ctl[] = "t,x\n1,2\n3,4\n5,\x01\x02\n";
     expect_read_error("nul.csv", nul, sizeof nul - 1, AENL_E_ARG,
                       "nul.csv:3: NUL byte at character 3");
-    expect_read_error("ctl.csv", ctl, sizeof ctl - 1, AENL_E_ARG,
-                      "ctl.csv:4: control byte 0x01");
+    expect_read_error("ctl.csv", ctl, sizeof ctl - 1, AENL_E_ARG, "ctl.csv:4: control byte 0x01");
 }
 
 static void test_csv_error_missing_file(void)

@@ -440,7 +440,8 @@ static void test_moments_far_outlier_is_harmless(void)
 #if !AENL_USE_DOUBLE
 /* float32 over 10^8 samples of a signal with mean 10^3: the estimator stays within 1e-3 relative
  * of a double accumulation of the same pairs (checked at a spread of nodes, all lags, both
- * directions). The reference sums y - 1000 (an exact shift), so it loses nothing to cancellation. */
+ * directions). The reference sums y - 1000 (an exact shift), so it loses nothing to cancellation.
+ */
 #define LONG_N       100000000u
 #define LONG_CHECKED 9u
 

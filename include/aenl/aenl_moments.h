@@ -32,21 +32,21 @@
 /** Which conditioning-value direction a query reads. */
 typedef enum
 {
-    AENL_DIR_ALL = 0,     /**< every pair (rising and falling merged) */
-    AENL_DIR_RISING = 1,  /**< X_{n-L} > X_{n-L-1}; needs direction_split */
-    AENL_DIR_FALLING = 2  /**< X_{n-L} <= X_{n-L-1}; needs direction_split */
+    AENL_DIR_ALL = 0,    /**< every pair (rising and falling merged) */
+    AENL_DIR_RISING = 1, /**< X_{n-L} > X_{n-L-1}; needs direction_split */
+    AENL_DIR_FALLING = 2 /**< X_{n-L} <= X_{n-L-1}; needs direction_split */
 } aenl_dir_t;
 
 /** Configuration, copied by aenl_moments_init(). */
 typedef struct aenl_moments_cfg
 {
-    aenl_real_t x_min;      /**< first grid node, input units, finite */
-    aenl_real_t x_max;      /**< last grid node, input units, finite, > x_min */
-    uint16_t n_grid;        /**< nodes, 3 .. AENL_MOMENTS_MAX_GRID, evenly spaced, ends included */
-    aenl_real_t bandwidth;  /**< kernel half-width h > 0, input units */
-    uint16_t n_lags;        /**< 1 .. AENL_MOMENTS_MAX_LAGS */
+    aenl_real_t x_min;     /**< first grid node, input units, finite */
+    aenl_real_t x_max;     /**< last grid node, input units, finite, > x_min */
+    uint16_t n_grid;       /**< nodes, 3 .. AENL_MOMENTS_MAX_GRID, evenly spaced, ends included */
+    aenl_real_t bandwidth; /**< kernel half-width h > 0, input units */
+    uint16_t n_lags;       /**< 1 .. AENL_MOMENTS_MAX_LAGS */
     uint16_t lags[AENL_MOMENTS_MAX_LAGS]; /**< distinct, each 1 .. AENL_MOMENTS_MAX_LAG samples */
-    aenl_real_t forgetting; /**< lambda in (0, 1]; 1 = plain averages over the whole stream */
+    aenl_real_t forgetting;  /**< lambda in (0, 1]; 1 = plain averages over the whole stream */
     uint8_t direction_split; /**< 0 or 1 */
 } aenl_moments_cfg_t;
 
@@ -89,8 +89,8 @@ typedef struct aenl_moments
     uint32_t n_samples;     /**< finite samples accepted (saturating) */
     uint32_t n_missing;     /**< NaN/Inf samples received (saturating) */
     uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
-    aenl_real_t hist[AENL_MOMENTS_MAX_LAG + 2]; /**< sample history ring */
-    uint8_t valid[AENL_MOMENTS_MAX_LAG + 2];    /**< 0 marks a missing sample */
+    aenl_real_t hist[AENL_MOMENTS_MAX_LAG + 2];       /**< sample history ring */
+    uint8_t valid[AENL_MOMENTS_MAX_LAG + 2];          /**< 0 marks a missing sample */
     aenl_moments_cell_t cell[AENL_MOMENTS_MAX_CELLS]; /**< [lag][dir][node], active part only */
 } aenl_moments_t;
 

@@ -100,13 +100,13 @@ static inline int aenl_is_finite(aenl_real_t x)
  */
 typedef enum
 {
-    AENL_OK = 0,          /**< success */
-    AENL_E_ARG = -1,      /**< NULL or out-of-range argument; nothing was changed */
-    AENL_E_DIM = -2,      /**< a size above a compile-time maximum; nothing was changed */
-    AENL_E_EMPTY = -3,    /**< not enough data for this query yet */
-    AENL_E_NOT_PD = -4,   /**< covariance not positive definite; previous estimate kept */
-    AENL_E_NUMERIC = -5,  /**< NaN/Inf received or produced */
-    AENL_E_IO = -6        /**< file or stream failure (host tools only; the core never returns it) */
+    AENL_OK = 0,         /**< success */
+    AENL_E_ARG = -1,     /**< NULL or out-of-range argument; nothing was changed */
+    AENL_E_DIM = -2,     /**< a size above a compile-time maximum; nothing was changed */
+    AENL_E_EMPTY = -3,   /**< not enough data for this query yet */
+    AENL_E_NOT_PD = -4,  /**< covariance not positive definite; previous estimate kept */
+    AENL_E_NUMERIC = -5, /**< NaN/Inf received or produced */
+    AENL_E_IO = -6       /**< file or stream failure (host tools only; the core never returns it) */
 } aenl_status_t;
 
 /**

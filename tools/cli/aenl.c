@@ -30,7 +30,8 @@ static const subcommand_t k_subcommands[] = {
 
 static void usage(FILE *fp)
 {
-    fprintf(fp, "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n\n");
+    fprintf(fp,
+            "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n\n");
     for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
     {
         fprintf(fp, "  %-10s %s\n", k_subcommands[i].name, k_subcommands[i].summary);
@@ -70,7 +71,8 @@ int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, doubl
     return 0;
 }
 
-int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out)
+int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                        long *out)
 {
     char *end = NULL;
     if (s == NULL || *s == '\0')
@@ -113,7 +115,8 @@ int main(int argc, char **argv)
         usage(stderr);
         return AENL_EXIT_USAGE;
     }
-    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0)
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+        strcmp(argv[1], "help") == 0)
     {
         usage(stdout);
         return AENL_EXIT_OK;

@@ -25,7 +25,8 @@ int aenl_cli_exit(aenl_status_t st);
 /** Parse a finite double; on failure print "<opt>: ..." and return -1. */
 int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, double *out);
 /** Parse a whole number in [lo, hi]; on failure print and return -1. */
-int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi, long *out);
+int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi,
+                        long *out);
 /** The value after option argv[*i] (advancing *i), or NULL after printing "needs a value". */
 const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
 
@@ -41,5 +42,7 @@ int aenl_cmd_flutter(int argc, char **argv);
 int aenl_cmd_plot(int argc, char **argv);
 int aenl_cmd_demo(int argc, char **argv);
 int aenl_cmd_bench(int argc, char **argv);
+/** `aenl bench simulate` (tools/cli/bench_simulate.c). */
+int aenl_bench_simulate(int argc, char **argv);
 
 #endif /* AENL_CLI_H */

@@ -87,8 +87,8 @@ static int curves_of(const char *data, const char *channel, const char *outdir, 
     st = aenl_curves_write_csv(&c, AENL_DIR_ALL, data, channel, csv, &err);
     if (st == AENL_OK && aenl_plot_available())
     {
-        const aenl_plot_var_t vars[] = {{"in", csv}, {"lags", "1 10 30"}, {"title", title},
-                                        {"xlabel", channel}};
+        const aenl_plot_var_t vars[] = {
+            {"in", csv}, {"lags", "1 10 30"}, {"title", title}, {"xlabel", channel}};
         st = aenl_plot_run("moments", vars, 4, png, &err);
     }
     if (st != AENL_OK)
@@ -153,10 +153,12 @@ int aenl_cmd_demo(int argc, char **argv)
     }
     int failures = 0;
 
-    printf("Measured: Bristol pitch-heave flutter rig, LCO at 25.0 m/s (polynomial pitch stiffness)\n");
+    printf("Measured: Bristol pitch-heave flutter rig, LCO at 25.0 m/s (polynomial pitch "
+           "stiffness)\n");
     char rec[1200];
-    snprintf(rec, sizeof(rec), "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
-                               "17092018_CBC_V250_TowardsHB.csv",
+    snprintf(rec, sizeof(rec),
+             "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
+             "17092018_CBC_V250_TowardsHB.csv",
              datadir);
     if (file_exists(rec))
     {

@@ -19,14 +19,16 @@ static const char *const k_cmd = "moments";
 
 static void help(void)
 {
-    printf("usage: aenl moments DATA.csv [--channel C] [--lags 1,10,30] [--grid MIN:MAX:N]\n"
-           "                    [--bandwidth cv|H] [--direction all|rising|falling] [--no-split]\n"
-           "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n\n"
-           "Kernel estimates of E(X_n | X_{n-L} = x) and Var(X_n | X_{n-L} = x) on a grid, for each\n"
-           "lag L (the paper's j = -L). CSV columns: lag,x,mean,var,n_eff,se (after '#' lines that\n"
-           "give the source, the bandwidth and how it was chosen). Without -o the CSV goes to stdout.\n"
-           "Defaults: lags 1,10,30; grid over the 0.1%%..99.9%% quantiles with 64 nodes; bandwidth\n"
-           "by leave-one-out cross-validation; rising/falling accumulated separately.\n");
+    printf(
+        "usage: aenl moments DATA.csv [--channel C] [--lags 1,10,30] [--grid MIN:MAX:N]\n"
+        "                    [--bandwidth cv|H] [--direction all|rising|falling] [--no-split]\n"
+        "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n\n"
+        "Kernel estimates of E(X_n | X_{n-L} = x) and Var(X_n | X_{n-L} = x) on a grid, for each\n"
+        "lag L (the paper's j = -L). CSV columns: lag,x,mean,var,n_eff,se (after '#' lines that\n"
+        "give the source, the bandwidth and how it was chosen). Without -o the CSV goes to "
+        "stdout.\n"
+        "Defaults: lags 1,10,30; grid over the 0.1%%..99.9%% quantiles with 64 nodes; bandwidth\n"
+        "by leave-one-out cross-validation; rising/falling accumulated separately.\n");
 }
 
 static int parse_grid(const char *s, aenl_curves_opts_t *o)
@@ -282,13 +284,15 @@ int aenl_cmd_moments(int argc, char **argv)
         char title[600];
         const char *base = strrchr(data, '/') ? strrchr(data, '/') + 1 : data;
         snprintf(title, sizeof(title), "%s: %s (h = %.3g, %s)", base, chan, c.bandwidth,
-                 dir == AENL_DIR_ALL ? "all pairs" : dir == AENL_DIR_RISING ? "rising" : "falling");
+                 dir == AENL_DIR_ALL      ? "all pairs"
+                 : dir == AENL_DIR_RISING ? "rising"
+                                          : "falling");
         for (char *p = title; *p; ++p)
         {
             *p = (*p == '\'' || *p == '\n') ? ' ' : *p;
         }
-        const aenl_plot_var_t vars[] = {{"in", csv_path}, {"lags", lags}, {"title", title},
-                                        {"xlabel", chan}};
+        const aenl_plot_var_t vars[] = {
+            {"in", csv_path}, {"lags", lags}, {"title", title}, {"xlabel", chan}};
         st = aenl_plot_run("moments", vars, sizeof(vars) / sizeof(vars[0]), plot, &err);
         if (st != AENL_OK && out != NULL && strcmp(out, "-") != 0)
         {

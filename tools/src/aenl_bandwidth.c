@@ -125,8 +125,8 @@ typedef struct pair
 
 typedef struct lagset
 {
-    size_t n;       /* finite pairs */
-    double *u, *y;  /* sorted by u (then y) */
+    size_t n;            /* finite pairs */
+    double *u, *y;       /* sorted by u (then y) */
     dd_t *pu, *py, *puy; /* prefix sums, n + 1 entries: p[k] = sum of the first k */
 } lagset_t;
 
@@ -248,10 +248,10 @@ static int lagset_build(lagset_t *s, const double *x, size_t n, size_t lag)
 /* Per-lag accumulation of one score evaluation. */
 typedef struct lag_score
 {
-    dd_t sse;          /* sum of squared LOO residuals */
+    dd_t sse; /* sum of squared LOO residuals */
     size_t n_used;
     size_t n_excluded;
-    double n_neigh;    /* sum of neighbour counts */
+    double n_neigh; /* sum of neighbour counts */
 } lag_score_t;
 
 static void lag_score_fast(const lagset_t *s, double h, lag_score_t *out)
@@ -354,8 +354,8 @@ static void score_combine(const lag_score_t *per_lag, size_t n_lags, aenl_bw_sco
     out->score = defined ? total / (double)n_lags : (double)NAN;
 }
 
-static aenl_status_t check_common(const double *x, const uint16_t *lags, size_t n_lags,
-                                  void *out, aenl_err_t *err)
+static aenl_status_t check_common(const double *x, const uint16_t *lags, size_t n_lags, void *out,
+                                  aenl_err_t *err)
 {
     size_t l;
     if (x == NULL || lags == NULL || out == NULL)
@@ -760,8 +760,7 @@ static double search_eval(search_t *s, double h)
     double v;
     eval_sets(s->sets, s->n_lags, h, s->per_lag, &sc);
     ++s->n_eval;
-    if (!is_finite(sc.score) ||
-        (double)sc.n_excluded > s->max_excluded_frac * (double)sc.n_pairs)
+    if (!is_finite(sc.score) || (double)sc.n_excluded > s->max_excluded_frac * (double)sc.n_pairs)
     {
         return (double)INFINITY;
     }
@@ -863,8 +862,7 @@ static void result_zero(aenl_bw_result_t *out)
 }
 
 aenl_status_t aenl_bw_select(const double *x, size_t n, const uint16_t *lags, size_t n_lags,
-                             const aenl_bw_opts_t *opts, aenl_bw_result_t *out,
-                             aenl_err_t *err)
+                             const aenl_bw_opts_t *opts, aenl_bw_result_t *out, aenl_err_t *err)
 {
     aenl_bw_opts_t o;
     double *v = NULL;

@@ -27,14 +27,14 @@
 struct aenl_csv
 {
     FILE *fp;
-    int own_fp;              /* 0 for stdin */
+    int own_fp; /* 0 for stdin */
     char *path;
-    char *line;              /* getline buffer */
+    char *line; /* getline buffer */
     size_t cap;
-    unsigned long line_no;   /* physical line of the last line read */
+    unsigned long line_no; /* physical line of the last line read */
     size_t n_cols;
     char **names;
-    aenl_status_t failed;    /* sticky: once a read failed, later calls fail too */
+    aenl_status_t failed; /* sticky: once a read failed, later calls fail too */
 };
 
 /* ---- small helpers ------------------------------------------------------------------------- */
@@ -332,8 +332,7 @@ aenl_status_t aenl_csv_open(aenl_csv_t **out, const char *path, aenl_err_t *err)
         }
         else
         {
-            aenl_err_set(err, "%s: empty file (no header row; only comments or blank lines)",
-                         path);
+            aenl_err_set(err, "%s: empty file (no header row; only comments or blank lines)", path);
         }
         aenl_csv_close(csv);
         return AENL_E_EMPTY;
@@ -492,8 +491,7 @@ int aenl_csv_next(aenl_csv_t *csv, double *row, aenl_err_t *err)
     }
     if (csv->failed != AENL_OK)
     {
-        aenl_err_set(err, "%s:%lu: reading stopped at an earlier error", csv->path,
-                     csv->line_no);
+        aenl_err_set(err, "%s:%lu: reading stopped at an earlier error", csv->path, csv->line_no);
         return (int)csv->failed;
     }
     rc = read_content_line(csv, err);
@@ -578,8 +576,7 @@ static char **copy_names(const char *const *names, size_t n)
  * the columns up from the last to the first (a column's destination never overlaps a column
  * that has not moved yet).
  */
-static double *grow_columns(double *data, size_t n_cols, size_t n_rows, size_t cap,
-                            size_t new_cap)
+static double *grow_columns(double *data, size_t n_cols, size_t n_rows, size_t cap, size_t new_cap)
 {
     size_t c;
     double *grown = (double *)realloc(data, n_cols * new_cap * sizeof *grown);
@@ -790,8 +787,8 @@ aenl_status_t aenl_table_write(const aenl_table_t *t, const char *path, aenl_err
 
 /* ---- streaming writer ---------------------------------------------------------------------- */
 
-aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path,
-                                   const char *const *names, size_t n_cols, aenl_err_t *err)
+aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path, const char *const *names,
+                                   size_t n_cols, aenl_err_t *err)
 {
     size_t c;
     size_t k;

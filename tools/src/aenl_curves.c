@@ -126,7 +126,8 @@ static aenl_status_t check_opts(const aenl_curves_opts_t *o, aenl_err_t *err)
     {
         if (o->lags[i] < 1 || o->lags[i] > AENL_MOMENTS_MAX_LAG)
         {
-            aenl_err_set(err, "lag %u is outside 1..%d", (unsigned)o->lags[i], AENL_MOMENTS_MAX_LAG);
+            aenl_err_set(err, "lag %u is outside 1..%d", (unsigned)o->lags[i],
+                         AENL_MOMENTS_MAX_LAG);
             return AENL_E_ARG;
         }
     }
@@ -200,7 +201,8 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
     free(sorted);
     if (!(hi_all > lo_all) || !(hi_all - lo_all > 1e-12 * (fabs(hi_all) + fabs(lo_all))))
     {
-        aenl_err_set(err, "constant signal (every finite sample equals %.17g): no conditional curve",
+        aenl_err_set(err,
+                     "constant signal (every finite sample equals %.17g): no conditional curve",
                      lo_all);
         return AENL_E_ARG;
     }
@@ -306,10 +308,10 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
                 }
                 else
                 {
-                    out->mean[at] = NAN;
-                    out->var[at] = NAN;
+                    out->mean[at] = (double)NAN;
+                    out->var[at] = (double)NAN;
                     out->n_eff[at] = 0.0;
-                    out->se[at] = NAN;
+                    out->se[at] = (double)NAN;
                 }
             }
         }
@@ -329,7 +331,8 @@ aenl_status_t aenl_curves_write_csv(const aenl_curves_t *c, int dir, const char 
     static const char *const dir_names[3] = {"all", "rising", "falling"};
     if (dir < 0 || dir >= (int)c->n_dir)
     {
-        aenl_err_set(err, "direction %s needs the direction split", dir_names[dir < 0 ? 0 : dir % 3]);
+        aenl_err_set(err, "direction %s needs the direction split",
+                     dir_names[dir < 0 ? 0 : dir % 3]);
         return AENL_E_ARG;
     }
     aenl_outfile_t of;

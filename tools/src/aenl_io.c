@@ -45,8 +45,8 @@ void aenl_err_set(aenl_err_t *err, const char *fmt, ...)
 
 /* ---- table of pending temporaries ---------------------------------------------------------- */
 
-/* Pointers to the tmp_path strings of open outfiles (owned by the outfiles). A slot is NULL when
- * free. volatile sig_atomic_t count so a signal handler sees a consistent bound. */
+/* Pointers to the tmp_path strings of open outfiles (owned by the outfiles); a slot is NULL when
+ * free. Not thread-safe (the tools are single-threaded). */
 static char **g_pending;
 static size_t g_pending_cap;
 static volatile sig_atomic_t g_atexit_done;
@@ -157,8 +157,7 @@ static char *make_tmp_name(const char *path, unsigned long counter)
         return NULL;
     }
     memcpy(tmp, path, dir_len);
-    (void)snprintf(tmp + dir_len, need - dir_len, ".%s.tmp.%ld.%lu", base, (long)getpid(),
-                   counter);
+    (void)snprintf(tmp + dir_len, need - dir_len, ".%s.tmp.%ld.%lu", base, (long)getpid(), counter);
     return tmp;
 }
 

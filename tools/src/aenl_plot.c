@@ -76,7 +76,8 @@ aenl_status_t aenl_plot_script_path(const char *script, char *buf, size_t n, aen
             return AENL_OK;
         }
     }
-    aenl_err_set(err, "plot script '%s.gp' not found (looked in $AENL_PLOT_DIR, %s/tools/plot, %s/plot)",
+    aenl_err_set(err,
+                 "plot script '%s.gp' not found (looked in $AENL_PLOT_DIR, %s/tools/plot, %s/plot)",
                  script, AENL_SOURCE_DIR, AENL_SHARE_DIR);
     return AENL_E_ARG;
 }
@@ -99,8 +100,8 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     {
         if (strpbrk(vars[i].value, "'\n\r") != NULL || strpbrk(vars[i].name, "'\"\n =;") != NULL)
         {
-            aenl_err_set(err, "plot variable %s: value \"%s\" holds a quote or newline", vars[i].name,
-                         vars[i].value);
+            aenl_err_set(err, "plot variable %s: value \"%s\" holds a quote or newline",
+                         vars[i].name, vars[i].value);
             return AENL_E_ARG;
         }
     }
@@ -138,7 +139,8 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     {
         free(expr);
         aenl_outfile_abort(&of);
-        aenl_err_set(err, "cannot create a temporary file for gnuplot's messages: %s", strerror(errno));
+        aenl_err_set(err, "cannot create a temporary file for gnuplot's messages: %s",
+                     strerror(errno));
         return AENL_E_IO;
     }
     const pid_t pid = fork();

@@ -38,11 +38,11 @@ enum aenl_bw_method
 /** Why the rule of thumb was used (aenl_bw_result_t.fallback). */
 enum aenl_bw_fallback
 {
-    AENL_BW_FB_NONE = 0,        /**< CV was used */
-    AENL_BW_FB_FORCED = 1,      /**< opts->force_rule */
-    AENL_BW_FB_FEW_PAIRS = 2,   /**< a lag has fewer than opts->min_pairs usable pairs */
+    AENL_BW_FB_NONE = 0,         /**< CV was used */
+    AENL_BW_FB_FORCED = 1,       /**< opts->force_rule */
+    AENL_BW_FB_FEW_PAIRS = 2,    /**< a lag has fewer than opts->min_pairs usable pairs */
     AENL_BW_FB_INADMISSIBLE = 3, /**< no candidate h had few enough excluded pairs */
-    AENL_BW_FB_NO_MINIMUM = 4   /**< the CV curve is flat or monotone over [h_lo, h_hi] */
+    AENL_BW_FB_NO_MINIMUM = 4    /**< the CV curve is flat or monotone over [h_lo, h_hi] */
 };
 
 /** Search options. Fill with aenl_bw_opts_default() and change what you need. */
@@ -75,10 +75,10 @@ typedef struct aenl_bw_result
 /** Detail of one score evaluation (aenl_bw_loo_score, aenl_bw_loo_score_brute). */
 typedef struct aenl_bw_score
 {
-    double score;          /**< mean over lags of CV_L(h); NaN if some lag has no usable pair */
-    size_t n_pairs;        /**< finite pairs, summed over lags */
-    size_t n_used;         /**< pairs with a leave-one-out estimate, summed over lags */
-    size_t n_excluded;     /**< pairs without one (no other pair within h), summed over lags */
+    double score;           /**< mean over lags of CV_L(h); NaN if some lag has no usable pair */
+    size_t n_pairs;         /**< finite pairs, summed over lags */
+    size_t n_used;          /**< pairs with a leave-one-out estimate, summed over lags */
+    size_t n_excluded;      /**< pairs without one (no other pair within h), summed over lags */
     double mean_neighbours; /**< k: mean number of other pairs within h per pair */
 } aenl_bw_score_t;
 
@@ -105,8 +105,7 @@ void aenl_bw_opts_default(aenl_bw_opts_t *opts);
  *       about 64 bytes per pair and lag.
  */
 aenl_status_t aenl_bw_select(const double *x, size_t n, const uint16_t *lags, size_t n_lags,
-                             const aenl_bw_opts_t *opts, aenl_bw_result_t *out,
-                             aenl_err_t *err);
+                             const aenl_bw_opts_t *opts, aenl_bw_result_t *out, aenl_err_t *err);
 
 /**
  * @brief Exact leave-one-out score at one bandwidth (sorted pairs + compensated prefix sums).
@@ -128,7 +127,7 @@ aenl_status_t aenl_bw_loo_score_brute(const double *x, size_t n, const uint16_t 
 
 /**
  * @brief Normal-reference rule of thumb for the triangular kernel:
- *        h = 2.5760 · σ · N^(−1/5), σ = min(sd, IQR/1.349) of the finite samples
+ *        h = 2.578 · σ · N^(−1/5), σ = min(sd, IQR/1.349) of the finite samples
  *        (sd with divisor N−1; IQR from linearly interpolated quantiles, position (N−1)p;
  *        σ = sd when the IQR is 0), N = number of finite samples. Derivation in aenl_bandwidth.c.
  * @return AENL_OK; AENL_E_ARG for NULL, fewer than two finite samples or a constant signal;
@@ -136,7 +135,7 @@ aenl_status_t aenl_bw_loo_score_brute(const double *x, size_t n, const uint16_t 
  */
 aenl_status_t aenl_bw_rule(const double *x, size_t n, double *h, aenl_err_t *err);
 
-/** The constant of aenl_bw_rule(): 1.06 · (48√π)^(1/5) ≈ 2.5760. */
+/** The constant of aenl_bw_rule(): 1.06 · (48√π)^(1/5) ≈ 2.5779. */
 double aenl_bw_rule_constant(void);
 
 /** "cv", "rule" or "unknown". */

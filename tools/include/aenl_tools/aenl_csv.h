@@ -43,9 +43,9 @@ void aenl_csv_close(aenl_csv_t *csv);
 typedef struct aenl_table
 {
     size_t n_rows, n_cols;
-    char **names;   /**< n_cols names */
-    double *data;   /**< n_cols * n_rows values, NaN = missing */
-    size_t *n_nan;  /**< per column: missing cells */
+    char **names;  /**< n_cols names */
+    double *data;  /**< n_cols * n_rows values, NaN = missing */
+    size_t *n_nan; /**< per column: missing cells */
 } aenl_table_t;
 
 /** Read a whole file. On error *out is left empty (all zero) and nothing leaks. */
@@ -72,8 +72,8 @@ typedef struct aenl_csv_writer
 } aenl_csv_writer_t;
 
 /** Open `path` (atomically, see aenl_outfile_t) and write the header row. */
-aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path,
-                                   const char *const *names, size_t n_cols, aenl_err_t *err);
+aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path, const char *const *names,
+                                   size_t n_cols, aenl_err_t *err);
 /** Append one row of n_cols values. */
 aenl_status_t aenl_csv_writer_row(aenl_csv_writer_t *w, const double *values, aenl_err_t *err);
 /** Finish: the file appears under its final name only now. */

@@ -21,12 +21,12 @@ typedef struct aenl_curves_opts
 {
     uint16_t lags[AENL_MOMENTS_MAX_LAGS]; /**< lags in samples */
     uint16_t n_lags;
-    int grid_given;     /**< 0: grid from the data's quantiles */
+    int grid_given;      /**< 0: grid from the data's quantiles */
     double x_min, x_max; /**< grid ends when grid_given */
-    uint16_t n_grid;    /**< nodes (default 64) */
-    double bandwidth;   /**< > 0: use it; <= 0: cross-validation */
-    double forgetting;  /**< (0, 1]; default 1 */
-    int split;          /**< accumulate rising/falling separately (needed for RISING/FALLING) */
+    uint16_t n_grid;     /**< nodes (default 64) */
+    double bandwidth;    /**< > 0: use it; <= 0: cross-validation */
+    double forgetting;   /**< (0, 1]; default 1 */
+    int split;           /**< accumulate rising/falling separately (needed for RISING/FALLING) */
 } aenl_curves_opts_t;
 
 /** Defaults: lags 1, 10, 30; 64 nodes; CV bandwidth; no forgetting; split on. */
@@ -37,10 +37,10 @@ typedef struct aenl_curves
 {
     uint16_t n_lags, n_grid, n_dir; /**< n_dir 3 (all, rising, falling) with the split, else 1 */
     uint16_t lags[AENL_MOMENTS_MAX_LAGS];
-    double *x;                      /**< n_grid node positions */
+    double *x;                       /**< n_grid node positions */
     double *mean, *var, *n_eff, *se; /**< [dir][lag][node], dir as aenl_dir_t */
     double bandwidth;
-    int bw_method;                  /**< AENL_BW_CV or AENL_BW_RULE (aenl_bandwidth.h), or -1 given */
+    int bw_method; /**< AENL_BW_CV or AENL_BW_RULE (aenl_bandwidth.h), or -1 given */
     size_t n_samples, n_missing;
 } aenl_curves_t;
 

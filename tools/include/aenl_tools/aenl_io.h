@@ -37,9 +37,9 @@ void aenl_err_set(aenl_err_t *err, const char *fmt, ...) AENL_PRINTF_LIKE(2, 3);
 /** An output file under construction. Fields are private. */
 typedef struct aenl_outfile
 {
-    FILE *fp;        /**< write through this between open and commit */
-    char *path;      /**< final path */
-    char *tmp_path;  /**< temporary path in the same folder */
+    FILE *fp;       /**< write through this between open and commit */
+    char *path;     /**< final path */
+    char *tmp_path; /**< temporary path in the same folder */
 } aenl_outfile_t;
 
 /**
