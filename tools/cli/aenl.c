@@ -22,6 +22,8 @@ typedef struct
 } subcommand_t;
 
 static const subcommand_t k_subcommands[] = {
+    {"simulate", aenl_cmd_simulate, "simulate an aeroelastic model (INI) -> CSV"},
+    {"flutter", aenl_cmd_flutter, "linear flutter speed and frequency of a model (INI)"},
     {"moments", aenl_cmd_moments, "conditional mean/variance curves of a channel -> CSV (+ plot)"},
     {"plot", aenl_cmd_plot, "figures from the CSV outputs of the other subcommands"},
     {"demo", aenl_cmd_demo, "the worked examples end to end, with figures"},

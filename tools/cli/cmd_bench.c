@@ -226,18 +226,27 @@ int aenl_cmd_bench(int argc, char **argv)
     const char *what = argc > 1 ? argv[1] : "all";
     if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0)
     {
-        printf("usage: aenl bench [moments|all]\n");
+        printf("usage: aenl bench [moments|simulate|all]\n");
         return AENL_EXIT_OK;
     }
-    if (argc > 2)
+    if (strcmp(what, "moments") == 0)
     {
-        aenl_cli_error(k_cmd, "one benchmark name at most (moments or all)");
-        return AENL_EXIT_USAGE;
+        return argc > 2 ? (aenl_cli_error(k_cmd, "bench moments takes no options"), AENL_EXIT_USAGE)
+                        : bench_moments();
     }
-    if (strcmp(what, "moments") == 0 || strcmp(what, "all") == 0)
+    if (strcmp(what, "simulate") == 0)
     {
-        return bench_moments();
+        return aenl_bench_simulate(argc - 1, argv + 1);
     }
-    aenl_cli_error(k_cmd, "unknown benchmark '%s' (moments or all)", what);
+    if (strcmp(what, "all") == 0 && argc <= 2)
+    {
+        int rc = bench_moments();
+        printf("\n");
+        char arg0[] = "simulate";
+        char *sub[] = {arg0, NULL};
+        const int rc2 = aenl_bench_simulate(1, sub);
+        return rc != AENL_EXIT_OK ? rc : rc2;
+    }
+    aenl_cli_error(k_cmd, "unknown benchmark '%s' (moments, simulate or all)", what);
     return AENL_EXIT_USAGE;
 }

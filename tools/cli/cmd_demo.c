@@ -15,6 +15,7 @@
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_curves.h"
 #include "aenl_tools/aenl_plot.h"
+#include "aenl_tools/aenl_sim.h"
 
 static const char *const k_cmd = "demo";
 
@@ -51,9 +52,49 @@ static int file_exists(const char *p)
     return stat(p, &sb) == 0 && S_ISREG(sb.st_mode);
 }
 
-/* Curves of one channel of one record: CSV + figure in the output folder. */
-static int curves_of(const char *data, const char *channel, const char *outdir, const char *stem,
-                     const char *label)
+/* Curves of one channel (n samples): CSV + figure in the output folder. */
+static int curves_of_array(const double *x, size_t n, const char *source, const char *channel,
+                           const char *outdir, const char *stem, const char *label)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_curves_opts_t o;
+    aenl_curves_opts_default(&o);
+    aenl_curves_t c;
+    aenl_status_t st = aenl_curves_compute(x, n, &o, &c, &err);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s (%s): %s", source, channel, err.msg);
+        return -1;
+    }
+    char csv[1200], png[1200], title[600];
+    snprintf(csv, sizeof(csv), "%s/%s_moments.csv", outdir, stem);
+    snprintf(png, sizeof(png), "%s/%s_moments.png", outdir, stem);
+    snprintf(title, sizeof(title), "%s: conditional mean and variance (h = %.3g by %s)", label,
+             c.bandwidth, c.bw_method < 0 ? "hand" : aenl_bw_method_str(c.bw_method));
+    st = aenl_curves_write_csv(&c, AENL_DIR_ALL, source, channel, csv, &err);
+    if (st == AENL_OK && aenl_plot_available())
+    {
+        const aenl_plot_var_t vars[] = {{"in", csv}, {"lags", "1 10 30"}, {"title", title},
+                                        {"xlabel", channel}};
+        st = aenl_plot_run("moments", vars, 4, png, &err);
+    }
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        aenl_curves_free(&c);
+        return -1;
+    }
+    printf("    curves of %-8s bandwidth %.4g (%s) -> %s%s%s\n", channel, c.bandwidth,
+           c.bw_method < 0 ? "given" : aenl_bw_method_str(c.bw_method), csv,
+           aenl_plot_available() ? ", " : "", aenl_plot_available() ? png : "");
+    aenl_curves_free(&c);
+    return 0;
+}
+
+/* Curves of one channel of a measured record. */
+static int curves_of_file(const char *data, const char *channel, const char *outdir,
+                          const char *stem, const char *label)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -69,39 +110,62 @@ static int curves_of(const char *data, const char *channel, const char *outdir, 
         aenl_table_free(&t);
         return -1;
     }
-    aenl_curves_opts_t o;
-    aenl_curves_opts_default(&o);
-    aenl_curves_t c;
-    aenl_status_t st = aenl_curves_compute(aenl_table_col(&t, (size_t)col), t.n_rows, &o, &c, &err);
+    const int rc = curves_of_array(aenl_table_col(&t, (size_t)col), t.n_rows, data, channel,
+                                   outdir, stem, label);
     aenl_table_free(&t);
-    if (st != AENL_OK)
+    return rc;
+}
+
+/* One of the paper's simulated cases: simulate the example INI, write the record and its time
+ * series figure, then the curves of the channel that carries the nonlinearity. */
+static int paper_case(const char *ini_name, const char *channel, const char *outdir,
+                      const char *stem, const char *label)
+{
+    char ini[1200], csv[1200], png[1200];
+    snprintf(ini, sizeof(ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, ini_name);
+    snprintf(csv, sizeof(csv), "%s/%s.csv", outdir, stem);
+    snprintf(png, sizeof(png), "%s/%s_timeseries.png", outdir, stem);
+    printf("  %s  (%s)\n", label, ini);
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_model_t model;
+    aenl_sim_run_t run;
+    aenl_sim_result_t res;
+    memset(&res, 0, sizeof(res));
+    aenl_status_t st = aenl_sim_load_ini(ini, &model, &run, &err);
+    if (st == AENL_OK)
     {
-        aenl_cli_error(k_cmd, "%s (%s): %s", data, channel, err.msg);
-        return -1;
+        st = aenl_sim_simulate(&model, &run, &res, &err);
     }
-    char csv[1200], png[1200], title[600];
-    snprintf(csv, sizeof(csv), "%s/%s_moments.csv", outdir, stem);
-    snprintf(png, sizeof(png), "%s/%s_moments.png", outdir, stem);
-    snprintf(title, sizeof(title), "%s (h = %.3g by %s)", label, c.bandwidth,
-             c.bw_method < 0 ? "hand" : aenl_bw_method_str(c.bw_method));
-    st = aenl_curves_write_csv(&c, AENL_DIR_ALL, data, channel, csv, &err);
+    if (st == AENL_OK)
+    {
+        st = aenl_sim_result_write_csv(&res, csv, &err);
+    }
     if (st == AENL_OK && aenl_plot_available())
     {
-        const aenl_plot_var_t vars[] = {
-            {"in", csv}, {"lags", "1 10 30"}, {"title", title}, {"xlabel", channel}};
-        st = aenl_plot_run("moments", vars, 4, png, &err);
+        const aenl_plot_var_t vars[] = {{"in", csv}, {"title", label}};
+        st = aenl_plot_run("timeseries", vars, 2, png, &err);
     }
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
-        aenl_curves_free(&c);
+        aenl_sim_result_free(&res);
         return -1;
     }
-    printf("  %-34s %zu samples, bandwidth %.4g (%s) -> %s%s%s\n", label, c.n_samples, c.bandwidth,
-           c.bw_method < 0 ? "given" : aenl_bw_method_str(c.bw_method), csv,
-           aenl_plot_available() ? ", " : "", aenl_plot_available() ? png : "");
-    aenl_curves_free(&c);
-    return 0;
+    printf("    simulated %zu samples (%lu steps, %lu events) -> %s%s%s\n", res.n_samples,
+           res.info.n_steps, res.info.n_events, csv, aenl_plot_available() ? ", " : "",
+           aenl_plot_available() ? png : "");
+    int rc = -1;
+    for (size_t c = 0; c < res.n_channels; ++c)
+    {
+        if (strcmp(res.names[c + 1u], channel) == 0)
+        {
+            rc = curves_of_array(res.y + c * res.n_samples, res.n_samples, ini, channel, outdir,
+                                 stem, label);
+        }
+    }
+    aenl_sim_result_free(&res);
+    return rc;
 }
 
 int aenl_cmd_demo(int argc, char **argv)
@@ -153,6 +217,14 @@ int aenl_cmd_demo(int argc, char **argv)
     }
     int failures = 0;
 
+    printf("The paper's three cases, simulated (SNR 3 measurement noise):\n");
+    failures += paper_case("paper_polynomial_pitch.ini", "alpha", outdir, "paper_polynomial_pitch",
+                           "Polynomial pitch stiffness (paper Figs. 2, 5, 6)") != 0;
+    failures += paper_case("paper_hysteresis_pitch.ini", "alpha", outdir, "paper_hysteresis_pitch",
+                           "Hysteresis in pitch, delta 1 deg, alpha_f 0 (Figs. 3, 7, 8)") != 0;
+    failures += paper_case("paper_flap_freeplay.ini", "beta", outdir, "paper_flap_freeplay",
+                           "Flap freeplay, gap -1..1 deg (Figs. 4, 9)") != 0;
+
     printf("Measured: Bristol pitch-heave flutter rig, LCO at 25.0 m/s (polynomial pitch "
            "stiffness)\n");
     char rec[1200];
@@ -162,10 +234,11 @@ int aenl_cmd_demo(int argc, char **argv)
              datadir);
     if (file_exists(rec))
     {
-        failures += curves_of(rec, "pitch_encoder_rad", outdir, "bristol_V250_pitch",
-                              "Bristol rig pitch, 25 m/s LCO") != 0;
-        failures += curves_of(rec, "heave_raw", outdir, "bristol_V250_heave",
-                              "Bristol rig heave, 25 m/s LCO") != 0;
+        printf("  %s\n", rec);
+        failures += curves_of_file(rec, "pitch_encoder_rad", outdir, "bristol_V250_pitch",
+                                   "Bristol rig pitch, 25 m/s LCO") != 0;
+        failures += curves_of_file(rec, "heave_raw", outdir, "bristol_V250_heave",
+                                   "Bristol rig heave, 25 m/s LCO") != 0;
     }
     else
     {

@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_cli_simulate.c
+ * @brief `aenl simulate` and `aenl flutter` end to end: the CSV contract (DESIGN.md §4), the
+ *        same file for the same seed, flutter numbers of MODELS.md §5.1/§5.6 through --json, and
+ *        bad INIs: exit 2, one message naming file:line and key, nothing on stdout, no file.
+ */
+#include "aenl_cli_test.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+
+#include "unity.h"
+
+#define EXAMPLES AENL_SOURCE_DIR "/tools/examples/"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static void test_cli_simulate_writes_the_csv_contract(void)
+{
+    const char *args[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "sim_ok.csv", NULL};
+    const char *args3[] = {"simulate", EXAMPLES "validate_conner_flap_u15.ini", NULL};
+    static char text[1 << 16];
+    char path[600];
+    cli_result_t r;
+    size_t n_lines = 0;
+    const char *p;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    snprintf(path, sizeof(path), "%s/sim_ok.csv", AENL_TEST_TMP_DIR);
+    cli_slurp(path, text, sizeof(text));
+    TEST_ASSERT_EQUAL_INT(0, strncmp(text, "t,alpha,xi\n0,0.017453292519943", 30));
+    for (p = text; *p; ++p)
+    {
+        n_lines += (*p == '\n');
+    }
+    TEST_ASSERT_EQUAL_size_t(602, n_lines); /* header + 601 samples (300 / 0.5 + 1) */
+    /* section3dof to stdout */
+    cli_run(&r, args3);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,h,alpha,beta\n0,0,0.017453292519943", 36));
+}
+
+static void test_cli_simulate_same_seed_same_file(void)
+{
+    const char *a1[] = {"simulate", EXAMPLES "paper_hysteresis_pitch.ini", "-o", "seed_a.csv",
+                        NULL};
+    const char *a2[] = {"simulate", EXAMPLES "paper_hysteresis_pitch.ini", "-o", "seed_b.csv",
+                        NULL};
+    static char x[1 << 20], y[1 << 20];
+    char pa[600], pb[600];
+    cli_result_t r;
+    size_t na, nb;
+    cli_run(&r, a1);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cli_run(&r, a2);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    snprintf(pa, sizeof(pa), "%s/seed_a.csv", AENL_TEST_TMP_DIR);
+    snprintf(pb, sizeof(pb), "%s/seed_b.csv", AENL_TEST_TMP_DIR);
+    na = cli_slurp(pa, x, sizeof(x));
+    nb = cli_slurp(pb, y, sizeof(y));
+    TEST_ASSERT_TRUE(na > 1000);
+    TEST_ASSERT_EQUAL_size_t(na, nb);
+    TEST_ASSERT_EQUAL_MEMORY(x, y, na < sizeof(x) ? na : sizeof(x) - 1);
+}
+
+static void bad_ini(const char *name, const char *text, const char *where, const char *key)
+{
+    const char *path = cli_file(name, text);
+    const char *args[] = {"simulate", path, "-o", "bad_out.csv", NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, name);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r.err_lines, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, where), r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, key), r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_TRUE(cli_no_file_like("bad_out"));
+}
+
+#define HEAD "[model]\ntype = airfoil2dof\nustar = 5\n"
+
+static void test_cli_simulate_bad_ini(void)
+{
+    bad_ini("b_key.ini", HEAD "mus = 3\n[run]\nduration = 5\ndt = 1\n", "b_key.ini:4:", "mus");
+    bad_ini("b_sec.ini", HEAD "[runs]\nduration = 5\ndt = 1\n", "b_sec.ini:4:", "[runs]");
+    bad_ini("b_req.ini", HEAD "[run]\ndt = 1\n", "b_req.ini:4:", "duration");
+    bad_ini("b_neg.ini", HEAD "[run]\nduration = -3\ndt = 1\n", "b_neg.ini:5:", "duration");
+    bad_ini("b_dt.ini", HEAD "[run]\nduration = 3\ndt = 0\n", "b_dt.ini:6:", "dt");
+    bad_ini("b_nan.ini", HEAD "[initial]\nalpha_deg = NaN\n[run]\nduration = 3\ndt = 1\n",
+            "b_nan.ini:5:", "alpha_deg");
+}
+
+static cJSON *flutter_json(const char *ini)
+{
+    const char *args[] = {"flutter", ini, "--json", NULL};
+    cli_result_t r;
+    cJSON *j;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    j = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(j, r.out);
+    return j;
+}
+
+static void test_cli_flutter_json(void)
+{
+    cJSON *j = flutter_json(EXAMPLES "validate_linear_u4.ini");
+    cJSON *in;
+    TEST_ASSERT_DOUBLE_WITHIN(1e-4, 6.2851, cJSON_GetObjectItem(j, "speed")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-4, 0.52823, cJSON_GetObjectItem(j, "frequency")->valuedouble);
+    TEST_ASSERT_EQUAL_STRING("U*", cJSON_GetObjectItem(j, "unit")->valuestring);
+    cJSON_Delete(j);
+    j = flutter_json(EXAMPLES "paper_flap_freeplay.ini");
+    TEST_ASSERT_DOUBLE_WITHIN(1e-3, 23.897, cJSON_GetObjectItem(j, "speed")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.005, 6.09, cJSON_GetObjectItem(j, "frequency")->valuedouble);
+    TEST_ASSERT_EQUAL_STRING("m/s", cJSON_GetObjectItem(j, "unit")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("Hz", cJSON_GetObjectItem(j, "frequency_unit")->valuestring);
+    in = cJSON_GetObjectItem(j, "inner_slope");
+    TEST_ASSERT_NOT_NULL(in);
+    TEST_ASSERT_DOUBLE_WITHIN(0.005, 6.71, cJSON_GetObjectItem(in, "speed")->valuedouble);
+    cJSON_Delete(j);
+}
+
+static void test_cli_flutter_sweep_and_errors(void)
+{
+    const char *args[] = {"flutter", EXAMPLES "validate_linear_u4.ini", "--sweep", "--points", "5",
+                          NULL};
+    const char *bad[] = {"flutter",
+                         cli_file("f_bad.ini", "[model]\ntype = airfoil2dof\nustar = 0\n"), NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL(strstr(r.out, "flutter speed 6.2850"));
+    TEST_ASSERT_NOT_NULL(strstr(r.out, "damping"));
+    cli_run(&r, bad);
+    TEST_ASSERT_EQUAL_INT(2, r.status);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "f_bad.ini:3:"), r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_cli_simulate_writes_the_csv_contract);
+    RUN_TEST(test_cli_simulate_same_seed_same_file);
+    RUN_TEST(test_cli_simulate_bad_ini);
+    RUN_TEST(test_cli_flutter_json);
+    RUN_TEST(test_cli_flutter_sweep_and_errors);
+    return UNITY_END();
+}

@@ -1,0 +1,316 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_sim.h
+ * @brief Host-only aeroelastic simulators with structural nonlinearities, and linear flutter.
+ *
+ * Models (equations and parameters in shared/MODELS.md):
+ *  - AENL_SIM_AIRFOIL2DOF: 2-DOF pitch-plunge airfoil, Wagner aerodynamics, 8 states (§1), time
+ *    τ = U t / b, velocity U* = U/(b ω_α); optional Lee start-up terms f(τ), g(τ) (on by default).
+ *  - AENL_SIM_SECTION3DOF: 3-DOF typical section with trailing-edge flap, Theodorsen T-functions
+ *    with the R.T. Jones Wagner filter (§2), Conner parameters as defaults, time in seconds,
+ *    velocity in m/s.
+ *
+ * Restoring laws per DOF (pitch, plunge, flap): linear, polynomial, freeplay with preload and
+ * inner stiffness, hysteresis with the sticking rule of MODELS.md §1.5. Any number of DOFs may be
+ * nonlinear at once.
+ *
+ * Integration (MODELS.md §4.1): adaptive Dormand-Prince 5(4) with its 4th-order dense output
+ * (Shampine's interpolant). On each branch ("mode") the right-hand side is smooth. After each
+ * accepted step every switching function of the mode is checked at 4 points of the dense output
+ * (so a dip across and back inside one step is still seen), the earliest crossing is located on
+ * the interpolant (Illinois method), the step is cut there, the mode is changed and the
+ * integration restarts. Safeguards: arming (a function sitting on its surface at a restart is
+ * held at its "inside" sign for 1e-7 of an output step) and grazing (a boundary reached with a
+ * negligible normal velocity is crossed or not according to the sign of the acceleration).
+ * Hysteresis reversals are α' = 0 events; when neither direction is consistent the DOF sticks
+ * (Filippov sliding: ẋ = ẍ = 0, restoring force = the value that holds it) until that value leaves
+ * [M−(x), M+(x)]. Output is sampled on the uniform grid t_k = k dt from the dense output.
+ *
+ * Turbulence (optional broadband forcing, [excitation] type = turbulence): a vertical gust
+ * velocity w_g, first-order (Dryden-like) filtered white noise with time constant T = L/U:
+ *     dw_g/dt = (−w_g + u(t)) / T,
+ * where u is white noise held constant over each output interval dt (a new Gaussian value per
+ * interval from the seeded portable generator). The variance of u is chosen so that the sampled
+ * gust has the exact stationary standard deviation std(w_g) = intensity · U: with e = exp(−dt/T),
+ * var(u) = (intensity U)² (1 + e)/(1 − e). The gust enters as a gust angle of attack w_g/U added
+ * to the 3/4-chord downwash and passes through the same Wagner filter as the motion-induced
+ * downwash (a simplification of the Küssner sharp-edged-gust function). L is `length_scale`:
+ * semichords for airfoil2dof (default 2), metres for section3dof (default 0.25 m). The hold
+ * instants are breakpoints of the integrator (it stops and restarts there), so the solution stays
+ * exact for the piecewise-constant input. A run with intensity 0 equals a run without turbulence.
+ *
+ * Measurement noise ([noise] snr): for every output channel, independent Gaussian noise of
+ * standard deviation std(clean channel)/snr is added after the clean run, from its own seed.
+ *
+ * Memory: results are heap arrays released by aenl_sim_result_free(). No global state; every
+ * function is re-entrant.
+ */
+#ifndef AENL_TOOLS_SIM_H
+#define AENL_TOOLS_SIM_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aenl_tools/aenl_io.h"
+
+#define AENL_SIM_MAX_Q    3 /**< structural DOFs */
+#define AENL_SIM_MAX_Z    8 /**< aerodynamic lag states (incl. gust filter states) */
+#define AENL_SIM_MAX_X    (2 * AENL_SIM_MAX_Q + AENL_SIM_MAX_Z + 1)
+#define AENL_SIM_MAX_POLY 9 /**< polynomial restoring law: up to x^9 */
+#define AENL_SIM_N_DOF    3 /**< law slots: pitch, plunge, flap */
+
+typedef enum aenl_sim_type
+{
+    AENL_SIM_AIRFOIL2DOF = 0, /**< MODELS.md §1 */
+    AENL_SIM_SECTION3DOF = 1  /**< MODELS.md §2 */
+} aenl_sim_type_t;
+
+/** Law slots, as INI sections [pitch], [plunge], [flap]. */
+typedef enum aenl_sim_dof
+{
+    AENL_SIM_DOF_PITCH = 0,
+    AENL_SIM_DOF_PLUNGE = 1,
+    AENL_SIM_DOF_FLAP = 2
+} aenl_sim_dof_t;
+
+typedef enum aenl_sim_law_kind
+{
+    AENL_SIM_LAW_LINEAR = 0,     /**< R(x) = x */
+    AENL_SIM_LAW_POLYNOMIAL = 1, /**< R(x) = Σ_k coeffs[k-1] x^k */
+    AENL_SIM_LAW_FREEPLAY = 2,   /**< MODELS.md §1.5, Lee form with preload and inner stiffness */
+    AENL_SIM_LAW_HYSTERESIS = 3  /**< MODELS.md §1.5, odd-symmetric loop, with sticking */
+} aenl_sim_law_kind_t;
+
+/**
+ * Restoring law of one DOF, in the DOF's own unit (rad for angles; ξ = h/b for the airfoil2dof
+ * plunge; metres for the section3dof plunge). The force is κ·R(x) (κ the linear stiffness).
+ */
+typedef struct aenl_sim_law
+{
+    aenl_sim_law_kind_t kind;
+    double delta;   /**< freeplay/hysteresis: full gap width δ >= 0 */
+    double x_f;     /**< start of the gap α_f */
+    double preload; /**< M0 */
+    double
+        inner_stiffness; /**< M_f: slope inside the gap (freeplay; 0 in the hysteresis of §1.5) */
+    size_t n_coeffs;     /**< polynomial: number of coefficients, 1..AENL_SIM_MAX_POLY */
+    double coeffs[AENL_SIM_MAX_POLY]; /**< coeffs[k-1] multiplies x^k */
+} aenl_sim_law_t;
+
+/** airfoil2dof parameters (MODELS.md §1.1). */
+typedef struct aenl_sim_airfoil
+{
+    double mu, a_h, x_alpha, r_alpha, omega_bar, zeta_alpha, zeta_xi;
+    double ustar;   /**< reduced velocity U* > 0 */
+    int ic_forcing; /**< 1 (default): keep the start-up terms f(τ), g(τ) of §1.3 */
+} aenl_sim_airfoil_t;
+
+/** section3dof parameters (MODELS.md §2.4, SI units per unit span). */
+typedef struct aenl_sim_section
+{
+    double b, a, c, m, m_t, x_alpha, x_beta, r_alpha, r_beta;
+    double omega_h, omega_alpha, omega_beta; /**< rad/s */
+    double zeta_h, zeta_alpha, zeta_beta, rho;
+    double velocity; /**< m/s > 0 */
+} aenl_sim_section_t;
+
+/** A physical model: type, parameters, restoring laws and initial state. */
+typedef struct aenl_sim_model
+{
+    aenl_sim_type_t type;
+    aenl_sim_airfoil_t airfoil;         /**< used when type == AENL_SIM_AIRFOIL2DOF */
+    aenl_sim_section_t section;         /**< used when type == AENL_SIM_SECTION3DOF */
+    aenl_sim_law_t law[AENL_SIM_N_DOF]; /**< indexed by aenl_sim_dof_t; flap unused for 2-DOF */
+    double x0[AENL_SIM_N_DOF];          /**< initial displacement per DOF (rad, ξ or m) */
+    double v0[AENL_SIM_N_DOF];          /**< initial velocity per DOF, per model time unit */
+} aenl_sim_model_t;
+
+/** How to run a simulation: grid, tolerances, excitation and measurement noise. */
+typedef struct aenl_sim_run
+{
+    double duration;       /**< > 0, model time unit (τ for airfoil2dof, s for section3dof) */
+    double dt;             /**< output step > 0 */
+    double rtol;           /**< relative tolerance (default 1e-10) */
+    double atol;           /**< absolute tolerance (default 1e-12) */
+    int turbulence;        /**< 1: gust forcing on (see file comment) */
+    double turb_intensity; /**< std(w_g)/U >= 0 */
+    double turb_length;    /**< L: semichords (airfoil2dof) or m (section3dof) > 0 */
+    uint64_t turb_seed;
+    double snr; /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
+    uint64_t noise_seed;
+} aenl_sim_run_t;
+
+/** Integrator counters (aenl_sim_simulate). */
+typedef struct aenl_sim_info
+{
+    unsigned long n_steps;    /**< accepted steps (including steps cut at an event) */
+    unsigned long n_rejected; /**< rejected steps */
+    unsigned long n_rhs;      /**< right-hand-side evaluations */
+    unsigned long n_events;   /**< located switching events (mode changes + grazing decisions) */
+    unsigned long n_grazing;  /**< events resolved as grazing (no crossing) */
+    unsigned long n_stuck;    /**< hysteresis: entries into sticking */
+    unsigned long n_unstick;  /**< hysteresis: exits from sticking */
+} aenl_sim_info_t;
+
+/** Sampled output: t_k = k dt, k = 0 .. n_samples-1, and the model's channels. */
+typedef struct aenl_sim_result
+{
+    size_t n_samples;
+    size_t n_channels;    /**< 2 (alpha, xi) or 3 (h, alpha, beta) */
+    const char *names[4]; /**< "t" then the channel names (static strings) */
+    double *t;            /**< n_samples */
+    double *y;            /**< channel c, sample k: y[c * n_samples + k] */
+    aenl_sim_info_t info;
+} aenl_sim_result_t;
+
+/** One mode of the linear system at one velocity (aenl_sim_modes). */
+typedef struct aenl_sim_mode
+{
+    double re, im;    /**< eigenvalue, per model time unit */
+    double damping;   /**< ζ = −re/|λ| */
+    double frequency; /**< ω/ω_α (airfoil2dof) or Hz (section3dof) */
+} aenl_sim_mode_t;
+
+/** Result of a flutter search (aenl_sim_flutter). */
+typedef struct aenl_sim_flutter
+{
+    int found;        /**< 0: no instability in [v_min, v_max] */
+    double speed;     /**< U* (airfoil2dof) or m/s (section3dof) */
+    double frequency; /**< ω/ω_α (airfoil2dof) or Hz (section3dof); 0 for a divergence */
+} aenl_sim_flutter_t;
+
+/* ---- models ------------------------------------------------------------------------------- */
+
+/**
+ * @brief Defaults: airfoil2dof gets the classic case of MODELS.md §5.1 (μ 100, a_h −0.5, x_α 0.25,
+ *        r_α 0.5, ω̄ 0.2, ζ 0, U* 5.5, start-up terms on); section3dof the Conner values of §2.4 at
+ *        15 m/s. All laws linear, zero initial state. Cannot fail.
+ */
+void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type);
+
+/** @brief Run defaults: duration 0 (must be set), dt 0 (must be set), rtol 1e-10, atol 1e-12,
+ *         no turbulence (length_scale default per type), no noise. */
+void aenl_sim_run_default(aenl_sim_run_t *run, aenl_sim_type_t type);
+
+/** @brief The model's velocity (U* or m/s). */
+double aenl_sim_velocity(const aenl_sim_model_t *model);
+
+/** @brief Set the model's velocity (U* or m/s). */
+void aenl_sim_set_velocity(aenl_sim_model_t *model, double velocity);
+
+/**
+ * @brief Check parameters (finite, positive masses/radii/velocity, δ >= 0, polynomial sizes, no
+ *        flap law on airfoil2dof) and, when run is not NULL, the run settings.
+ * @return AENL_OK or AENL_E_ARG with a message naming the parameter.
+ */
+aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                aenl_err_t *err);
+
+/**
+ * @brief Evaluate a restoring law on its default branch (hysteresis: the branch of direction
+ *        `dir` = +1 increasing, −1 decreasing). For plotting and tests. NaN if law is NULL.
+ */
+double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
+
+/* ---- INI ---------------------------------------------------------------------------------- */
+
+/**
+ * @brief Load a model INI (DESIGN.md §4). Keys, per section (angles: `_deg` suffix = degrees,
+ *        no suffix = radians; required keys marked *):
+ *  - [model] type* = airfoil2dof | section3dof.
+ *    airfoil2dof: ustar*, mu, a_h, x_alpha, r_alpha, omega_bar, zeta_alpha, zeta_xi (defaults:
+ *    the classic case of MODELS.md §5.1), ic_forcing = true|false (start-up terms f, g; default
+ *    true). section3dof: velocity* (m/s), b, a, c, m, m_t, x_alpha, x_beta, r_alpha, r_beta,
+ *    omega_h, omega_alpha, omega_beta, zeta_h, zeta_alpha, zeta_beta, rho (defaults §2.4).
+ *  - [pitch] [plunge] [flap] (flap: section3dof only): law* = linear | polynomial | freeplay |
+ *    hysteresis; freeplay/hysteresis: delta[_deg]* (full gap width), alpha_f[_deg] (gap start),
+ *    preload[_deg] (M0), inner_stiffness (M_f); polynomial: coeffs* = c1, c2, ... (R = Σ c_k x^k).
+ *    [plunge] takes no _deg keys (ξ for airfoil2dof, metres for section3dof).
+ *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
+ *    as <name>_dot[_deg] (rate per model time unit). Default 0.
+ *  - [excitation] type = none | turbulence, intensity (std(w_g)/U, >= 0), length_scale (L:
+ *    semichords or m), seed.
+ *  - [run] duration*, dt* (model time unit), rtol (1e-10), atol (1e-12).
+ *  - [noise] snr* (> 0, std(signal)/std(noise) per channel), seed (42).
+ *  Unknown sections or keys, a key given twice, a missing required key, a non-numeric, NaN or
+ *  infinite value and out-of-range values (duration <= 0, dt <= 0, ...) are errors whose
+ *  message is "<path>:<line>: ..." naming the key.
+ *  run may be NULL: the model alone is read ([run], [excitation], [noise] are still checked when
+ *  present, but duration and dt are not required), as for flutter analysis.
+ * @return AENL_OK, AENL_E_IO (cannot open), AENL_E_ARG (bad content), AENL_E_DIM (memory).
+ */
+aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_sim_run_t *run,
+                                aenl_err_t *err);
+
+/* ---- simulation --------------------------------------------------------------------------- */
+
+/**
+ * @brief Simulate with the event-located Dormand-Prince integrator (see the file comment), then
+ *        add the measurement noise if run->snr > 0.
+ * @param[out] res  filled on success (free with aenl_sim_result_free); zeroed on failure
+ * @return AENL_OK; AENL_E_ARG bad model/run; AENL_E_NUMERIC step size underflow, non-finite
+ *         state or event chatter (message gives the time).
+ * @note O(steps · n_x²) time, O(n_samples) memory.
+ */
+aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                aenl_sim_result_t *res, aenl_err_t *err);
+
+/**
+ * @brief Naive fixed-step classical RK4 for cross-checks and the benchmark: the branch of every
+ *        law is chosen from the state at every stage (hysteresis direction from the sign of the
+ *        velocity, no sticking), no event location. The step is h rounded down so that it divides
+ *        dt. Turbulence and noise are applied as in aenl_sim_simulate.
+ */
+aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                    double h, aenl_sim_result_t *res, aenl_err_t *err);
+
+/** @brief Release a result and zero it. Safe on a zeroed result. */
+void aenl_sim_result_free(aenl_sim_result_t *res);
+
+/* ---- linear analysis (LAPACKE dgeev) ------------------------------------------------------ */
+
+/**
+ * @brief The linear state matrix at `velocity` with each law replaced by R(x) = slope[dof]·x
+ *        (slope NULL: 1 for every DOF; polynomial laws use coeffs[0] unless slope is given),
+ *        without start-up forcing and gust states. Row-major n×n into A (capacity
+ *        AENL_SIM_MAX_X²), n into *n. State order: q, q̇, aero states; q = (ξ, α) for
+ *        airfoil2dof, (h, α, β) for section3dof. Time unit: τ or s.
+ */
+aenl_status_t aenl_sim_state_matrix(const aenl_sim_model_t *model, double velocity,
+                                    const double *slope, double *A, size_t *n, aenl_err_t *err);
+
+/**
+ * @brief Oscillatory modes (Im λ > 0) at `velocity`, sorted by frequency; *n_modes <= cap.
+ */
+aenl_status_t aenl_sim_modes(const aenl_sim_model_t *model, double velocity, const double *slope,
+                             aenl_sim_mode_t *modes, size_t cap, size_t *n_modes, aenl_err_t *err);
+
+/**
+ * @brief Lowest velocity in [v_min, v_max] where an eigenvalue crosses into Re λ > 0: scan with
+ *        n_scan equal steps, then bisection to 1e-13 relative. Zero eigenvalues (|λ| below 1e-9,
+ *        e.g. a DOF with zero total stiffness) are neutral and ignored.
+ *        v_min, v_max <= 0 select the defaults: 0.05..50 (U*) or 0.5..200 m/s.
+ */
+aenl_status_t aenl_sim_flutter(const aenl_sim_model_t *model, const double *slope, double v_min,
+                               double v_max, aenl_sim_flutter_t *out, aenl_err_t *err);
+
+/**
+ * @brief Outer and inner slopes of every law for the linearised flutter analysis: outer = 1 for
+ *        freeplay/hysteresis/linear, coeffs[0] for polynomial; inner = inner_stiffness for
+ *        freeplay and hysteresis, else the outer slope.
+ * @return 1 when some DOF has a distinct inner slope (two flutter speeds to report), else 0.
+ */
+int aenl_sim_slopes(const aenl_sim_model_t *model, double outer[AENL_SIM_N_DOF],
+                    double inner[AENL_SIM_N_DOF]);
+
+/* ---- output ------------------------------------------------------------------------------ */
+
+/**
+ * @brief Write a result as CSV (header `t,<channels>`, "%.17g"): to `path` atomically (the file
+ *        appears only when complete), or to stdout when path is NULL or "-".
+ * @return AENL_OK or AENL_E_IO with a message.
+ */
+aenl_status_t aenl_sim_result_write_csv(const aenl_sim_result_t *res, const char *path,
+                                        aenl_err_t *err);
+
+#endif /* AENL_TOOLS_SIM_H */

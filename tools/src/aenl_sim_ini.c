@@ -1,0 +1,793 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_sim_ini.c
+ * @brief Model INI loading (DESIGN.md §4). Every mistake is an error naming file, line and key.
+ *
+ * inih calls the handler once per key; it does not report sections without keys, and the
+ * handler is not told the line. We therefore feed inih through our own line reader, which counts
+ * lines and checks every [section] header, and collect (section, key, value, line) entries. The
+ * entries are interpreted after the whole file is read, because [model] type decides which keys
+ * are valid.
+ */
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_sim_internal.h"
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+typedef struct entry
+{
+    char *section, *key, *value;
+    int line;
+} entry_t;
+
+typedef struct aenl_run_dummy
+{
+    aenl_sim_run_t run;
+} aenl_run_dummy_t;
+
+typedef struct ini_ctx
+{
+    const char *path;
+    FILE *fp;
+    int line; /* line of the chunk last handed to inih */
+    int at_line_start;
+    entry_t *e;
+    size_t n, cap;
+    int sec_line[8]; /* header line of each known section, 0 if absent */
+    int failed;      /* an error message has been set */
+    int model_only;  /* [run] optional (flutter analysis) */
+    int oom;
+    aenl_err_t *err;
+} ini_ctx_t;
+
+static const char *const sections[8] = {"model",   "pitch",      "plunge", "flap",
+                                        "initial", "excitation", "run",    "noise"};
+
+static int section_index(const char *name)
+{
+    int i;
+    for (i = 0; i < 8; ++i)
+    {
+        if (strcmp(name, sections[i]) == 0)
+        {
+            return i;
+        }
+    }
+    return -1;
+}
+
+static char *dup_str(const char *s)
+{
+    const size_t n = strlen(s) + 1;
+    char *d = malloc(n);
+    if (d != NULL)
+    {
+        memcpy(d, s, n);
+    }
+    return d;
+}
+
+/* fgets-like reader: counts lines and validates [section] headers. */
+static char *reader(char *str, int num, void *stream)
+{
+    ini_ctx_t *c = stream;
+    char *r = fgets(str, num, c->fp);
+    const char *p;
+    size_t len;
+    if (r == NULL)
+    {
+        return NULL;
+    }
+    if (c->at_line_start)
+    {
+        ++c->line;
+    }
+    len = strlen(str);
+    c->at_line_start = (len > 0 && str[len - 1] == '\n') ? 1 : 0;
+    p = str;
+    if (c->line == 1 && (unsigned char)p[0] == 0xEF && (unsigned char)p[1] == 0xBB &&
+        (unsigned char)p[2] == 0xBF)
+    {
+        p += 3;
+    }
+    while (*p == ' ' || *p == '\t')
+    {
+        ++p;
+    }
+    if (*p == '[' && !c->failed)
+    {
+        char name[64];
+        const char *end = strchr(p, ']');
+        size_t n;
+        int idx;
+        if (end == NULL || (size_t)(end - p - 1) >= sizeof(name))
+        {
+            aenl_err_set(c->err, "%s:%d: malformed section header", c->path, c->line);
+            c->failed = 1;
+            return NULL;
+        }
+        n = (size_t)(end - p - 1);
+        memcpy(name, p + 1, n);
+        name[n] = '\0';
+        idx = section_index(name);
+        if (idx < 0)
+        {
+            aenl_err_set(c->err,
+                         "%s:%d: unknown section [%s] (known: model, pitch, plunge, flap, "
+                         "initial, excitation, run, noise)",
+                         c->path, c->line, name);
+            c->failed = 1;
+            return NULL;
+        }
+        if (c->sec_line[idx] != 0)
+        {
+            aenl_err_set(c->err, "%s:%d: section [%s] repeated (first at line %d)", c->path,
+                         c->line, name, c->sec_line[idx]);
+            c->failed = 1;
+            return NULL;
+        }
+        c->sec_line[idx] = c->line;
+    }
+    return r;
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    ini_ctx_t *c = user;
+    entry_t *e;
+    if (c->failed)
+    {
+        return 0;
+    }
+    if (section[0] == '\0')
+    {
+        aenl_err_set(c->err, "%s:%d: key '%s' outside any section", c->path, c->line, name);
+        c->failed = 1;
+        return 0;
+    }
+    if (c->n == c->cap)
+    {
+        const size_t cap = c->cap ? 2 * c->cap : 32;
+        entry_t *ne = realloc(c->e, cap * sizeof(*ne));
+        if (ne == NULL)
+        {
+            c->oom = 1;
+            return 0;
+        }
+        c->e = ne;
+        c->cap = cap;
+    }
+    e = &c->e[c->n];
+    e->section = dup_str(section);
+    e->key = dup_str(name);
+    e->value = dup_str(value);
+    e->line = c->line;
+    if (e->section == NULL || e->key == NULL || e->value == NULL)
+    {
+        free(e->section);
+        free(e->key);
+        free(e->value);
+        c->oom = 1;
+        return 0;
+    }
+    ++c->n;
+    return 1;
+}
+
+static void free_entries(ini_ctx_t *c)
+{
+    size_t i;
+    for (i = 0; i < c->n; ++i)
+    {
+        free(c->e[i].section);
+        free(c->e[i].key);
+        free(c->e[i].value);
+    }
+    free(c->e);
+    c->e = NULL;
+    c->n = c->cap = 0;
+}
+
+/* ---- value parsing ------------------------------------------------------------------------ */
+
+enum
+{
+    V_ANY = 0, /* finite */
+    V_POS = 1, /* > 0 */
+    V_NONNEG = 2
+};
+
+static aenl_status_t bad(ini_ctx_t *c, const entry_t *e, const char *what)
+{
+    aenl_err_set(c->err, "%s:%d: [%s] %s = '%s': %s", c->path, e->line, e->section, e->key,
+                 e->value, what);
+    return AENL_E_ARG;
+}
+
+static aenl_status_t parse_num(ini_ctx_t *c, const entry_t *e, int range, double scale, double *out)
+{
+    char *end;
+    double v;
+    errno = 0;
+    v = strtod(e->value, &end);
+    if (end == e->value || *end != '\0')
+    {
+        return bad(c, e, "not a number");
+    }
+    if (!isfinite(v) || errno == ERANGE)
+    {
+        return bad(c, e, "must be a finite number");
+    }
+    if (range == V_POS && !(v > 0.0))
+    {
+        return bad(c, e, "must be > 0");
+    }
+    if (range == V_NONNEG && v < 0.0)
+    {
+        return bad(c, e, "must be >= 0");
+    }
+    *out = v * scale;
+    return AENL_OK;
+}
+
+static aenl_status_t parse_seed(ini_ctx_t *c, const entry_t *e, uint64_t *out)
+{
+    const char *p = e->value;
+    uint64_t v = 0;
+    if (*p == '\0')
+    {
+        return bad(c, e, "not an unsigned integer");
+    }
+    for (; *p != '\0'; ++p)
+    {
+        const unsigned d = (unsigned)(*p - '0');
+        if (*p < '0' || *p > '9')
+        {
+            return bad(c, e, "not an unsigned integer");
+        }
+        if (v > (UINT64_MAX - d) / 10U)
+        {
+            return bad(c, e, "above 2^64 - 1");
+        }
+        v = v * 10U + d;
+    }
+    *out = v;
+    return AENL_OK;
+}
+
+static aenl_status_t parse_bool(ini_ctx_t *c, const entry_t *e, int *out)
+{
+    const char *v = e->value;
+    if (strcmp(v, "1") == 0 || strcmp(v, "true") == 0 || strcmp(v, "yes") == 0 ||
+        strcmp(v, "on") == 0)
+    {
+        *out = 1;
+        return AENL_OK;
+    }
+    if (strcmp(v, "0") == 0 || strcmp(v, "false") == 0 || strcmp(v, "no") == 0 ||
+        strcmp(v, "off") == 0)
+    {
+        *out = 0;
+        return AENL_OK;
+    }
+    return bad(c, e, "expected true or false");
+}
+
+static aenl_status_t parse_list(ini_ctx_t *c, const entry_t *e, aenl_sim_law_t *law)
+{
+    const char *p = e->value;
+    size_t n = 0;
+    while (1)
+    {
+        char *end;
+        double v;
+        while (*p == ' ' || *p == '\t')
+        {
+            ++p;
+        }
+        errno = 0;
+        v = strtod(p, &end);
+        if (end == p)
+        {
+            return bad(c, e, "expected a comma-separated list of numbers");
+        }
+        if (!isfinite(v) || errno == ERANGE)
+        {
+            return bad(c, e, "coefficients must be finite");
+        }
+        if (n == AENL_SIM_MAX_POLY)
+        {
+            return bad(c, e, "too many coefficients (at most 9: x^1 .. x^9)");
+        }
+        law->coeffs[n++] = v;
+        p = end;
+        while (*p == ' ' || *p == '\t')
+        {
+            ++p;
+        }
+        if (*p == '\0')
+        {
+            break;
+        }
+        if (*p != ',')
+        {
+            return bad(c, e, "expected a comma-separated list of numbers");
+        }
+        ++p;
+    }
+    law->n_coeffs = n;
+    return AENL_OK;
+}
+
+/* ---- interpretation ----------------------------------------------------------------------- */
+
+typedef struct key_spec
+{
+    const char *name;
+    int range;
+    double *target;
+} key_spec_t;
+
+static const entry_t *find(const ini_ctx_t *c, const char *sec, const char *key)
+{
+    size_t i;
+    for (i = 0; i < c->n; ++i)
+    {
+        if (strcmp(c->e[i].section, sec) == 0 && strcmp(c->e[i].key, key) == 0)
+        {
+            return &c->e[i];
+        }
+    }
+    return NULL;
+}
+
+/* Key in a table of plain numeric keys; 1 if handled (status in *st), 0 if not in the table. */
+static int apply_table(ini_ctx_t *c, const entry_t *e, const key_spec_t *tab, size_t n,
+                       aenl_status_t *st)
+{
+    size_t i;
+    for (i = 0; i < n; ++i)
+    {
+        if (strcmp(e->key, tab[i].name) == 0)
+        {
+            *st = parse_num(c, e, tab[i].range, 1.0, tab[i].target);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static aenl_status_t unknown_key(ini_ctx_t *c, const entry_t *e, const char *ctx_note)
+{
+    aenl_err_set(c->err, "%s:%d: unknown key '%s' in [%s]%s", c->path, e->line, e->key, e->section,
+                 ctx_note);
+    return AENL_E_ARG;
+}
+
+static aenl_status_t apply_model(ini_ctx_t *c, const entry_t *e, aenl_sim_model_t *m)
+{
+    aenl_status_t st = AENL_OK;
+    if (strcmp(e->key, "type") == 0)
+    {
+        return AENL_OK;
+    }
+    if (m->type == AENL_SIM_AIRFOIL2DOF)
+    {
+        aenl_sim_airfoil_t *p = &m->airfoil;
+        const key_spec_t tab[] = {{"mu", V_POS, &p->mu},
+                                  {"a_h", V_ANY, &p->a_h},
+                                  {"x_alpha", V_ANY, &p->x_alpha},
+                                  {"r_alpha", V_POS, &p->r_alpha},
+                                  {"omega_bar", V_POS, &p->omega_bar},
+                                  {"zeta_alpha", V_NONNEG, &p->zeta_alpha},
+                                  {"zeta_xi", V_NONNEG, &p->zeta_xi},
+                                  {"ustar", V_POS, &p->ustar}};
+        if (apply_table(c, e, tab, sizeof(tab) / sizeof(tab[0]), &st))
+        {
+            return st;
+        }
+        if (strcmp(e->key, "ic_forcing") == 0)
+        {
+            return parse_bool(c, e, &p->ic_forcing);
+        }
+        return unknown_key(c, e, " for type airfoil2dof");
+    }
+    {
+        aenl_sim_section_t *p = &m->section;
+        const key_spec_t tab[] = {{"b", V_POS, &p->b},
+                                  {"a", V_ANY, &p->a},
+                                  {"c", V_ANY, &p->c},
+                                  {"m", V_POS, &p->m},
+                                  {"m_t", V_POS, &p->m_t},
+                                  {"x_alpha", V_ANY, &p->x_alpha},
+                                  {"x_beta", V_ANY, &p->x_beta},
+                                  {"r_alpha", V_POS, &p->r_alpha},
+                                  {"r_beta", V_POS, &p->r_beta},
+                                  {"omega_h", V_POS, &p->omega_h},
+                                  {"omega_alpha", V_POS, &p->omega_alpha},
+                                  {"omega_beta", V_POS, &p->omega_beta},
+                                  {"zeta_h", V_NONNEG, &p->zeta_h},
+                                  {"zeta_alpha", V_NONNEG, &p->zeta_alpha},
+                                  {"zeta_beta", V_NONNEG, &p->zeta_beta},
+                                  {"rho", V_NONNEG, &p->rho},
+                                  {"velocity", V_POS, &p->velocity}};
+        if (apply_table(c, e, tab, sizeof(tab) / sizeof(tab[0]), &st))
+        {
+            return st;
+        }
+        return unknown_key(c, e, " for type section3dof");
+    }
+}
+
+/* Angle-like key with optional _deg suffix: base "delta" matches "delta" and "delta_deg". */
+static int angle_key(const entry_t *e, const char *base, int allow_deg, double *scale)
+{
+    const size_t n = strlen(base);
+    if (strcmp(e->key, base) == 0)
+    {
+        *scale = 1.0;
+        return 1;
+    }
+    if (allow_deg && strncmp(e->key, base, n) == 0 && strcmp(e->key + n, "_deg") == 0)
+    {
+        *scale = DEG;
+        return 1;
+    }
+    return 0;
+}
+
+static aenl_status_t apply_law(ini_ctx_t *c, const entry_t *e, aenl_sim_law_t *law, int angular)
+{
+    double scale = 1.0;
+    const int piecewise =
+        law->kind == AENL_SIM_LAW_FREEPLAY || law->kind == AENL_SIM_LAW_HYSTERESIS;
+    if (strcmp(e->key, "law") == 0)
+    {
+        return AENL_OK;
+    }
+    if (piecewise && angle_key(e, "delta", angular, &scale))
+    {
+        return parse_num(c, e, V_POS, scale, &law->delta);
+    }
+    if (piecewise && angle_key(e, "alpha_f", angular, &scale))
+    {
+        return parse_num(c, e, V_ANY, scale, &law->x_f);
+    }
+    if (piecewise && angle_key(e, "preload", angular, &scale))
+    {
+        return parse_num(c, e, V_ANY, scale, &law->preload);
+    }
+    if (piecewise && strcmp(e->key, "inner_stiffness") == 0)
+    {
+        return parse_num(c, e, V_ANY, 1.0, &law->inner_stiffness);
+    }
+    if (law->kind == AENL_SIM_LAW_POLYNOMIAL && strcmp(e->key, "coeffs") == 0)
+    {
+        return parse_list(c, e, law);
+    }
+    return unknown_key(c, e, " for this law");
+}
+
+static aenl_status_t apply_initial(ini_ctx_t *c, const entry_t *e, aenl_sim_model_t *m)
+{
+    static const char *const names2[3] = {"alpha", "xi", NULL};
+    static const char *const names3[3] = {"alpha", "h", "beta"};
+    const char *const *names = (m->type == AENL_SIM_AIRFOIL2DOF) ? names2 : names3;
+    int d;
+    for (d = 0; d < AENL_SIM_N_DOF; ++d)
+    {
+        char dot[32];
+        double scale = 1.0;
+        const int angular = (d != AENL_SIM_DOF_PLUNGE);
+        if (names[d] == NULL)
+        {
+            continue;
+        }
+        if (angle_key(e, names[d], angular, &scale))
+        {
+            return parse_num(c, e, V_ANY, scale, &m->x0[d]);
+        }
+        (void)snprintf(dot, sizeof(dot), "%s_dot", names[d]);
+        if (angle_key(e, dot, angular, &scale))
+        {
+            return parse_num(c, e, V_ANY, scale, &m->v0[d]);
+        }
+    }
+    return unknown_key(c, e,
+                       m->type == AENL_SIM_AIRFOIL2DOF
+                           ? " (airfoil2dof: alpha[_deg], xi and their _dot rates)"
+                           : " (section3dof: h, alpha[_deg], beta[_deg] and their _dot rates)");
+}
+
+static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_t *m,
+                                 aenl_sim_run_t *r)
+{
+    const int sec = section_index(e->section);
+    aenl_status_t st = AENL_OK;
+    switch (sec)
+    {
+        case 0:
+            return apply_model(c, e, m);
+        case 1:
+            return apply_law(c, e, &m->law[AENL_SIM_DOF_PITCH], 1);
+        case 2:
+            return apply_law(c, e, &m->law[AENL_SIM_DOF_PLUNGE], 0);
+        case 3:
+            return apply_law(c, e, &m->law[AENL_SIM_DOF_FLAP], 1);
+        case 4:
+            return apply_initial(c, e, m);
+        case 5:
+        {
+            const key_spec_t tab[] = {{"intensity", V_NONNEG, &r->turb_intensity},
+                                      {"length_scale", V_POS, &r->turb_length}};
+            if (strcmp(e->key, "type") == 0)
+            {
+                return AENL_OK;
+            }
+            if (strcmp(e->key, "seed") == 0)
+            {
+                return parse_seed(c, e, &r->turb_seed);
+            }
+            if (apply_table(c, e, tab, 2, &st))
+            {
+                return st;
+            }
+            return unknown_key(c, e, " (type, intensity, length_scale, seed)");
+        }
+        case 6:
+        {
+            const key_spec_t tab[] = {{"duration", V_POS, &r->duration},
+                                      {"dt", V_POS, &r->dt},
+                                      {"rtol", V_POS, &r->rtol},
+                                      {"atol", V_POS, &r->atol}};
+            if (apply_table(c, e, tab, 4, &st))
+            {
+                return st;
+            }
+            return unknown_key(c, e, " (duration, dt, rtol, atol)");
+        }
+        case 7:
+        {
+            const key_spec_t tab[] = {{"snr", V_POS, &r->snr}};
+            if (strcmp(e->key, "seed") == 0)
+            {
+                return parse_seed(c, e, &r->noise_seed);
+            }
+            if (apply_table(c, e, tab, 1, &st))
+            {
+                return st;
+            }
+            return unknown_key(c, e, " (snr, seed)");
+        }
+        default:
+            break;
+    }
+    aenl_err_set(c->err, "%s:%d: unknown section [%s]", c->path, e->line, e->section);
+    return AENL_E_ARG;
+}
+
+static aenl_status_t missing(ini_ctx_t *c, int sec, const char *key)
+{
+    if (c->sec_line[sec] > 0)
+    {
+        aenl_err_set(c->err, "%s:%d: [%s] lacks the required key '%s'", c->path, c->sec_line[sec],
+                     sections[sec], key);
+    }
+    else
+    {
+        aenl_err_set(c->err, "%s: missing section [%s] with required key '%s'", c->path,
+                     sections[sec], key);
+    }
+    return AENL_E_ARG;
+}
+
+static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t *r)
+{
+    const entry_t *e;
+    aenl_status_t st;
+    size_t i, j;
+    int d;
+    aenl_sim_type_t type;
+    /* Duplicates (x and x_deg count as the same key). */
+    for (i = 0; i < c->n; ++i)
+    {
+        for (j = 0; j < i; ++j)
+        {
+            size_t li = strlen(c->e[i].key), lj = strlen(c->e[j].key);
+            const char *ki = c->e[i].key, *kj = c->e[j].key;
+            if (strcmp(c->e[i].section, c->e[j].section) != 0)
+            {
+                continue;
+            }
+            if (li > 4 && strcmp(ki + li - 4, "_deg") == 0)
+            {
+                li -= 4;
+            }
+            if (lj > 4 && strcmp(kj + lj - 4, "_deg") == 0)
+            {
+                lj -= 4;
+            }
+            if (li == lj && strncmp(ki, kj, li) == 0)
+            {
+                aenl_err_set(c->err, "%s:%d: [%s] %s given twice (also at line %d)", c->path,
+                             c->e[i].line, c->e[i].section, ki, c->e[j].line);
+                return AENL_E_ARG;
+            }
+        }
+    }
+    e = find(c, "model", "type");
+    if (e == NULL)
+    {
+        return missing(c, 0, "type");
+    }
+    if (strcmp(e->value, "airfoil2dof") == 0)
+    {
+        type = AENL_SIM_AIRFOIL2DOF;
+    }
+    else if (strcmp(e->value, "section3dof") == 0)
+    {
+        type = AENL_SIM_SECTION3DOF;
+    }
+    else
+    {
+        return bad(c, e, "expected airfoil2dof or section3dof");
+    }
+    aenl_sim_model_default(m, type);
+    aenl_sim_run_default(r, type);
+    if (type == AENL_SIM_AIRFOIL2DOF && c->sec_line[3] > 0)
+    {
+        aenl_err_set(c->err, "%s:%d: section [flap] is not valid for type airfoil2dof", c->path,
+                     c->sec_line[3]);
+        return AENL_E_ARG;
+    }
+    /* Laws first: their kind decides the valid keys. */
+    for (d = 0; d < AENL_SIM_N_DOF; ++d)
+    {
+        static const int sec_of_dof[3] = {1, 2, 3};
+        const int sec = sec_of_dof[d];
+        aenl_sim_law_t *law = &m->law[d];
+        if (c->sec_line[sec] == 0)
+        {
+            continue;
+        }
+        e = find(c, sections[sec], "law");
+        if (e == NULL)
+        {
+            return missing(c, sec, "law");
+        }
+        if (strcmp(e->value, "linear") == 0)
+        {
+            law->kind = AENL_SIM_LAW_LINEAR;
+        }
+        else if (strcmp(e->value, "polynomial") == 0)
+        {
+            law->kind = AENL_SIM_LAW_POLYNOMIAL;
+        }
+        else if (strcmp(e->value, "freeplay") == 0)
+        {
+            law->kind = AENL_SIM_LAW_FREEPLAY;
+        }
+        else if (strcmp(e->value, "hysteresis") == 0)
+        {
+            law->kind = AENL_SIM_LAW_HYSTERESIS;
+        }
+        else
+        {
+            return bad(c, e, "expected linear, polynomial, freeplay or hysteresis");
+        }
+        if ((law->kind == AENL_SIM_LAW_FREEPLAY || law->kind == AENL_SIM_LAW_HYSTERESIS) &&
+            find(c, sections[sec], "delta") == NULL && find(c, sections[sec], "delta_deg") == NULL)
+        {
+            return missing(c, sec, d == AENL_SIM_DOF_PLUNGE ? "delta" : "delta_deg");
+        }
+        if (law->kind == AENL_SIM_LAW_POLYNOMIAL && find(c, sections[sec], "coeffs") == NULL)
+        {
+            return missing(c, sec, "coeffs");
+        }
+    }
+    e = find(c, "excitation", "type");
+    if (e != NULL)
+    {
+        if (strcmp(e->value, "turbulence") == 0)
+        {
+            r->turbulence = 1;
+        }
+        else if (strcmp(e->value, "none") != 0)
+        {
+            return bad(c, e, "expected none or turbulence");
+        }
+    }
+    for (i = 0; i < c->n; ++i)
+    {
+        if ((st = apply_entry(c, &c->e[i], m, r)) != AENL_OK)
+        {
+            return st;
+        }
+    }
+    if (find(c, "model", type == AENL_SIM_AIRFOIL2DOF ? "ustar" : "velocity") == NULL)
+    {
+        return missing(c, 0, type == AENL_SIM_AIRFOIL2DOF ? "ustar" : "velocity");
+    }
+    if (!c->model_only && find(c, "run", "duration") == NULL)
+    {
+        return missing(c, 6, "duration");
+    }
+    if (!c->model_only && find(c, "run", "dt") == NULL)
+    {
+        return missing(c, 6, "dt");
+    }
+    if (c->sec_line[7] > 0 && find(c, "noise", "snr") == NULL)
+    {
+        return missing(c, 7, "snr");
+    }
+    if (!c->model_only && r->dt > r->duration)
+    {
+        e = find(c, "run", "dt");
+        return bad(c, e, "must not exceed duration");
+    }
+    if ((st = aenl_sim_validate(m, c->model_only ? NULL : r, c->err)) != AENL_OK)
+    {
+        aenl_err_t inner = *c->err;
+        aenl_err_clear(c->err);
+        aenl_err_set(c->err, "%s: %s", c->path, inner.msg);
+        return st;
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_sim_run_t *run,
+                                aenl_err_t *err)
+{
+    ini_ctx_t c;
+    aenl_run_dummy_t dummy;
+    aenl_status_t st;
+    int rc;
+    if (path == NULL || model == NULL)
+    {
+        aenl_err_set(err, "NULL argument");
+        return AENL_E_ARG;
+    }
+    memset(&c, 0, sizeof(c));
+    c.path = path;
+    c.err = err;
+    c.at_line_start = 1;
+    if (run == NULL)
+    {
+        c.model_only = 1;
+        run = &dummy.run;
+    }
+    c.fp = fopen(path, "r");
+    if (c.fp == NULL)
+    {
+        aenl_err_set(err, "%s: cannot open: %s", path, strerror(errno));
+        return AENL_E_IO;
+    }
+    rc = ini_parse_stream(reader, &c, handler, &c);
+    (void)fclose(c.fp);
+    if (c.oom || rc == -2)
+    {
+        free_entries(&c);
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_DIM;
+    }
+    if (c.failed)
+    {
+        free_entries(&c);
+        return AENL_E_ARG;
+    }
+    if (rc != 0)
+    {
+        free_entries(&c);
+        aenl_err_set(err, "%s:%d: syntax error (expected [section] or key = value)", path, rc);
+        return AENL_E_ARG;
+    }
+    st = interpret(&c, model, run);
+    free_entries(&c);
+    return st;
+}

@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_sim_internal.h
+ * @brief Private to the aenl_sim*.c files: the assembled linear structure of a model and its
+ *        per-DOF branch state ("mode").
+ *
+ * Every model is written in one generic second-order form (q the structural DOFs, z the
+ * aerodynamic lag states, g the gust angle w_g/U):
+ *
+ *     M q̈ = −C q̇ − K q − κ∘R(q) + Ez z + Eg g + fvec φ(t)
+ *     ż   = Zq q + Zqd q̇ + diag(Zz) z + Zg g
+ *     ġ   = (−g + u(t)) / T_g                               (only with turbulence)
+ *
+ * with state x = [q, q̇, z, g] and φ(t) = Σ_i f_amp[i] exp(−f_rate[i] t) (the airfoil2dof
+ * start-up terms f, g of MODELS.md §1.3).
+ */
+#ifndef AENL_SIM_INTERNAL_H
+#define AENL_SIM_INTERNAL_H
+
+#include "aenl_tools/aenl_sim.h"
+
+/* Jones approximation of the Wagner function (MODELS.md §1.1). */
+#define SIM_PSI1 0.165
+#define SIM_PSI2 0.335
+#define SIM_EPS1 0.0455
+#define SIM_EPS2 0.3
+
+typedef struct sim_sys
+{
+    aenl_sim_type_t type;
+    int nq, nz, nx;
+    int gust;                           /* 1: x[nx-1] is the gust angle */
+    int dof[AENL_SIM_MAX_Q];            /* law slot (aenl_sim_dof_t) of each q */
+    aenl_sim_law_t law[AENL_SIM_MAX_Q]; /* law of each q */
+    double M[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
+    double Minv[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
+    double C[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
+    double K[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
+    double Ez[AENL_SIM_MAX_Q][AENL_SIM_MAX_Z];
+    double Eg[AENL_SIM_MAX_Q];
+    double Zq[AENL_SIM_MAX_Z][AENL_SIM_MAX_Q];
+    double Zqd[AENL_SIM_MAX_Z][AENL_SIM_MAX_Q];
+    double Zz[AENL_SIM_MAX_Z];
+    double Zg[AENL_SIM_MAX_Z];
+    double kappa[AENL_SIM_MAX_Q];
+    double fvec[AENL_SIM_MAX_Q];
+    double f_amp[2], f_rate[2];
+    int forcing;
+    double gust_T;             /* gust filter time constant, model time unit */
+    double freq_scale;         /* Im λ times this = reported frequency (ω/ω_α or Hz) */
+    int out_q[AENL_SIM_MAX_Q]; /* output channel c is q index out_q[c] */
+    int n_out;
+} sim_sys_t;
+
+/* Branch of one DOF's law. */
+typedef struct sim_branch
+{
+    int region; /* 0 below the gap, 1 inside, 2 above (freeplay/hysteresis) */
+    int dir;    /* hysteresis direction +1 / −1 */
+    int stuck;  /* hysteresis sticking (Filippov sliding) */
+} sim_branch_t;
+
+typedef struct sim_mode
+{
+    sim_branch_t b[AENL_SIM_MAX_Q];
+} sim_mode_t;
+
+/** Assemble the generic form at `velocity`; gust states added when with_gust. */
+aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int with_gust,
+                            double gust_length, sim_sys_t *sys, aenl_err_t *err);
+
+/** Gap boundaries of law on the branch of direction dir. */
+void sim_law_bounds(const aenl_sim_law_t *law, int dir, double *lo, double *hi);
+
+/** Region of x for law on branch dir; on a boundary, moving_up (+1/−1/0) breaks the tie. */
+int sim_law_region(const aenl_sim_law_t *law, int dir, double x, int moving_up);
+
+/** Value of the law on the branch (region, dir) extended smoothly to any x. */
+double sim_law_branch(const aenl_sim_law_t *law, int region, int dir, double x);
+
+/**
+ * Right-hand side in `mode`. u is the gust input. When rreq is not NULL, rreq[i] receives, for
+ * each stuck q i, the restoring value R that holds it (MODELS.md §1.5), else 0.
+ * linear != 0: every law replaced by slope[i]·q_i and φ(t) = 0 (state matrix).
+ */
+void sim_rhs(const sim_sys_t *sys, const sim_mode_t *mode, double t, const double *x, double u,
+             double *dx, double *rreq);
+
+/** Same, with laws replaced by R = slope[q]·q and no forcing (for the state matrix). */
+void sim_rhs_linear(const sim_sys_t *sys, const double *slope_q, const double *x, double *dx);
+
+#endif /* AENL_SIM_INTERNAL_H */
