@@ -14,5 +14,6 @@
 #include "aenl/aenl_config.h"
 #include "aenl/aenl_types.h"
 #include "aenl/aenl_moments.h"
+#include "aenl/aenl_skf.h"
 
 #endif /* AENL_H */

@@ -80,6 +80,36 @@
 #error "AENL_MOMENTS_COMPENSATED must be 0 or 1"
 #endif
 
+/* ---- aenl_skf ----------------------------------------------------------------------------- */
+
+/**
+ * Most states. The filter state holds about (3 + 2 n_modes) n_x^2 reals: with the defaults
+ * (8, 4, 4) sizeof(aenl_skf_t) is about 3.5 KiB in float32; an aenl_skf_model_t (flash) about
+ * n_modes (2 n_x^2 + n_x) + n_z n_x + n_z^2 + n_x^2 + n_modes^2 reals (2.6 KiB).
+ */
+#ifndef AENL_SKF_MAX_X
+#define AENL_SKF_MAX_X 8
+#endif
+#if (AENL_SKF_MAX_X < 1) || (AENL_SKF_MAX_X > 64)
+#error "AENL_SKF_MAX_X must be in [1, 64]"
+#endif
+
+/** Most measured outputs. Work space: about 3 n_x + n_z reals per unit. */
+#ifndef AENL_SKF_MAX_Z
+#define AENL_SKF_MAX_Z 4
+#endif
+#if (AENL_SKF_MAX_Z < 1) || (AENL_SKF_MAX_Z > AENL_SKF_MAX_X)
+#error "AENL_SKF_MAX_Z must be in [1, AENL_SKF_MAX_X]"
+#endif
+
+/** Most modes. State: 2 (n_x^2 + n_x) + 2 reals per mode (per-mode IMM estimates, double-buffered). */
+#ifndef AENL_SKF_MAX_MODES
+#define AENL_SKF_MAX_MODES 4
+#endif
+#if (AENL_SKF_MAX_MODES < 1) || (AENL_SKF_MAX_MODES > 16)
+#error "AENL_SKF_MAX_MODES must be in [1, 16]"
+#endif
+
 /* ---- assertions --------------------------------------------------------------------------- */
 
 /** Internal invariants only (never argument checks). Override with a trap on target. */

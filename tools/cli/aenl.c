@@ -25,6 +25,7 @@ static const subcommand_t k_subcommands[] = {
     {"simulate", aenl_cmd_simulate, "simulate an aeroelastic model (INI) -> CSV"},
     {"flutter", aenl_cmd_flutter, "linear flutter speed and frequency of a model (INI)"},
     {"moments", aenl_cmd_moments, "conditional mean/variance curves of a channel -> CSV (+ plot)"},
+    {"fit", aenl_cmd_fit, "EM switching state-space identification"},
     {"plot", aenl_cmd_plot, "figures from the CSV outputs of the other subcommands"},
     {"demo", aenl_cmd_demo, "the worked examples end to end, with figures"},
     {"bench", aenl_cmd_bench, "performance figures against simple references"},

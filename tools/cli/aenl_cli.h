@@ -42,6 +42,10 @@ int aenl_cmd_flutter(int argc, char **argv);
 int aenl_cmd_plot(int argc, char **argv);
 int aenl_cmd_demo(int argc, char **argv);
 int aenl_cmd_bench(int argc, char **argv);
+/** `aenl fit` (tools/cli/cmd_fit.c). */
+int aenl_cmd_fit(int argc, char **argv);
+/** `aenl bench fit` (tools/cli/bench_fit.c). */
+int aenl_bench_fit(int argc, char **argv);
 /** `aenl bench simulate` (tools/cli/bench_simulate.c). */
 int aenl_bench_simulate(int argc, char **argv);
 

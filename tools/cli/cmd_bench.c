@@ -226,7 +226,7 @@ int aenl_cmd_bench(int argc, char **argv)
     const char *what = argc > 1 ? argv[1] : "all";
     if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0)
     {
-        printf("usage: aenl bench [moments|simulate|all]\n");
+        printf("usage: aenl bench [moments|simulate|fit|all]\n");
         return AENL_EXIT_OK;
     }
     if (strcmp(what, "moments") == 0)
@@ -238,15 +238,23 @@ int aenl_cmd_bench(int argc, char **argv)
     {
         return aenl_bench_simulate(argc - 1, argv + 1);
     }
+    if (strcmp(what, "fit") == 0)
+    {
+        return aenl_bench_fit(argc - 1, argv + 1);
+    }
     if (strcmp(what, "all") == 0 && argc <= 2)
     {
         int rc = bench_moments();
         printf("\n");
-        char arg0[] = "simulate";
-        char *sub[] = {arg0, NULL};
-        const int rc2 = aenl_bench_simulate(1, sub);
-        return rc != AENL_EXIT_OK ? rc : rc2;
+        char arg_sim[] = "simulate";
+        char *sub_sim[] = {arg_sim, NULL};
+        const int rc2 = aenl_bench_simulate(1, sub_sim);
+        printf("\n");
+        char arg_fit[] = "fit";
+        char *sub_fit[] = {arg_fit, NULL};
+        const int rc3 = aenl_bench_fit(1, sub_fit);
+        return rc != AENL_EXIT_OK ? rc : (rc2 != AENL_EXIT_OK ? rc2 : rc3);
     }
-    aenl_cli_error(k_cmd, "unknown benchmark '%s' (moments, simulate or all)", what);
+    aenl_cli_error(k_cmd, "unknown benchmark '%s' (moments, simulate, fit or all)", what);
     return AENL_EXIT_USAGE;
 }

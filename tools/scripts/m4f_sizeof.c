@@ -4,3 +4,4 @@
 #include "aenl/aenl.h"
 
 aenl_moments_t aenl_sizeof_moments;
+aenl_skf_t aenl_sizeof_skf;

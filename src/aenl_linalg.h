@@ -1,0 +1,58 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_linalg.h
+ * @brief Private small-matrix kernels of the core: row-major matrices with an explicit leading
+ *        dimension (stride) so that fixed-capacity arrays (`P[AENL_SKF_MAX_X][AENL_SKF_MAX_X]`) are
+ *        used in their active top-left block. No allocation, no temporaries on the stack beyond
+ *        a few scalars; outputs must not alias inputs unless a function says so.
+ */
+#ifndef AENL_LINALG_H
+#define AENL_LINALG_H
+
+#include "aenl/aenl_types.h"
+
+/** C (n x m) = A (n x k) * B (k x m). */
+void aenl_la_mul(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
+                 const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+
+/** C (n x m) = A (n x k) * B' with B (m x k). */
+void aenl_la_mul_nt(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
+                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+
+/** C (n x m) = A' * B with A (k x n), B (k x m). */
+void aenl_la_mul_tn(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
+                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+
+/** y (n) = A (n x m) x (m). y must not alias x. */
+void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint16_t lda, const aenl_real_t *x,
+                uint16_t n, uint16_t m);
+
+/** A = (A + A') / 2 in place (n x n). */
+void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n);
+
+/**
+ * @brief In-place lower Cholesky A = L L' (upper triangle set to zero).
+ * @return AENL_OK; AENL_E_NOT_PD when a pivot is <= 0 or not finite (A is then partly
+ *         overwritten: factor a copy when the original must survive).
+ */
+aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n);
+
+/** Solve L X = B in place (B n x m), L lower with a nonzero diagonal. */
+void aenl_la_solve_lower(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
+                         uint16_t ldb, uint16_t m);
+
+/** Solve L' X = B in place (B n x m). */
+void aenl_la_solve_lower_t(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
+                           uint16_t ldb, uint16_t m);
+
+/** Solve (L L') X = B in place, L from aenl_la_chol. */
+void aenl_la_chol_solve(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
+                        uint16_t ldb, uint16_t m);
+
+/** 1 when every entry of the n x m block is finite. */
+int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m);
+
+/** 1 when A (n x n) is symmetric to rel_tol * (|a_ij| + |a_ji|) (exactly, for rel_tol = 0). */
+int aenl_la_is_symmetric(const aenl_real_t *a, uint16_t lda, uint16_t n, aenl_real_t rel_tol);
+
+#endif /* AENL_LINALG_H */

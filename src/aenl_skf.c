@@ -1,0 +1,652 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_skf.c
+ * @brief Switching Kalman filter (DESIGN.md section 2.3); model and conventions in aenl_skf.h.
+ *
+ * All-or-nothing: the estimate is double-buffered (x[cur], P[cur]). A step writes the new
+ * estimate into the other half and flips `cur` only when everything succeeded, so a rejected step
+ * (non-PD innovation covariance, non-finite result) leaves the previous estimate in place.
+ *
+ * Update (Joseph form, valid for any gain, keeps P symmetric PSD in float32):
+ *     e = z - C x_p,  S = C P_p C' + R = L L',  K' = S^-1 C P_p,
+ *     x = x_p + K e,  P = (I - K C) P_p (I - K C)' + K R K',  NIS = |L^-1 e|^2,
+ *     log N(e; 0, S) = -(NIS + 2 sum log L_ii + n log 2 pi) / 2.
+ * IMM: Blom & Bar-Shalom (1988), mixing - mode-matched filtering - probability update.
+ */
+#include <string.h>
+
+#include "aenl/aenl_skf.h"
+
+#include "aenl_linalg.h"
+
+#define LDX         ((uint16_t)AENL_SKF_MAX_X)
+#define LDZ         ((uint16_t)AENL_SKF_MAX_Z)
+#define LOG_2PI     AENL_R(1.8378770664093453)
+#define SYM_REL_TOL (AENL_R(64.0) * AENL_REAL_EPS)
+
+static inline uint32_t sat_inc(uint32_t v)
+{
+    return v == UINT32_MAX ? v : v + 1u;
+}
+
+uint16_t aenl_skf_mode_of(const aenl_skf_model_t *model, aenl_real_t value, int rising)
+{
+    if (model == NULL)
+    {
+        return 0u;
+    }
+    const aenl_real_t *thr = rising ? model->thr_rising : model->thr_falling;
+    uint16_t s = 0u;
+    for (uint16_t i = 0; i + 1u < model->n_modes; ++i)
+    {
+        if (value >= thr[i])
+        {
+            s = (uint16_t)(i + 1u);
+        }
+    }
+    return s;
+}
+
+/* ---- model validation ------------------------------------------------------------------------ */
+
+static int psd_diag(const aenl_real_t *a, uint16_t lda, uint16_t n)
+{
+    for (uint16_t i = 0; i < n; ++i)
+    {
+        if (a[(size_t)i * lda + i] < AENL_R(0.0))
+        {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static aenl_status_t check_thresholds(const aenl_skf_model_t *m)
+{
+    for (uint16_t i = 0; i + 1u < m->n_modes; ++i)
+    {
+        if (!aenl_is_finite(m->thr_rising[i]) || !aenl_is_finite(m->thr_falling[i]))
+        {
+            return AENL_E_ARG;
+        }
+        if (i > 0u && (!(m->thr_rising[i] > m->thr_rising[i - 1u]) ||
+                       !(m->thr_falling[i] > m->thr_falling[i - 1u])))
+        {
+            return AENL_E_ARG;
+        }
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t check_imm(const aenl_skf_model_t *m)
+{
+    if (m->imm > 1u)
+    {
+        return AENL_E_ARG;
+    }
+    if (m->imm == 0u)
+    {
+        return AENL_OK;
+    }
+    for (uint16_t i = 0; i < m->n_modes; ++i)
+    {
+        aenl_real_t s = AENL_R(0.0);
+        for (uint16_t j = 0; j < m->n_modes; ++j)
+        {
+            const aenl_real_t p = m->trans[i][j];
+            if (!aenl_is_finite(p) || p < AENL_R(0.0) || p > AENL_R(1.0))
+            {
+                return AENL_E_ARG;
+            }
+            s += p;
+        }
+        if (aenl_fabs(s - AENL_R(1.0)) > AENL_R(1e-4))
+        {
+            return AENL_E_ARG;
+        }
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t check_model(const aenl_skf_model_t *m)
+{
+    if (m->n_x == 0u || m->n_z == 0u || m->n_modes == 0u)
+    {
+        return AENL_E_ARG;
+    }
+    if (m->n_x > AENL_SKF_MAX_X || m->n_z > AENL_SKF_MAX_Z || m->n_modes > AENL_SKF_MAX_MODES)
+    {
+        return AENL_E_DIM;
+    }
+    if (m->switch_state >= m->n_x || (m->dir_state >= m->n_x && m->dir_state != AENL_SKF_DIR_DIFF))
+    {
+        return AENL_E_ARG;
+    }
+    if (check_thresholds(m) != AENL_OK || check_imm(m) != AENL_OK)
+    {
+        return AENL_E_ARG;
+    }
+    const uint16_t nx = m->n_x;
+    for (uint16_t s = 0; s < m->n_modes; ++s)
+    {
+        if (!aenl_la_all_finite(&m->A[s][0][0], LDX, nx, nx) ||
+            !aenl_la_all_finite(m->b[s], LDX, 1u, nx) ||
+            !aenl_la_all_finite(&m->Q[s][0][0], LDX, nx, nx) ||
+            !aenl_la_is_symmetric(&m->Q[s][0][0], LDX, nx, SYM_REL_TOL) ||
+            !psd_diag(&m->Q[s][0][0], LDX, nx))
+        {
+            return AENL_E_ARG;
+        }
+    }
+    if (!aenl_la_all_finite(&m->C[0][0], LDX, m->n_z, nx) ||
+        !aenl_la_all_finite(&m->R[0][0], LDZ, m->n_z, m->n_z) ||
+        !aenl_la_is_symmetric(&m->R[0][0], LDZ, m->n_z, SYM_REL_TOL) ||
+        !aenl_la_all_finite(m->x0, LDX, 1u, nx) || !aenl_la_all_finite(&m->P0[0][0], LDX, nx, nx) ||
+        !aenl_la_is_symmetric(&m->P0[0][0], LDX, nx, SYM_REL_TOL) ||
+        !psd_diag(&m->P0[0][0], LDX, nx))
+    {
+        return AENL_E_ARG;
+    }
+    aenl_real_t r[AENL_SKF_MAX_Z][AENL_SKF_MAX_Z]; /* <= 128 B */
+    memcpy(r, m->R, sizeof(r));
+    if (aenl_la_chol(&r[0][0], LDZ, m->n_z) != AENL_OK)
+    {
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+/* ---- init / reset -----------------------------------------------------------------------------
+ */
+
+aenl_status_t aenl_skf_init(aenl_skf_t *f, const aenl_skf_model_t *model)
+{
+    if (f == NULL || model == NULL)
+    {
+        return AENL_E_ARG;
+    }
+    const aenl_status_t st = check_model(model);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    memset(f, 0, sizeof(*f));
+    f->model = model;
+    f->n_x = model->n_x;
+    f->n_z = model->n_z;
+    f->n_modes = model->n_modes;
+    aenl_skf_reset(f);
+    return AENL_OK;
+}
+
+void aenl_skf_reset(aenl_skf_t *f)
+{
+    if (f == NULL || f->model == NULL)
+    {
+        return;
+    }
+    const aenl_skf_model_t *m = f->model;
+    f->cur = 0u;
+    f->dir = 1;
+    f->x_prev_s = m->x0[m->switch_state];
+    const uint16_t n_est = m->imm ? f->n_modes : 1u;
+    for (uint16_t s = 0; s < n_est; ++s)
+    {
+        memcpy(f->x[0][s], m->x0, sizeof(f->x[0][s]));
+        memcpy(f->P[0][s], m->P0, sizeof(f->P[0][s]));
+    }
+    memset(f->mode_prob, 0, sizeof(f->mode_prob));
+    if (m->imm)
+    {
+        for (uint16_t s = 0; s < f->n_modes; ++s)
+        {
+            f->mode_prob[s] = AENL_R(1.0) / (aenl_real_t)f->n_modes;
+        }
+        f->mode = 0u;
+    }
+    else
+    {
+        f->mode = aenl_skf_mode_of(m, m->x0[m->switch_state], 1);
+        f->mode_prob[f->mode] = AENL_R(1.0);
+    }
+    f->n_steps = 0u;
+    f->n_missing = 0u;
+    f->n_not_pd = 0u;
+    f->n_numeric = 0u;
+    f->nis_sum = AENL_R(0.0);
+    f->n_nis = 0u;
+}
+
+/* ---- one mode-matched Kalman step -------------------------------------------------------------
+ */
+
+/* x_p = A x + b, P_p = A P A' + Q into work.xp / work.Pp. */
+static void predict(aenl_skf_t *f, uint16_t s, const aenl_real_t *x, const aenl_real_t *P)
+{
+    const aenl_skf_model_t *m = f->model;
+    aenl_skf_work_t *w = &f->work;
+    const uint16_t nx = f->n_x;
+    aenl_la_mv(w->xp, &m->A[s][0][0], LDX, x, nx, nx);
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        w->xp[i] += m->b[s][i];
+    }
+    aenl_la_mul(&w->T[0][0], LDX, &m->A[s][0][0], LDX, P, LDX, nx, nx, nx);
+    aenl_la_mul_nt(&w->Pp[0][0], LDX, &w->T[0][0], LDX, &m->A[s][0][0], LDX, nx, nx, nx);
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        for (uint16_t j = 0; j < nx; ++j)
+        {
+            w->Pp[i][j] += m->Q[s][i][j];
+        }
+    }
+    aenl_la_symmetrise(&w->Pp[0][0], LDX, nx);
+}
+
+/*
+ * Update work.xp / work.Pp with the used components (work.idx[0..n_used)) of z into x_out,
+ * P_out (which must not alias the work buffers). Returns NOT_PD / NUMERIC without touching
+ * anything outside the work area and the outputs.
+ */
+static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, aenl_real_t *x_out,
+                            aenl_real_t *P_out, aenl_real_t *nis, aenl_real_t *ll)
+{
+    const aenl_skf_model_t *m = f->model;
+    aenl_skf_work_t *w = &f->work;
+    const uint16_t nx = f->n_x;
+    *nis = AENL_R(0.0);
+    *ll = AENL_R(0.0);
+    if (nu == 0u)
+    {
+        memcpy(x_out, w->xp, sizeof(w->xp));
+        memcpy(P_out, w->Pp, sizeof(w->Pp));
+        return AENL_OK;
+    }
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        memcpy(w->Cu[r], m->C[w->idx[r]], sizeof(w->Cu[r]));
+    }
+    aenl_la_mv(w->e, &w->Cu[0][0], LDX, w->xp, nu, nx);
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        w->e[r] = z[w->idx[r]] - w->e[r];
+    }
+    aenl_la_mul(&w->CP[0][0], LDX, &w->Cu[0][0], LDX, &w->Pp[0][0], LDX, nu, nx, nx);
+    aenl_la_mul_nt(&w->S[0][0], LDZ, &w->CP[0][0], LDX, &w->Cu[0][0], LDX, nu, nx, nu);
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        for (uint16_t c = 0; c < nu; ++c)
+        {
+            w->S[r][c] += m->R[w->idx[r]][w->idx[c]];
+        }
+    }
+    aenl_la_symmetrise(&w->S[0][0], LDZ, nu);
+    if (aenl_la_chol(&w->S[0][0], LDZ, nu) != AENL_OK)
+    {
+        return AENL_E_NOT_PD;
+    }
+    /* NIS and log-likelihood from the whitened innovation u = L^-1 e; then e <- S^-1 e. */
+    aenl_real_t u[AENL_SKF_MAX_Z];
+    memcpy(u, w->e, sizeof(u));
+    aenl_la_solve_lower(&w->S[0][0], LDZ, nu, u, 1u, 1u);
+    aenl_real_t q = AENL_R(0.0), logdet = AENL_R(0.0);
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        q += u[r] * u[r];
+        logdet += aenl_log(w->S[r][r]);
+    }
+    aenl_la_solve_lower_t(&w->S[0][0], LDZ, nu, u, 1u, 1u);
+    /* K' = S^-1 C P_p (in CP); x = x_p + P_p C' S^-1 e = x_p + (C P_p)' u. */
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        aenl_real_t s = w->xp[i];
+        for (uint16_t r = 0; r < nu; ++r)
+        {
+            s += w->CP[r][i] * u[r];
+        }
+        x_out[i] = s;
+    }
+    aenl_la_chol_solve(&w->S[0][0], LDZ, nu, &w->CP[0][0], LDX, nx);
+    /* T = I - K C */
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        for (uint16_t j = 0; j < nx; ++j)
+        {
+            aenl_real_t s = (i == j) ? AENL_R(1.0) : AENL_R(0.0);
+            for (uint16_t r = 0; r < nu; ++r)
+            {
+                s -= w->CP[r][i] * w->Cu[r][j];
+            }
+            w->T[i][j] = s;
+        }
+    }
+    /* P_out = T P_p, then P_p <- (T P_p) T' (P_p is free by then) */
+    aenl_la_mul(P_out, LDX, &w->T[0][0], LDX, &w->Pp[0][0], LDX, nx, nx, nx);
+    aenl_la_mul_nt(&w->Pp[0][0], LDX, P_out, LDX, &w->T[0][0], LDX, nx, nx, nx);
+    /* R_u K' into Cu (C rows no longer needed), then + K (R_u K') */
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        for (uint16_t j = 0; j < nx; ++j)
+        {
+            aenl_real_t s = AENL_R(0.0);
+            for (uint16_t c = 0; c < nu; ++c)
+            {
+                s += m->R[w->idx[r]][w->idx[c]] * w->CP[c][j];
+            }
+            w->Cu[r][j] = s;
+        }
+    }
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        for (uint16_t j = 0; j < nx; ++j)
+        {
+            aenl_real_t s = w->Pp[i][j];
+            for (uint16_t r = 0; r < nu; ++r)
+            {
+                s += w->CP[r][i] * w->Cu[r][j];
+            }
+            P_out[(size_t)i * LDX + j] = s;
+        }
+    }
+    aenl_la_symmetrise(P_out, LDX, nx);
+    *nis = q;
+    *ll = AENL_R(-0.5) * (q + AENL_R(2.0) * logdet + (aenl_real_t)nu * LOG_2PI);
+    return AENL_OK;
+}
+
+static aenl_status_t check_result(const aenl_real_t *x, const aenl_real_t *P, uint16_t nx)
+{
+    if (!aenl_la_all_finite(x, LDX, 1u, nx) || !aenl_la_all_finite(P, LDX, nx, nx))
+    {
+        return AENL_E_NUMERIC;
+    }
+    return AENL_OK;
+}
+
+/* ---- threshold switching ----------------------------------------------------------------------
+ */
+
+static int16_t next_direction(const aenl_skf_t *f, const aenl_real_t *x)
+{
+    const aenl_skf_model_t *m = f->model;
+    const aenl_real_t v =
+        (m->dir_state == AENL_SKF_DIR_DIFF) ? x[m->switch_state] - f->x_prev_s : x[m->dir_state];
+    if (v > AENL_R(0.0))
+    {
+        return 1;
+    }
+    if (v < AENL_R(0.0))
+    {
+        return -1;
+    }
+    return f->dir;
+}
+
+static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu,
+                                    aenl_skf_out_t *out)
+{
+    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur);
+    const aenl_real_t *x = f->x[cur][0];
+    const int16_t dir = next_direction(f, x);
+    const uint16_t s = aenl_skf_mode_of(f->model, x[f->model->switch_state], dir > 0);
+    predict(f, s, x, &f->P[cur][0][0][0]);
+    aenl_real_t nis, ll;
+    aenl_status_t st = update(f, z, nu, f->x[nxt][0], &f->P[nxt][0][0][0], &nis, &ll);
+    if (st == AENL_OK)
+    {
+        st = check_result(f->x[nxt][0], &f->P[nxt][0][0][0], f->n_x);
+    }
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    f->x_prev_s = x[f->model->switch_state];
+    f->dir = dir;
+    f->mode = s;
+    memset(f->mode_prob, 0, sizeof(f->mode_prob));
+    f->mode_prob[s] = AENL_R(1.0);
+    f->cur = nxt;
+    out->mode = s;
+    out->mode_threshold = s;
+    out->nis = nis;
+    out->log_lik = ll;
+    return AENL_OK;
+}
+
+/* ---- IMM --------------------------------------------------------------------------------------
+ */
+
+/* Mixed initial condition of mode j into x[nxt][j], P[nxt][j] (cbar_j in work.cbar). */
+static void imm_mix(aenl_skf_t *f, uint16_t j)
+{
+    const aenl_skf_model_t *m = f->model;
+    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur), nx = f->n_x;
+    aenl_real_t *x0 = f->x[nxt][j];
+    aenl_real_t(*P0)[AENL_SKF_MAX_X] = f->P[nxt][j];
+    const aenl_real_t cj = f->work.cbar[j];
+    memset(x0, 0, sizeof(f->x[nxt][j]));
+    memset(P0, 0, sizeof(f->P[nxt][j]));
+    for (uint16_t i = 0; i < f->n_modes; ++i)
+    {
+        const aenl_real_t wij = (cj > AENL_R(0.0)) ? m->trans[i][j] * f->mode_prob[i] / cj
+                                                   : ((i == j) ? AENL_R(1.0) : AENL_R(0.0));
+        for (uint16_t r = 0; r < nx; ++r)
+        {
+            x0[r] += wij * f->x[cur][i][r];
+        }
+    }
+    for (uint16_t i = 0; i < f->n_modes; ++i)
+    {
+        const aenl_real_t wij = (cj > AENL_R(0.0)) ? m->trans[i][j] * f->mode_prob[i] / cj
+                                                   : ((i == j) ? AENL_R(1.0) : AENL_R(0.0));
+        if (!(wij > AENL_R(0.0)))
+        {
+            continue;
+        }
+        const aenl_real_t *xi = f->x[cur][i];
+        for (uint16_t r = 0; r < nx; ++r)
+        {
+            const aenl_real_t dr = xi[r] - x0[r];
+            for (uint16_t c = 0; c < nx; ++c)
+            {
+                P0[r][c] += wij * (f->P[cur][i][r][c] + dr * (xi[c] - x0[c]));
+            }
+        }
+    }
+}
+
+static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, aenl_skf_out_t *out)
+{
+    const aenl_skf_model_t *m = f->model;
+    const uint16_t nxt = (uint16_t)(1u - f->cur), nm = f->n_modes;
+    aenl_skf_work_t *w = &f->work;
+    for (uint16_t j = 0; j < nm; ++j)
+    {
+        aenl_real_t c = AENL_R(0.0);
+        for (uint16_t i = 0; i < nm; ++i)
+        {
+            c += m->trans[i][j] * f->mode_prob[i];
+        }
+        w->cbar[j] = c;
+    }
+    aenl_real_t nis_j[AENL_SKF_MAX_MODES];
+    for (uint16_t j = 0; j < nm; ++j)
+    {
+        imm_mix(f, j);
+        predict(f, j, f->x[nxt][j], &f->P[nxt][j][0][0]);
+        const aenl_status_t st =
+            update(f, z, nu, f->x[nxt][j], &f->P[nxt][j][0][0], &nis_j[j], &w->lik[j]);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        if (check_result(f->x[nxt][j], &f->P[nxt][j][0][0], f->n_x) != AENL_OK)
+        {
+            return AENL_E_NUMERIC;
+        }
+    }
+    /* mode probabilities: mu_j proportional to cbar_j e^lik_j, by log-sum-exp */
+    aenl_real_t lmax = -AENL_REAL_MAX;
+    for (uint16_t j = 0; j < nm; ++j)
+    {
+        w->lik[j] = (w->cbar[j] > AENL_R(0.0)) ? w->lik[j] + aenl_log(w->cbar[j]) : -AENL_REAL_MAX;
+        lmax = (w->lik[j] > lmax) ? w->lik[j] : lmax;
+    }
+    aenl_real_t sum = AENL_R(0.0);
+    for (uint16_t j = 0; j < nm; ++j)
+    {
+        w->cbar[j] = (w->lik[j] > -AENL_REAL_MAX) ? aenl_exp(w->lik[j] - lmax) : AENL_R(0.0);
+        sum += w->cbar[j];
+    }
+    if (!(sum > AENL_R(0.0)) || !aenl_is_finite(sum) || !aenl_is_finite(lmax))
+    {
+        return AENL_E_NUMERIC;
+    }
+    uint16_t best = 0u;
+    for (uint16_t j = 0; j < nm; ++j)
+    {
+        w->cbar[j] /= sum;
+        best = (w->cbar[j] > w->cbar[best]) ? j : best;
+    }
+    const aenl_real_t *x = f->x[f->cur][0];
+    const int16_t dir = next_direction(f, x);
+    out->mode_threshold = aenl_skf_mode_of(m, x[m->switch_state], dir > 0);
+    f->x_prev_s = x[m->switch_state];
+    f->dir = dir;
+    memcpy(f->mode_prob, w->cbar, sizeof(f->mode_prob));
+    f->mode = best;
+    f->cur = nxt;
+    out->mode = best;
+    out->nis = nis_j[best];
+    out->log_lik = (nu > 0u) ? lmax + aenl_log(sum) : AENL_R(0.0);
+    return AENL_OK;
+}
+
+/* ---- public step / queries --------------------------------------------------------------------
+ */
+
+aenl_status_t aenl_skf_step(aenl_skf_t *f, const aenl_real_t *z, aenl_skf_out_t *out)
+{
+    aenl_skf_out_t dummy;
+    if (out == NULL)
+    {
+        out = &dummy;
+    }
+    memset(out, 0, sizeof(*out));
+    if (f == NULL || z == NULL || f->model == NULL)
+    {
+        return AENL_E_ARG;
+    }
+    uint16_t nu = 0u;
+    for (uint16_t r = 0; r < f->n_z; ++r)
+    {
+        if (isinf(z[r]))
+        {
+            f->n_numeric = sat_inc(f->n_numeric);
+            return AENL_E_NUMERIC;
+        }
+        if (!isnan(z[r]))
+        {
+            f->work.idx[nu++] = r;
+        }
+    }
+    const aenl_status_t st =
+        f->model->imm ? step_imm(f, z, nu, out) : step_threshold(f, z, nu, out);
+    if (st != AENL_OK)
+    {
+        if (st == AENL_E_NOT_PD)
+        {
+            f->n_not_pd = sat_inc(f->n_not_pd);
+        }
+        else
+        {
+            f->n_numeric = sat_inc(f->n_numeric);
+        }
+        memset(out, 0, sizeof(*out));
+        return st;
+    }
+    out->n_used = nu;
+    f->n_steps = sat_inc(f->n_steps);
+    if (nu == 0u)
+    {
+        f->n_missing = sat_inc(f->n_missing);
+    }
+    else
+    {
+        f->nis_sum += out->nis;
+        f->n_nis = sat_inc(f->n_nis);
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_skf_estimate(const aenl_skf_t *f, aenl_real_t *x_out, aenl_real_t *P_out)
+{
+    if (f == NULL || x_out == NULL || f->model == NULL)
+    {
+        return AENL_E_ARG;
+    }
+    const uint16_t nx = f->n_x, cur = f->cur;
+    if (!f->model->imm)
+    {
+        memcpy(x_out, f->x[cur][0], (size_t)nx * sizeof(aenl_real_t));
+        if (P_out != NULL)
+        {
+            for (uint16_t i = 0; i < nx; ++i)
+            {
+                memcpy(&P_out[(size_t)i * nx], f->P[cur][0][i], (size_t)nx * sizeof(aenl_real_t));
+            }
+        }
+        return AENL_OK;
+    }
+    for (uint16_t r = 0; r < nx; ++r)
+    {
+        aenl_real_t s = AENL_R(0.0);
+        for (uint16_t j = 0; j < f->n_modes; ++j)
+        {
+            s += f->mode_prob[j] * f->x[cur][j][r];
+        }
+        x_out[r] = s;
+    }
+    if (P_out != NULL)
+    {
+        for (uint16_t r = 0; r < nx; ++r)
+        {
+            for (uint16_t c = 0; c < nx; ++c)
+            {
+                aenl_real_t s = AENL_R(0.0);
+                for (uint16_t j = 0; j < f->n_modes; ++j)
+                {
+                    const aenl_real_t *xj = f->x[cur][j];
+                    s += f->mode_prob[j] *
+                         (f->P[cur][j][r][c] + (xj[r] - x_out[r]) * (xj[c] - x_out[c]));
+                }
+                P_out[(size_t)r * nx + c] = s;
+            }
+        }
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_skf_mode_prob(const aenl_skf_t *f, aenl_real_t *prob)
+{
+    if (f == NULL || prob == NULL)
+    {
+        return AENL_E_ARG;
+    }
+    memcpy(prob, f->mode_prob, (size_t)f->n_modes * sizeof(aenl_real_t));
+    return AENL_OK;
+}
+
+aenl_status_t aenl_skf_mean_nis(const aenl_skf_t *f, aenl_real_t *mean_nis)
+{
+    if (f == NULL || mean_nis == NULL)
+    {
+        return AENL_E_ARG;
+    }
+    if (f->n_nis == 0u)
+    {
+        return AENL_E_EMPTY;
+    }
+    *mean_nis = f->nis_sum / (aenl_real_t)f->n_nis;
+    return AENL_OK;
+}

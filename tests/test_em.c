@@ -1,0 +1,541 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_em.c
+ * @brief Host EM identification: on data simulated from a known 3-mode switching model the
+ *        log-likelihood never decreases and each mode's frequencies, damping and the noise
+ *        covariance are recovered; frozen parameters stay put; threshold refinement moves a wrong
+ *        threshold towards the true one; the modal reading is exact on a known rotation; and the
+ *        core f64 filter converges to the DARE solution computed here with LAPACKE (structure-
+ *        preserving doubling, dgesv), independently of both the core and the EM code.
+ */
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "unity.h"
+
+#include "aenl/aenl_skf.h"
+#include "aenl_tools/aenl_em.h"
+
+#define NX 4
+#define NZ 2
+#define PI 3.14159265358979323846
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static uint64_t g_lcg;
+
+static double uni(void)
+{
+    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
+    return ((double)(g_lcg >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+static double gauss(void)
+{
+    return sqrt(-2.0 * log(uni())) * cos(2.0 * PI * uni());
+}
+
+/* ---- the true model: two coupled damped oscillators; outputs x0 and x2 ----------------------- */
+
+typedef struct
+{
+    double A[3][NX][NX], b[3][NX];
+    double thr[2];
+    double q_std, r_std[NZ];
+} truth_t;
+
+static void rot(double blk[2][2], double r, double th)
+{
+    blk[0][0] = r * cos(th);
+    blk[0][1] = -r * sin(th);
+    blk[1][0] = r * sin(th);
+    blk[1][1] = r * cos(th);
+}
+
+/* Modes differ in the first oscillator's frequency (as a freeplay changes the pitch stiffness);
+ * b keeps the map continuous at the thresholds. */
+static void make_truth(truth_t *t)
+{
+    memset(t, 0, sizeof(*t));
+    const double th1[3] = {0.30, 0.18, 0.30}, r1[3] = {0.985, 0.99, 0.985};
+    t->thr[0] = -0.2;
+    t->thr[1] = 0.2;
+    for (int s = 0; s < 3; ++s)
+    {
+        double b1[2][2], b2[2][2];
+        rot(b1, r1[s], th1[s]);
+        rot(b2, 0.97, 0.55);
+        for (int i = 0; i < 2; ++i)
+        {
+            for (int j = 0; j < 2; ++j)
+            {
+                t->A[s][i][j] = b1[i][j];
+                t->A[s][2 + i][2 + j] = b2[i][j];
+            }
+        }
+        t->A[s][2][0] = 0.05; /* coupling */
+        t->A[s][0][2] = 0.03;
+    }
+    /* continuity: (A_s - A_1) x + b_s - b_1 = 0 on the threshold plane x0 = t is not possible
+     * for a rotation change in general; use offsets that centre each outer mode on its
+     * threshold instead: b_s = (I - A_s) c_s with c_s = (t_s, 0, 0, 0). */
+    for (int s = 0; s < 3; ++s)
+    {
+        const double c0 = (s == 0) ? t->thr[0] : (s == 2 ? t->thr[1] : 0.0);
+        for (int i = 0; i < NX; ++i)
+        {
+            t->b[s][i] = ((i == 0) ? c0 : 0.0) - t->A[s][i][0] * c0;
+        }
+    }
+    t->q_std = 0.05;
+    t->r_std[0] = 0.03;
+    t->r_std[1] = 0.02;
+}
+
+static double *simulate_truth(const truth_t *t, size_t n, uint64_t seed, int *count)
+{
+    double *y = malloc(n * NZ * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    g_lcg = seed;
+    double x[NX] = {0.5, 0.0, 0.1, 0.0};
+    count[0] = count[1] = count[2] = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        y[k * NZ + 0] = x[0] + t->r_std[0] * gauss();
+        y[k * NZ + 1] = x[2] + t->r_std[1] * gauss();
+        const int s = x[0] < t->thr[0] ? 0 : (x[0] < t->thr[1] ? 1 : 2);
+        count[s]++;
+        double xn[NX];
+        for (int i = 0; i < NX; ++i)
+        {
+            xn[i] = t->b[s][i] + t->q_std * gauss();
+            for (int j = 0; j < NX; ++j)
+            {
+                xn[i] += t->A[s][i][j] * x[j];
+            }
+        }
+        memcpy(x, xn, sizeof(x));
+    }
+    return y;
+}
+
+/* True frequency/damping of mode s from its matrix, through the same modal routine. */
+static void truth_modal(const truth_t *t, int s, aenl_em_eig_t *eig, size_t *n_osc)
+{
+    aenl_em_model_t m;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_alloc(&m, NX, NZ, 1, &err));
+    m.dt = 1.0;
+    memcpy(m.A, t->A[s], sizeof(t->A[s]));
+    size_t n_eig = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_modal(&m, 0, eig, &n_eig, n_osc, &err));
+    aenl_em_model_free(&m);
+}
+
+static void check_monotone(const aenl_em_result_t *r)
+{
+    TEST_ASSERT_TRUE(r->n_iter >= 2);
+    for (size_t i = 1; i < r->n_iter; ++i)
+    {
+        TEST_ASSERT_TRUE_MESSAGE(r->loglik[i] >= r->loglik[i - 1] - 1e-9 * fabs(r->loglik[i - 1]),
+                                 "log-likelihood decreased");
+    }
+    TEST_ASSERT_TRUE(r->loglik_final >= r->loglik[r->n_iter - 1] - 1e-9 * fabs(r->loglik_final));
+}
+
+static void test_em_recovers_switching_model_and_loglik_never_decreases(void)
+{
+    truth_t t;
+    make_truth(&t);
+    int count[3];
+    const size_t n = 20000;
+    double *y = simulate_truth(&t, n, 42u, count);
+    TEST_ASSERT_TRUE(count[0] > 1000 && count[1] > 1000 && count[2] > 1000);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.n_thresholds = 2;
+    o.thresholds[0] = t.thr[0];
+    o.thresholds[1] = t.thr[1];
+    o.max_iter = 60;
+    aenl_em_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(60, r.n_iter);
+    check_monotone(&r);
+    TEST_ASSERT_TRUE(r.loglik[r.n_iter - 1] > r.loglik[0]); /* EM improved on the LS start */
+    for (int s = 0; s < 3; ++s)
+    {
+        aenl_em_eig_t te[NX], fe[NX];
+        size_t t_osc = 0, f_osc = 0, n_eig = 0;
+        truth_modal(&t, s, te, &t_osc);
+        TEST_ASSERT_EQUAL_INT(AENL_OK,
+                              aenl_em_modal(&r.model, (size_t)s, fe, &n_eig, &f_osc, &err));
+        TEST_ASSERT_EQUAL_size_t(2, t_osc);
+        TEST_ASSERT_EQUAL_size_t(2, f_osc);
+        for (size_t i = 0; i < 2; ++i)
+        {
+            /* measured on this record (seed 42): frequencies within 3.1 %, damping ratios within
+             * 0.06 (the slow mode of the middle interval, visited in short stays, is the worst) */
+            TEST_ASSERT_DOUBLE_WITHIN(0.04 * te[i].frequency, te[i].frequency, fe[i].frequency);
+            TEST_ASSERT_DOUBLE_WITHIN(0.07, te[i].damping, fe[i].damping);
+        }
+    }
+    /* measurement noise variances within 15 % */
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * t.r_std[0] * t.r_std[0], t.r_std[0] * t.r_std[0],
+                              r.model.R[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * t.r_std[1] * t.r_std[1], t.r_std[1] * t.r_std[1],
+                              r.model.R[3]);
+    /* C stayed [I 0] (frozen by default) */
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, r.model.C[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, r.model.C[2]);
+    aenl_em_result_free(&r);
+    free(y);
+}
+
+static void test_em_frozen_parameters_stay_put(void)
+{
+    truth_t t;
+    make_truth(&t);
+    int count[3];
+    const size_t n = 4000;
+    double *y = simulate_truth(&t, n, 7u, count);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.n_thresholds = 2;
+    o.thresholds[0] = t.thr[0];
+    o.thresholds[1] = t.thr[1];
+    o.max_iter = 0; /* the least-squares start */
+    aenl_em_result_t r0, r1;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r0, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(0, r0.n_iter);
+    o.max_iter = 10;
+    o.freeze = AENL_EM_FREEZE_A | AENL_EM_FREEZE_B | AENL_EM_FREEZE_Q | AENL_EM_FREEZE_C;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r1, &err), err.msg);
+    check_monotone(&r1);
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.A, r1.model.A, 3 * NX * NX * sizeof(double));
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.b, r1.model.b, 3 * NX * sizeof(double));
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.Q, r1.model.Q, 3 * NX * NX * sizeof(double));
+    TEST_ASSERT_TRUE(fabs(r0.model.R[0] - r1.model.R[0]) > 0.0); /* R did move */
+    aenl_em_result_free(&r1);
+    /* only R frozen: R stays, the rest moves */
+    o.freeze = AENL_EM_FREEZE_R | AENL_EM_FREEZE_C;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r1, &err), err.msg);
+    check_monotone(&r1);
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.R, r1.model.R, NZ * NZ * sizeof(double));
+    TEST_ASSERT_TRUE(fabs(r0.model.A[0] - r1.model.A[0]) > 0.0);
+    aenl_em_result_free(&r1);
+    aenl_em_result_free(&r0);
+    free(y);
+}
+
+static void test_em_refine_moves_a_wrong_threshold_towards_truth(void)
+{
+    truth_t t;
+    make_truth(&t);
+    int count[3];
+    const size_t n = 8000;
+    double *y = simulate_truth(&t, n, 9u, count);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.n_thresholds = 2;
+    o.thresholds[0] = t.thr[0];
+    o.thresholds[1] = t.thr[1] + 0.12; /* wrong by 0.12 */
+    o.max_iter = 5;
+    o.refine = 1;
+    o.refine_step = 0.06;
+    o.refine_iter = 8;
+    aenl_em_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r, &err), err.msg);
+    TEST_ASSERT_TRUE(fabs(r.model.thresholds[1] - t.thr[1]) < 0.06);
+    check_monotone(&r);
+    aenl_em_result_free(&r);
+    free(y);
+}
+
+static void test_em_modal_reading_is_exact_for_a_rotation(void)
+{
+    aenl_em_model_t m;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_alloc(&m, 3, 1, 1, &err));
+    m.dt = 0.25;
+    const double r = 0.96, th = 0.7;
+    m.A[0] = r * cos(th);
+    m.A[1] = -r * sin(th);
+    m.A[3] = r * sin(th);
+    m.A[4] = r * cos(th);
+    m.A[8] = 0.5; /* a real pole */
+    aenl_em_eig_t e[3];
+    size_t n_eig = 0, n_osc = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_modal(&m, 0, e, &n_eig, &n_osc, &err));
+    TEST_ASSERT_EQUAL_size_t(2, n_eig);
+    TEST_ASSERT_EQUAL_size_t(1, n_osc);
+    const double sr = log(r) / 0.25, si = th / 0.25;
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, si / (2.0 * PI), e[0].frequency);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, -sr / sqrt(sr * sr + si * si), e[0].damping);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.5, e[1].re);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.0, e[1].damping);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, log(0.5) / 0.25, e[1].s_re);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_modal(&m, 1, e, &n_eig, &n_osc, &err));
+    aenl_em_model_free(&m);
+}
+
+static void test_em_rejects_bad_options(void)
+{
+    double y[200 * NZ];
+    for (size_t i = 0; i < 200 * NZ; ++i)
+    {
+        y[i] = sin(0.1 * (double)i);
+    }
+    aenl_em_opts_t o;
+    aenl_em_result_t r;
+    aenl_err_t err;
+    aenl_em_opts_default(&o);
+    o.n_states = 1; /* fewer states than outputs */
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_fit(y, 200, NZ, &o, &r, &err));
+    TEST_ASSERT_TRUE(strlen(err.msg) > 0);
+    aenl_em_opts_default(&o);
+    o.n_thresholds = 2;
+    o.thresholds[0] = 0.5;
+    o.thresholds[1] = 0.1; /* not ascending */
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_fit(y, 200, NZ, &o, &r, &err));
+    aenl_em_opts_default(&o);
+    o.n_thresholds = 1;
+    o.thresholds[0] = 5.0; /* nothing above: an empty mode */
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_fit(y, 200, NZ, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "mode 1"));
+    aenl_em_opts_default(&o);
+    o.switch_channel = NZ;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_fit(y, 200, NZ, &o, &r, &err));
+    TEST_ASSERT_NULL(r.loglik);
+}
+
+/* ---- DARE by structure-preserving doubling (LAPACKE dgesv), the core f64 filter against it -- */
+
+static void sda_dare(const double *A, const double *C, const double *Q, const double *R, double *X)
+{
+    /* filter Riccati P = A P A' - A P C'(C P C' + R)^-1 C P A' + Q  <=> control DARE with
+     * (A', C'): Ak = A', G = C' R^-1 C, H = Q; H_k -> X (the predicted covariance). */
+    double Ak[NX * NX], G[NX * NX], H[NX * NX], Ri[NZ * NZ];
+    const double det = R[0] * R[3] - R[1] * R[2];
+    Ri[0] = R[3] / det;
+    Ri[3] = R[0] / det;
+    Ri[1] = -R[1] / det;
+    Ri[2] = -R[2] / det;
+    for (int i = 0; i < NX; ++i)
+    {
+        for (int j = 0; j < NX; ++j)
+        {
+            Ak[i * NX + j] = A[j * NX + i];
+            H[i * NX + j] = Q[i * NX + j];
+            double g = 0.0;
+            for (int r = 0; r < NZ; ++r)
+            {
+                for (int c = 0; c < NZ; ++c)
+                {
+                    g += C[r * NX + i] * Ri[r * NZ + c] * C[c * NX + j];
+                }
+            }
+            G[i * NX + j] = g;
+        }
+    }
+    for (int it = 0; it < 60; ++it)
+    {
+        double W[NX * NX], B[NX * 3 * NX];
+        lapack_int piv[NX];
+        for (int i = 0; i < NX; ++i)
+        {
+            for (int j = 0; j < NX; ++j)
+            {
+                double s = (i == j) ? 1.0 : 0.0;
+                for (int r = 0; r < NX; ++r)
+                {
+                    s += G[i * NX + r] * H[r * NX + j];
+                }
+                W[i * NX + j] = s;
+            }
+        }
+        /* right-hand sides [Ak, G, H Ak]: W^-1 Ak, W^-1 G ... (row-major, 3 NX columns) */
+        for (int i = 0; i < NX; ++i)
+        {
+            for (int j = 0; j < NX; ++j)
+            {
+                B[i * 3 * NX + j] = Ak[i * NX + j];
+                B[i * 3 * NX + NX + j] = G[i * NX + j];
+            }
+        }
+        /* H_{k+1} = H + Ak' H W^-1 Ak: needs (W')^-1 ... use W^-1 Ak from the solve */
+        TEST_ASSERT_EQUAL_INT(0,
+                              LAPACKE_dgesv(LAPACK_ROW_MAJOR, NX, 2 * NX, W, NX, piv, B, 3 * NX));
+        double A1[NX * NX], G1[NX * NX], H1[NX * NX];
+        for (int i = 0; i < NX; ++i)
+        {
+            for (int j = 0; j < NX; ++j)
+            {
+                double a = 0.0, g = 0.0, h = 0.0;
+                for (int r = 0; r < NX; ++r)
+                {
+                    a += Ak[i * NX + r] * B[r * 3 * NX + j];
+                    double gr = 0.0, hr = 0.0;
+                    for (int c = 0; c < NX; ++c)
+                    {
+                        gr += B[r * 3 * NX + NX + c] * Ak[j * NX + c]; /* (W^-1 G Ak')_{rj} */
+                        hr += H[r * NX + c] * B[c * 3 * NX + j];       /* (H W^-1 Ak)_{rj} */
+                    }
+                    g += Ak[i * NX + r] * gr;
+                    h += Ak[r * NX + i] * hr;
+                }
+                A1[i * NX + j] = a;
+                G1[i * NX + j] = G[i * NX + j] + g;
+                H1[i * NX + j] = H[i * NX + j] + h;
+            }
+        }
+        memcpy(Ak, A1, sizeof(Ak));
+        memcpy(G, G1, sizeof(G));
+        memcpy(H, H1, sizeof(H));
+    }
+    memcpy(X, H, sizeof(H));
+}
+
+static void test_em_core_filter_converges_to_lapacke_dare(void)
+{
+    truth_t t;
+    make_truth(&t);
+    double A[NX * NX], C[NZ * NX] = {1, 0, 0, 0, 0, 0, 1, 0.5}, Q[NX * NX], R[NZ * NZ], X[NX * NX];
+    memset(Q, 0, sizeof(Q));
+    for (int i = 0; i < NX; ++i)
+    {
+        for (int j = 0; j < NX; ++j)
+        {
+            A[i * NX + j] = t.A[1][i][j];
+        }
+        Q[i * NX + i] = 1e-3 * (1.0 + i);
+    }
+    Q[1] = Q[4] = 2e-4;
+    R[0] = 4e-3;
+    R[1] = R[2] = 1e-3;
+    R[3] = 2e-3;
+    sda_dare(A, C, Q, R, X);
+    /* filtered form P = X - X C' (C X C' + R)^-1 C X, by hand (2 x 2 inverse) */
+    double XC[NX * NZ], S[NZ * NZ], Si[NZ * NZ], Pf[NX * NX];
+    for (int i = 0; i < NX; ++i)
+    {
+        for (int r = 0; r < NZ; ++r)
+        {
+            double s = 0.0;
+            for (int j = 0; j < NX; ++j)
+            {
+                s += X[i * NX + j] * C[r * NX + j];
+            }
+            XC[i * NZ + r] = s;
+        }
+    }
+    for (int r = 0; r < NZ; ++r)
+    {
+        for (int c = 0; c < NZ; ++c)
+        {
+            double s = R[r * NZ + c];
+            for (int j = 0; j < NX; ++j)
+            {
+                s += C[r * NX + j] * XC[j * NZ + c];
+            }
+            S[r * NZ + c] = s;
+        }
+    }
+    const double det = S[0] * S[3] - S[1] * S[2];
+    Si[0] = S[3] / det;
+    Si[3] = S[0] / det;
+    Si[1] = -S[1] / det;
+    Si[2] = -S[2] / det;
+    for (int i = 0; i < NX; ++i)
+    {
+        for (int j = 0; j < NX; ++j)
+        {
+            double s = X[i * NX + j];
+            for (int r = 0; r < NZ; ++r)
+            {
+                for (int c = 0; c < NZ; ++c)
+                {
+                    s -= XC[i * NZ + r] * Si[r * NZ + c] * XC[j * NZ + c];
+                }
+            }
+            Pf[i * NX + j] = s;
+        }
+    }
+    static aenl_skf_model_t m;
+    static aenl_skf_t f;
+    memset(&m, 0, sizeof(m));
+    m.n_x = NX;
+    m.n_z = NZ;
+    m.n_modes = 1;
+    for (int i = 0; i < NX; ++i)
+    {
+        for (int j = 0; j < NX; ++j)
+        {
+            m.A[0][i][j] = A[i * NX + j];
+            m.Q[0][i][j] = Q[i * NX + j];
+        }
+        m.P0[i][i] = 1.0;
+        for (int r = 0; r < NZ; ++r)
+        {
+            m.C[r][i] = C[r * NX + i];
+        }
+    }
+    for (int r = 0; r < NZ; ++r)
+    {
+        for (int c = 0; c < NZ; ++c)
+        {
+            m.R[r][c] = R[r * NZ + c];
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_init(&f, &m));
+    const aenl_real_t z[NZ] = {0.1, -0.2};
+    for (int k = 0; k < 3000; ++k)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_step(&f, z, NULL));
+    }
+    aenl_real_t x[NX], P[NX * NX];
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_estimate(&f, x, P));
+    double scale = 0.0;
+    for (int i = 0; i < NX * NX; ++i)
+    {
+        scale = fabs(Pf[i]) > scale ? fabs(Pf[i]) : scale;
+    }
+    for (int i = 0; i < NX * NX; ++i)
+    {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-10 * scale, Pf[i], P[i]);
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_em_recovers_switching_model_and_loglik_never_decreases);
+    RUN_TEST(test_em_frozen_parameters_stay_put);
+    RUN_TEST(test_em_refine_moves_a_wrong_threshold_towards_truth);
+    RUN_TEST(test_em_modal_reading_is_exact_for_a_rotation);
+    RUN_TEST(test_em_rejects_bad_options);
+    RUN_TEST(test_em_core_filter_converges_to_lapacke_dare);
+    return UNITY_END();
+}

@@ -1,0 +1,588 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_fit.c
+ * @brief `aenl fit`: EM identification of the switching state-space model (DESIGN.md section 3).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_cli.h"
+#include "aenl_tools/aenl_em.h"
+
+static const char *const k_cmd = "fit";
+
+static void help(void)
+{
+    printf("usage: aenl fit DATA.csv --thresholds CH:T1[,T2,...] [--states N] [--iter K]\n"
+           "                [--channels A,B] [--freeze A,b,Q,R,x0] [--free-c] [--refine]\n"
+           "                [--modes-from-data] [--tol REL] [--json] [-o model.ini]\n"
+           "                [--c-header model.h] [--name IDENT]\n\n"
+           "Identifies x_k = A_s x_{k-1} + b_s + v, y_k = C x_k + w by EM (Kalman filter + RTS\n"
+           "smoother, closed-form M-step), the mode s chosen by the thresholds on channel CH (the\n"
+           "seed paper's freeplay: --thresholds alpha:ALPHA_F,ALPHA_F+DELTA). Every data column\n"
+           "other than the time column is an output (or those of --channels, CH included).\n"
+           "The sample step comes from the time column (t, t_s, time, time_s or tau; uniform).\n"
+           "Frequencies are |Im s|/(2 pi) with s = ln(lambda)/dt, in cycles per unit of the time\n"
+           "column (Hz for seconds); damping = -Re s/|s|.\n"
+           "Defaults: 4 states per output, 50 iterations, C = [I 0] fixed, thresholds as given.\n"
+           "--json prints {\"modes\": [...], \"C\", \"R\", \"loglik\": [...]}, modes in ascending\n"
+           "order of their threshold interval. --c-header writes a const aenl_skf_model_t.\n");
+}
+
+static int split_list(char *s, char **items, int cap)
+{
+    int n = 0;
+    for (char *tok = strtok(s, ","); tok != NULL; tok = strtok(NULL, ","))
+    {
+        if (n == cap)
+        {
+            return -1;
+        }
+        items[n++] = tok;
+    }
+    return n;
+}
+
+static cJSON *json_matrix(const double *a, size_t n, size_t m)
+{
+    cJSON *rows = cJSON_CreateArray();
+    for (size_t i = 0; i < n; ++i)
+    {
+        cJSON *row = cJSON_CreateArray();
+        for (size_t j = 0; j < m; ++j)
+        {
+            cJSON_AddItemToArray(row, cJSON_CreateNumber(a[i * m + j]));
+        }
+        cJSON_AddItemToArray(rows, row);
+    }
+    return rows;
+}
+
+static cJSON *json_vector(const double *a, size_t n)
+{
+    cJSON *v = cJSON_CreateArray();
+    for (size_t i = 0; i < n; ++i)
+    {
+        cJSON_AddItemToArray(v, cJSON_CreateNumber(a[i]));
+    }
+    return v;
+}
+
+static cJSON *num_or_null(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+/* Default C identifier: the header's file stem, non-identifier characters as '_'. */
+static void ident_from_path(const char *path, char *out, size_t cap)
+{
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    size_t k = 0;
+    if (!((base[0] >= 'a' && base[0] <= 'z') || (base[0] >= 'A' && base[0] <= 'Z')))
+    {
+        out[k++] = 'm';
+    }
+    for (const char *p = base; *p && *p != '.' && k + 1 < cap; ++p)
+    {
+        const int ok = (*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') ||
+                       (*p >= '0' && *p <= '9') || *p == '_';
+        out[k++] = ok ? *p : '_';
+    }
+    out[k] = '\0';
+}
+
+typedef struct
+{
+    const char *data, *thr, *channels, *freeze, *out_ini, *out_h, *name;
+    long states, iter;
+    int json, refine, free_c, modes_from_data;
+    double tol;
+} fit_args_t;
+
+static int parse_args(int argc, char **argv, fit_args_t *a)
+{
+    memset(a, 0, sizeof(*a));
+    a->iter = 50;
+    for (int i = 1; i < argc; ++i)
+    {
+        const char *o = argv[i];
+        const char *v = NULL;
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0)
+        {
+            help();
+            return 1;
+        }
+        else if (strcmp(o, "--thresholds") == 0 || strcmp(o, "--channels") == 0 ||
+                 strcmp(o, "--freeze") == 0 || strcmp(o, "-o") == 0 ||
+                 strcmp(o, "--c-header") == 0 || strcmp(o, "--name") == 0 ||
+                 strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 || strcmp(o, "--tol") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+            if (strcmp(o, "--thresholds") == 0)
+            {
+                a->thr = v;
+            }
+            else if (strcmp(o, "--channels") == 0)
+            {
+                a->channels = v;
+            }
+            else if (strcmp(o, "--freeze") == 0)
+            {
+                a->freeze = v;
+            }
+            else if (strcmp(o, "-o") == 0)
+            {
+                a->out_ini = v;
+            }
+            else if (strcmp(o, "--c-header") == 0)
+            {
+                a->out_h = v;
+            }
+            else if (strcmp(o, "--name") == 0)
+            {
+                a->name = v;
+            }
+            else if (strcmp(o, "--states") == 0)
+            {
+                if (aenl_cli_parse_long(k_cmd, "--states", v, 1, AENL_EM_MAX_X, &a->states) != 0)
+                {
+                    return -1;
+                }
+            }
+            else if (strcmp(o, "--iter") == 0)
+            {
+                if (aenl_cli_parse_long(k_cmd, "--iter", v, 0, 100000, &a->iter) != 0)
+                {
+                    return -1;
+                }
+            }
+            else if (aenl_cli_parse_double(k_cmd, "--tol", v, &a->tol) != 0 || a->tol < 0.0)
+            {
+                if (a->tol < 0.0)
+                {
+                    aenl_cli_error(k_cmd, "--tol must be >= 0");
+                }
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--json") == 0)
+        {
+            a->json = 1;
+        }
+        else if (strcmp(o, "--refine") == 0)
+        {
+            a->refine = 1;
+        }
+        else if (strcmp(o, "--free-c") == 0)
+        {
+            a->free_c = 1;
+        }
+        else if (strcmp(o, "--modes-from-data") == 0)
+        {
+            a->modes_from_data = 1;
+        }
+        else if (o[0] == '-' && o[1] != '\0')
+        {
+            aenl_cli_error(k_cmd, "unknown option %s (aenl fit --help)", o);
+            return -1;
+        }
+        else if (a->data == NULL)
+        {
+            a->data = o;
+        }
+        else
+        {
+            aenl_cli_error(k_cmd, "one data file only (got '%s' and '%s')", a->data, o);
+            return -1;
+        }
+    }
+    if (a->data == NULL)
+    {
+        aenl_cli_error(k_cmd, "no data file (usage: aenl fit DATA.csv --thresholds CH:LO,HI)");
+        return -1;
+    }
+    if (a->thr == NULL)
+    {
+        aenl_cli_error(k_cmd, "--thresholds CH:T1[,T2,...] is required");
+        return -1;
+    }
+    return 0;
+}
+
+static int parse_freeze(const char *s, unsigned *flags)
+{
+    char buf[256];
+    if (strlen(s) >= sizeof(buf))
+    {
+        aenl_cli_error(k_cmd, "--freeze: value too long");
+        return -1;
+    }
+    strcpy(buf, s);
+    char *items[16];
+    const int n = split_list(buf, items, 16);
+    for (int i = 0; i < n; ++i)
+    {
+        static const char *const names[] = {"A", "b", "Q", "C", "R", "x0"};
+        static const unsigned bits[] = {AENL_EM_FREEZE_A, AENL_EM_FREEZE_B, AENL_EM_FREEZE_Q,
+                                        AENL_EM_FREEZE_C, AENL_EM_FREEZE_R, AENL_EM_FREEZE_X0};
+        int found = 0;
+        for (size_t k = 0; k < 6; ++k)
+        {
+            if (strcmp(items[i], names[k]) == 0)
+            {
+                *flags |= bits[k];
+                found = 1;
+            }
+        }
+        if (!found)
+        {
+            aenl_cli_error(k_cmd, "--freeze: '%s' is not one of A, b, Q, C, R, x0", items[i]);
+            return -1;
+        }
+    }
+    return n < 0 ? -1 : 0;
+}
+
+/* Output columns: --channels or every non-time column; *sw = index of the switching channel. */
+static int pick_outputs(const aenl_table_t *t, const fit_args_t *a, const char *sw_name, long *cols,
+                        size_t *n_out, size_t *sw)
+{
+    *n_out = 0;
+    if (a->channels != NULL)
+    {
+        char buf[512];
+        snprintf(buf, sizeof(buf), "%s", a->channels);
+        char *items[AENL_EM_MAX_X];
+        const int n = split_list(buf, items, AENL_EM_MAX_X);
+        if (n <= 0)
+        {
+            aenl_cli_error(k_cmd, "--channels: '%s' is not a list of column names", a->channels);
+            return -1;
+        }
+        for (int i = 0; i < n; ++i)
+        {
+            const long c = aenl_cli_pick_channel(k_cmd, t, a->data, items[i]);
+            if (c < 0)
+            {
+                return -1;
+            }
+            cols[(*n_out)++] = c;
+        }
+    }
+    else
+    {
+        for (size_t c = 0; c < t->n_cols && *n_out < AENL_EM_MAX_X; ++c)
+        {
+            if (!aenl_cli_is_time_column(t->names[c]))
+            {
+                cols[(*n_out)++] = (long)c;
+            }
+        }
+    }
+    for (size_t i = 0; i < *n_out; ++i)
+    {
+        if (strcmp(t->names[cols[i]], sw_name) == 0)
+        {
+            *sw = i;
+            return 0;
+        }
+    }
+    if (aenl_cli_pick_channel(k_cmd, t, a->data, sw_name) >= 0)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: channel '%s' is not among the outputs", sw_name);
+    }
+    return -1;
+}
+
+static int time_step(const aenl_table_t *t, const char *path, double *dt)
+{
+    long tc = -1;
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        if (aenl_cli_is_time_column(t->names[c]))
+        {
+            tc = (long)c;
+            break;
+        }
+    }
+    if (tc < 0)
+    {
+        aenl_cli_error(k_cmd, "%s: no time column (t, t_s, time, time_s or tau)", path);
+        return -1;
+    }
+    const double *tv = aenl_table_col(t, (size_t)tc);
+    const size_t n = t->n_rows;
+    *dt = (tv[n - 1] - tv[0]) / (double)(n - 1);
+    if (!(*dt > 0.0) || !isfinite(*dt))
+    {
+        aenl_cli_error(k_cmd, "%s: the time column does not increase", path);
+        return -1;
+    }
+    for (size_t k = 1; k < n; ++k)
+    {
+        const double d = tv[k] - tv[k - 1];
+        if (!isfinite(d) || fabs(d - *dt) > 1e-6 * *dt + 1e-9 * fabs(tv[k]))
+        {
+            aenl_cli_error(k_cmd, "%s:%zu: the time step is not uniform (%g, expected %g)", path,
+                           k + 2, d, *dt);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static void print_json(const aenl_em_result_t *r, const char *data, const char *const *names)
+{
+    const aenl_em_model_t *m = &r->model;
+    const size_t nx = m->n_x, nz = m->n_z;
+    cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "file", data);
+    cJSON *ch = cJSON_CreateArray();
+    for (size_t i = 0; i < nz; ++i)
+    {
+        cJSON_AddItemToArray(ch, cJSON_CreateString(names[i]));
+    }
+    cJSON_AddItemToObject(root, "channels", ch);
+    cJSON_AddStringToObject(root, "switch_channel", names[m->switch_channel]);
+    cJSON_AddItemToObject(root, "thresholds", json_vector(m->thresholds, m->n_modes - 1));
+    cJSON_AddNumberToObject(root, "dt", m->dt);
+    cJSON_AddNumberToObject(root, "states", (double)nx);
+    cJSON *modes = cJSON_CreateArray();
+    for (size_t s = 0; s < m->n_modes; ++s)
+    {
+        cJSON *o = cJSON_CreateObject();
+        cJSON *iv = cJSON_CreateArray();
+        cJSON_AddItemToArray(iv, num_or_null(s == 0 ? -HUGE_VAL : m->thresholds[s - 1]));
+        cJSON_AddItemToArray(iv, num_or_null(s + 1 == m->n_modes ? HUGE_VAL : m->thresholds[s]));
+        cJSON_AddItemToObject(o, "interval", iv);
+        cJSON_AddNumberToObject(o, "samples", (double)r->mode_count[s]);
+        cJSON_AddItemToObject(o, "A", json_matrix(m->A + s * nx * nx, nx, nx));
+        cJSON_AddItemToObject(o, "b", json_vector(m->b + s * nx, nx));
+        cJSON_AddItemToObject(o, "Q", json_matrix(m->Q + s * nx * nx, nx, nx));
+        aenl_em_eig_t e[AENL_EM_MAX_X];
+        size_t n_eig = 0, n_osc = 0;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        cJSON *eig = cJSON_CreateArray(), *fr = cJSON_CreateArray(), *dz = cJSON_CreateArray();
+        if (aenl_em_modal(m, s, e, &n_eig, &n_osc, &err) == AENL_OK)
+        {
+            for (size_t i = 0; i < n_eig; ++i)
+            {
+                const int pair = e[i].im > 0.0;
+                for (int c = 0; c < (pair ? 2 : 1); ++c)
+                {
+                    cJSON *p = cJSON_CreateArray();
+                    cJSON_AddItemToArray(p, cJSON_CreateNumber(e[i].re));
+                    cJSON_AddItemToArray(p, cJSON_CreateNumber(c ? -e[i].im : e[i].im));
+                    cJSON_AddItemToArray(eig, p);
+                }
+                if (pair)
+                {
+                    cJSON_AddItemToArray(fr, cJSON_CreateNumber(e[i].frequency));
+                    cJSON_AddItemToArray(dz, cJSON_CreateNumber(e[i].damping));
+                }
+            }
+        }
+        cJSON_AddItemToObject(o, "eig", eig);
+        cJSON_AddItemToObject(o, "frequency", fr);
+        cJSON_AddItemToObject(o, "damping", dz);
+        cJSON_AddItemToArray(modes, o);
+    }
+    cJSON_AddItemToObject(root, "modes", modes);
+    cJSON_AddItemToObject(root, "C", json_matrix(m->C, nz, nx));
+    cJSON_AddItemToObject(root, "R", json_matrix(m->R, nz, nz));
+    cJSON_AddItemToObject(root, "loglik", json_vector(r->loglik, r->n_iter));
+    cJSON_AddNumberToObject(root, "loglik_final", r->loglik_final);
+    cJSON_AddNumberToObject(root, "missing", (double)r->n_missing);
+    char *text = cJSON_Print(root);
+    if (text != NULL)
+    {
+        printf("%s\n", text);
+        free(text);
+    }
+    cJSON_Delete(root);
+}
+
+static void print_text(const aenl_em_result_t *r, const char *data, const char *const *names)
+{
+    const aenl_em_model_t *m = &r->model;
+    printf("%s: %zu outputs, %zu states, %zu modes switching on %s, dt %g\n", data, m->n_z, m->n_x,
+           m->n_modes, names[m->switch_channel], m->dt);
+    if (r->n_iter > 0)
+    {
+        printf("log-likelihood %.6f -> %.6f in %zu iterations\n", r->loglik[0], r->loglik_final,
+               r->n_iter);
+    }
+    for (size_t s = 0; s < m->n_modes; ++s)
+    {
+        aenl_em_eig_t e[AENL_EM_MAX_X];
+        size_t n_eig = 0, n_osc = 0;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        printf("mode %zu [%g, %g) %zu samples:", s, s == 0 ? -HUGE_VAL : m->thresholds[s - 1],
+               s + 1 == m->n_modes ? HUGE_VAL : m->thresholds[s], r->mode_count[s]);
+        if (aenl_em_modal(m, s, e, &n_eig, &n_osc, &err) == AENL_OK)
+        {
+            for (size_t i = 0; i < n_osc; ++i)
+            {
+                printf(" f %.6g zeta %.4g;", e[i].frequency, e[i].damping);
+            }
+        }
+        printf("\n");
+    }
+}
+
+int aenl_cmd_fit(int argc, char **argv)
+{
+    fit_args_t a;
+    const int pr = parse_args(argc, argv, &a);
+    if (pr != 0)
+    {
+        return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
+    }
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    if (a.freeze != NULL && parse_freeze(a.freeze, &o.freeze) != 0)
+    {
+        return AENL_EXIT_USAGE;
+    }
+    if (a.free_c)
+    {
+        o.freeze &= ~AENL_EM_FREEZE_C;
+    }
+    /* --thresholds CH:T1,T2,... */
+    char thr[512];
+    snprintf(thr, sizeof(thr), "%s", a.thr);
+    char *colon = strrchr(thr, ':');
+    if (colon == NULL || colon == thr)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: '%s' is not CH:T1[,T2,...]", a.thr);
+        return AENL_EXIT_USAGE;
+    }
+    *colon = '\0';
+    char *items[AENL_EM_MAX_MODES];
+    const int n_thr = split_list(colon + 1, items, AENL_EM_MAX_MODES - 1);
+    if (n_thr <= 0)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: 1 to %d values after '%s:'", AENL_EM_MAX_MODES - 1,
+                       thr);
+        return AENL_EXIT_USAGE;
+    }
+    o.n_thresholds = (size_t)n_thr;
+    for (int i = 0; i < n_thr; ++i)
+    {
+        if (aenl_cli_parse_double(k_cmd, "--thresholds", items[i], &o.thresholds[i]) != 0)
+        {
+            return AENL_EXIT_USAGE;
+        }
+        if (i > 0 && !(o.thresholds[i] > o.thresholds[i - 1]))
+        {
+            aenl_cli_error(k_cmd, "--thresholds: values must ascend (%g then %g)",
+                           o.thresholds[i - 1], o.thresholds[i]);
+            return AENL_EXIT_USAGE;
+        }
+    }
+    o.max_iter = (size_t)a.iter;
+    o.refine = a.refine;
+    o.modes_from_data = a.modes_from_data;
+    o.tol = a.tol;
+
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_table_t t;
+    if (aenl_table_read(a.data, &t, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return AENL_EXIT_USAGE;
+    }
+    long cols[AENL_EM_MAX_X];
+    size_t n_out = 0, sw = 0;
+    double dt = 0.0;
+    if (t.n_rows < 2 || time_step(&t, a.data, &dt) != 0 ||
+        pick_outputs(&t, &a, thr, cols, &n_out, &sw) != 0)
+    {
+        if (t.n_rows < 2)
+        {
+            aenl_cli_error(k_cmd, "%s: fewer than 2 data rows", a.data);
+        }
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    o.dt = dt;
+    o.switch_channel = sw;
+    o.n_states = a.states > 0 ? (size_t)a.states : 4 * n_out;
+    const char *names[AENL_EM_MAX_X];
+    static char name_buf[AENL_EM_MAX_X][128];
+    double *y = malloc(t.n_rows * n_out * sizeof(double));
+    if (y == NULL)
+    {
+        aenl_table_free(&t);
+        aenl_cli_error(k_cmd, "out of memory");
+        return AENL_EXIT_FAIL;
+    }
+    for (size_t i = 0; i < n_out; ++i)
+    {
+        snprintf(name_buf[i], sizeof(name_buf[i]), "%s", t.names[cols[i]]);
+        names[i] = name_buf[i];
+        const double *col = aenl_table_col(&t, (size_t)cols[i]);
+        for (size_t k = 0; k < t.n_rows; ++k)
+        {
+            y[k * n_out + i] = col[k];
+        }
+    }
+    const size_t n = t.n_rows;
+    aenl_table_free(&t);
+    aenl_em_result_t r;
+    aenl_status_t st = aenl_em_fit(y, n, n_out, &o, &r, &err);
+    free(y);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s: %s", a.data, err.msg);
+        return AENL_EXIT_USAGE;
+    }
+    if (a.out_ini != NULL)
+    {
+        st = aenl_em_write_ini(&r.model, a.out_ini, &err);
+    }
+    if (st == AENL_OK && a.out_h != NULL)
+    {
+        char ident[128];
+        if (a.name != NULL)
+        {
+            snprintf(ident, sizeof(ident), "%s", a.name);
+        }
+        else
+        {
+            ident_from_path(a.out_h, ident, sizeof(ident));
+        }
+        st = aenl_em_write_c_header(&r.model, ident, a.out_h, &err);
+        if (st != AENL_OK && a.out_ini != NULL)
+        {
+            remove(a.out_ini); /* all or nothing */
+        }
+    }
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        aenl_em_result_free(&r);
+        return AENL_EXIT_USAGE;
+    }
+    if (a.json)
+    {
+        print_json(&r, a.data, names);
+    }
+    else
+    {
+        print_text(&r, a.data, names);
+    }
+    aenl_em_result_free(&r);
+    return AENL_EXIT_OK;
+}

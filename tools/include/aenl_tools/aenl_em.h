@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_em.h
+ * @brief Host-only: EM identification of a switching (piecewise-affine) linear state-space model
+ *        with the mode sequence fixed by thresholds (DESIGN.md section 3, the seed paper's
+ *        equations (13)-(14)), and its export to the core switching Kalman filter.
+ *
+ * Model, samples k = 0 .. n-1 (y_k row k of an n x n_z row-major array, NaN = missing):
+ *
+ *     x_0 ~ N(x0, P0),   x_k = A_s x_{k-1} + b_s + v_k,  v_k ~ N(0, Q_s),  s = s_k
+ *     y_k = C x_k + w_k, w_k ~ N(0, R)
+ *
+ * The mode s_k of the transition k-1 -> k is the number of thresholds t_i with
+ * u_{k-1} >= t_i, where u is the switching output channel (the same rule as aenl_skf_mode_of). u is
+ * the smoothed output C x_{k|n} of the least-squares initial model (so measurement noise does not
+ * flip modes near a threshold), or the raw channel with opts.modes_from_data. The sequence is then
+ * fixed: each EM iteration is an exact E-step (Kalman filter + Rauch-Tung-Striebel smoother with
+ * lag-one covariances) and an exact M-step (closed form per mode, LAPACKE dposv), so the
+ * log-likelihood never decreases (Shumway & Stoffer 1982, with an affine term per mode).
+ *
+ * Initialisation by least squares: the state is the delay embedding x_k = (y_k, y_{k-1}, ...)
+ * truncated to n_x entries (so C = [I 0] and the switching state is the switching channel);
+ * per mode, y_{k+1} is regressed on (x_k, 1); the other rows shift. C stays [I 0] unless freed.
+ * By default the regression uses instrumental variables (the same embedding p = ceil(n_x/n_z)
+ * samples earlier), which removes the errors-in-variables bias of measurement noise.
+ *
+ * Continuous-time reading of a discrete mode (aenl_em_modal): for each eigenvalue λ of A_s
+ * (LAPACKE dgeev), s = ln(λ)/dt (principal branch), frequency f = |Im s|/(2π) in cycles per unit
+ * of the data's time column (Hz when t is in seconds, per τ for the airfoil's nondimensional time),
+ * damping ratio ζ = -Re s/|s|. Only pairs with Im λ > 0 are "oscillatory".
+ *
+ * Memory: results own heap arrays released by the matching _free. Errors: a status plus an
+ * aenl_err_t message; nothing prints.
+ */
+#ifndef AENL_TOOLS_EM_H
+#define AENL_TOOLS_EM_H
+
+#include <stddef.h>
+
+#include "aenl/aenl_skf.h"
+#include "aenl_tools/aenl_io.h"
+
+#define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
+#define AENL_EM_MAX_X     32 /**< states */
+
+/** Freeze flags (opts.freeze): these parameters keep their initial values. */
+#define AENL_EM_FREEZE_A  0x01u
+#define AENL_EM_FREEZE_B  0x02u
+#define AENL_EM_FREEZE_Q  0x04u
+#define AENL_EM_FREEZE_C  0x08u
+#define AENL_EM_FREEZE_R  0x10u
+#define AENL_EM_FREEZE_X0 0x20u
+
+/** A switching model in double. Arrays are row-major and owned by the model. */
+typedef struct aenl_em_model
+{
+    size_t n_x, n_z, n_modes;
+    size_t switch_channel; /**< output channel the thresholds read (= state index with C = [I 0]) */
+    double thresholds[AENL_EM_MAX_MODES]; /**< n_modes-1 ascending */
+    double dt;                            /**< sample step (time unit of the data) */
+    double *A;                            /**< n_modes * n_x * n_x */
+    double *b;                            /**< n_modes * n_x */
+    double *Q;                            /**< n_modes * n_x * n_x */
+    double *C;                            /**< n_z * n_x */
+    double *R;                            /**< n_z * n_z */
+    double *x0;                           /**< n_x */
+    double *P0;                           /**< n_x * n_x */
+} aenl_em_model_t;
+
+/** Options (aenl_em_opts_default gives the defaults). */
+typedef struct aenl_em_opts
+{
+    size_t n_states;                      /**< n_x >= n_z (default 0: 4 n_z) */
+    size_t switch_channel;                /**< channel the thresholds read (default 0) */
+    size_t n_thresholds;                  /**< 0 .. AENL_EM_MAX_MODES-1 */
+    double thresholds[AENL_EM_MAX_MODES]; /**< ascending */
+    double dt;                            /**< sample step; > 0 */
+    size_t max_iter;                      /**< EM iterations (default 50) */
+    double tol;          /**< stop when the log-likelihood gains less than tol*|ll| (0: never) */
+    unsigned freeze;     /**< AENL_EM_FREEZE_* flags (default AENL_EM_FREEZE_C) */
+    int modes_from_data; /**< 1: modes from the raw channel (default 0: smoothed) */
+    int refine;          /**< 1: refine the thresholds by likelihood (coordinate search) */
+    double refine_step;  /**< first search step (0: 10 % of the channel's std) */
+    size_t refine_iter;  /**< EM iterations per candidate (default 5) */
+    int no_iv;           /**< 1: plain least-squares start (default 0: instrumental variables) */
+} aenl_em_opts_t;
+
+/** Result of aenl_em_fit. */
+typedef struct aenl_em_result
+{
+    aenl_em_model_t model;
+    size_t n_iter;       /**< log-likelihood values in loglik */
+    double *loglik;      /**< one per iteration: the log-likelihood of the parameters entering
+                              that iteration's E-step (non-decreasing) */
+    double loglik_final; /**< of the returned model */
+    size_t mode_count[AENL_EM_MAX_MODES]; /**< transitions assigned to each mode */
+    size_t n_missing; /**< samples with a NaN component (treated as fully missing) */
+} aenl_em_result_t;
+
+/** One eigenvalue of a mode and its continuous-time reading. */
+typedef struct aenl_em_eig
+{
+    double re, im;     /**< discrete eigenvalue λ */
+    double s_re, s_im; /**< s = ln(λ)/dt */
+    double frequency;  /**< |Im s|/(2π), cycles per time unit */
+    double damping;    /**< -Re s/|s| (1 for a real positive λ with s < 0) */
+} aenl_em_eig_t;
+
+void aenl_em_opts_default(aenl_em_opts_t *opts);
+
+/** Allocate a model (all zero). */
+aenl_status_t aenl_em_model_alloc(aenl_em_model_t *m, size_t n_x, size_t n_z, size_t n_modes,
+                                  aenl_err_t *err);
+/** Release and zero; safe on a zeroed model. */
+void aenl_em_model_free(aenl_em_model_t *m);
+/** Deep copy into a fresh model. */
+aenl_status_t aenl_em_model_copy(aenl_em_model_t *dst, const aenl_em_model_t *src, aenl_err_t *err);
+
+/**
+ * @brief Identify the model from y (n x n_z row-major, NaN = missing sample).
+ * @return AENL_OK; AENL_E_ARG bad options or too little data per mode (message says which);
+ *         AENL_E_NOT_PD a singular regression; AENL_E_NUMERIC a non-finite likelihood.
+ * @note O(max_iter · n · n_x^3) time, O(n · n_x^2) memory.
+ */
+aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_opts_t *opts,
+                          aenl_em_result_t *res, aenl_err_t *err);
+
+/**
+ * @brief Continue EM from a given model (its thresholds on the raw switching channel of y):
+ *        opts->max_iter iterations (opts->freeze and tol apply). loglik (may be NULL) needs
+ *        max_iter + 1 entries: one per iteration, then that of the returned model.
+ */
+aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
+                              const aenl_em_opts_t *opts, double *loglik, size_t *n_iter,
+                              aenl_err_t *err);
+
+/** Release a result and zero it. Safe on a zeroed result. */
+void aenl_em_result_free(aenl_em_result_t *res);
+
+/**
+ * @brief Log-likelihood of y under a model, modes fixed by the thresholds on `u` (n values: the
+ *        switching signal; NULL: the raw switching channel of y).
+ */
+aenl_status_t aenl_em_loglik(const aenl_em_model_t *m, const double *y, size_t n, const double *u,
+                             double *ll, aenl_err_t *err);
+
+/**
+ * @brief Eigenvalues of mode `mode` (dgeev) and their continuous reading, sorted: oscillatory
+ *        pairs (Im λ > 0, one entry each) by frequency first, then the real eigenvalues.
+ *        eig needs n_x entries; *n_osc receives the number of oscillatory pairs.
+ */
+aenl_status_t aenl_em_modal(const aenl_em_model_t *m, size_t mode, aenl_em_eig_t *eig,
+                            size_t *n_eig, size_t *n_osc, aenl_err_t *err);
+
+/**
+ * @brief Noise-free simulation of the identified model from x_init (NULL: m->x0): y = C x,
+ *        n samples into y_out (n x n_z), modes from the thresholds on (C x)[switch_channel].
+ */
+aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, size_t n,
+                               double *y_out, aenl_err_t *err);
+
+/**
+ * @brief The core filter's model (threshold switching, no hysteresis band, dir from the change of
+ *        the switching state). Fails with AENL_E_DIM when a size exceeds the core's capacities.
+ */
+aenl_status_t aenl_em_to_skf(const aenl_em_model_t *m, aenl_skf_model_t *out, aenl_err_t *err);
+
+/** Write the model as an INI file ([model] sizes, dt, thresholds; [mode.N] A, b, Q; [output]). */
+aenl_status_t aenl_em_write_ini(const aenl_em_model_t *m, const char *path, aenl_err_t *err);
+
+/**
+ * @brief Write a C header with a `static const aenl_skf_model_t <name>` initializer (float
+ *        literals with 9 significant digits, `#error` when the core's capacities are too small).
+ */
+aenl_status_t aenl_em_write_c_header(const aenl_em_model_t *m, const char *name, const char *path,
+                                     aenl_err_t *err);
+
+#endif /* AENL_TOOLS_EM_H */
