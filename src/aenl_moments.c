@@ -9,6 +9,10 @@
  * newest sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W, W^2/W2) are
  * unchanged. When the scale reaches 2^20 all active cells are multiplied by 2^-20 (exact in binary
  * floating point) and the scale divided by 2^20, so nothing overflows and no rounding is added.
+ * The cells accumulate the kernel weight without its constant factor 1/h (1 - |d|/h, at most 1
+ * times the scale): the factor cancels in the mean, the variance and n_eff, and leaving it out
+ * keeps W and W2 bounded by the sample count whatever the bandwidth (with 1/h inside, a bandwidth
+ * of 1e-20 in float32 overflowed W2 = sum w^2 at the first pair). Query applies it to `weight`.
  */
 #include <string.h>
 
@@ -146,7 +150,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
             }
         }
     }
-    if (!aenl_is_finite(cfg->forgetting) || !(cfg->forgetting > AENL_R(0.0)) ||
+    if (!aenl_is_finite(cfg->forgetting) || !(cfg->forgetting >= AENL_MOMENTS_MIN_FORGETTING) ||
         cfg->forgetting > AENL_R(1.0))
     {
         return AENL_E_ARG;
@@ -273,7 +277,7 @@ static void accumulate(aenl_moments_t *m, aenl_moments_cell_t *row, aenl_real_t 
     const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
     const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
     const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
-    const aenl_real_t wscale = m->scale * m->inv_h;
+    const aenl_real_t wscale = m->scale; /* 1/h applied at query time, see the file comment */
     for (int32_t k = k0; k <= k1; ++k)
     {
         const aenl_real_t d = aenl_fabs(aenl_moments_node_x(m, (uint16_t)k) - u);
@@ -410,10 +414,22 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     {
         return AENL_E_EMPTY;
     }
+    const aenl_real_t var = (m2 > AENL_R(0.0)) ? m2 / w : AENL_R(0.0);
+    const aenl_real_t n_eff = (w / w2) * w;
+    const aenl_real_t se = aenl_sqrt(var / n_eff);
+    /* m2 itself is checked: a NaN m2 (Inf - Inf in the compensated sums) would read as var 0. */
+    if (!aenl_is_finite(mean) || !aenl_is_finite(m2) || !aenl_is_finite(var) ||
+        !aenl_is_finite(n_eff) || !aenl_is_finite(se))
+    {
+        return AENL_E_NUMERIC; /* the statistics overflowed: never a silent Inf/NaN */
+    }
+    /* Kernel weight sum sum phi_h = sum (1 - |d|/h) / h, saturating (a bandwidth near the
+     * smallest real could push it past the largest one; mean and variance do not need it). */
+    const aenl_real_t weight = (w / m->scale) * m->inv_h;
     out->mean = mean;
-    out->var = (m2 > AENL_R(0.0)) ? m2 / w : AENL_R(0.0);
-    out->weight = w / m->scale;
-    out->n_eff = (w / w2) * w;
-    out->se = aenl_sqrt(out->var / out->n_eff);
+    out->var = var;
+    out->weight = aenl_is_finite(weight) ? weight : AENL_REAL_MAX;
+    out->n_eff = n_eff;
+    out->se = se;
     return AENL_OK;
 }

@@ -326,6 +326,9 @@ static void test_moments_init_rejects_bad_config(void)
     c = good;
     c.forgetting = AENL_R(1.5);
     TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
+    c = good; /* fuzz_moments: 1/lambda overflowed the weight scale to Inf */
+    c.forgetting = AENL_MOMENTS_MIN_FORGETTING * AENL_R(0.5);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
     c = good;
     c.direction_split = 2;
     TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
@@ -518,12 +521,63 @@ static void test_moments_float32_long_stream(void)
 }
 #endif
 
+/* Found by fuzz_moments: a bandwidth near the smallest real overflowed sum w^2 (Inf se), and the
+ * smallest forgetting factor must not overflow the weight scale. Results stay finite. */
+static void test_moments_extreme_config_stays_finite(void)
+{
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 5);
+    c.bandwidth = AENL_R(1e-30);
+    c.n_lags = 1;
+    c.direction_split = 0;
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+        for (int i = 0; i < 200; ++i)
+        {
+            TEST_ASSERT_EQUAL_INT(AENL_OK,
+                                  aenl_moments_push(&g_m, (i % 3) ? AENL_R(0.0) : AENL_R(0.5)));
+        }
+        aenl_moments_point_t p;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 0, 2, AENL_DIR_ALL, &p));
+        TEST_ASSERT_TRUE(aenl_is_finite(p.mean) && aenl_is_finite(p.var) &&
+                         aenl_is_finite(p.n_eff) && aenl_is_finite(p.se) &&
+                         aenl_is_finite(p.weight));
+        TEST_ASSERT_TRUE(p.var >= AENL_R(0.0) && p.n_eff >= AENL_R(0.999));
+        c.bandwidth = AENL_R(0.5);
+        c.forgetting = AENL_MOMENTS_MIN_FORGETTING;
+    }
+}
+
+/* Samples far beyond any physical range overflow the second moment: the query says so with
+ * AENL_E_NUMERIC (x only, the rest zero) instead of returning Inf or NaN. */
+static void test_moments_overflow_is_numeric_not_nan(void)
+{
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 5);
+    c.n_lags = 1;
+    c.direction_split = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    const aenl_real_t big = AENL_REAL_MAX / AENL_R(4.0);
+    const aenl_real_t seq[] = {AENL_R(0.0), big, AENL_R(0.0), -big, AENL_R(0.0), big};
+    for (size_t i = 0; i < sizeof(seq) / sizeof(seq[0]); ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, seq[i]));
+    }
+    aenl_moments_point_t p;
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_moments_query(&g_m, 0, 2, AENL_DIR_ALL, &p));
+    aenl_moments_point_t zero;
+    memset(&zero, 0, sizeof(zero));
+    zero.x = aenl_moments_node_x(&g_m, 2);
+    TEST_ASSERT_EQUAL_MEMORY(&zero, &p, sizeof(p));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_moments_matches_brute_force);
     RUN_TEST(test_moments_no_split_matches_brute_force);
     RUN_TEST(test_moments_forgetting_matches_brute_force);
+    RUN_TEST(test_moments_extreme_config_stays_finite);
+    RUN_TEST(test_moments_overflow_is_numeric_not_nan);
     RUN_TEST(test_moments_constant_input_zero_variance);
     RUN_TEST(test_moments_init_on_garbage_memory);
     RUN_TEST(test_moments_init_rejects_bad_config);

@@ -29,6 +29,13 @@
 
 #include "aenl/aenl_types.h"
 
+/**
+ * Smallest forgetting factor, 2^-20: a sample's weight then grows by at most 2^20 per push, which
+ * one renormalisation of the cells absorbs (a smaller lambda overflowed the weights to Inf). Any
+ * useful lambda is far above it (0.9 already forgets within ~50 samples).
+ */
+#define AENL_MOMENTS_MIN_FORGETTING AENL_R(9.5367431640625e-7)
+
 /** Which conditioning-value direction a query reads. */
 typedef enum
 {
@@ -46,7 +53,7 @@ typedef struct aenl_moments_cfg
     aenl_real_t bandwidth; /**< kernel half-width h > 0, input units */
     uint16_t n_lags;       /**< 1 .. AENL_MOMENTS_MAX_LAGS */
     uint16_t lags[AENL_MOMENTS_MAX_LAGS]; /**< distinct, each 1 .. AENL_MOMENTS_MAX_LAG samples */
-    aenl_real_t forgetting;  /**< lambda in (0, 1]; 1 = plain averages over the whole stream */
+    aenl_real_t forgetting;  /**< lambda in [AENL_MOMENTS_MIN_FORGETTING, 1]; 1 = plain averages */
     uint8_t direction_split; /**< 0 or 1 */
 } aenl_moments_cfg_t;
 
@@ -56,7 +63,8 @@ typedef struct aenl_moments_point
     aenl_real_t x;      /**< node position, input units */
     aenl_real_t mean;   /**< conditional mean, input units */
     aenl_real_t var;    /**< conditional variance (>= 0), input units squared */
-    aenl_real_t weight; /**< kernel weight sum (forgetting applied), 1/input units */
+    aenl_real_t weight; /**< kernel weight sum (forgetting applied), 1/input units; saturates at
+                             AENL_REAL_MAX */
     aenl_real_t n_eff;  /**< effective sample size (sum w)^2 / sum w^2 */
     aenl_real_t se;     /**< standard error of the mean, sqrt(var / n_eff) */
 } aenl_moments_point_t;
@@ -64,7 +72,7 @@ typedef struct aenl_moments_point
 /** Statistics of one cell. Read through aenl_moments_query(); fields are private. */
 typedef struct aenl_moments_cell
 {
-    aenl_real_t w;    /**< weight sum (times the forgetting scale) */
+    aenl_real_t w;    /**< sum of 1 - |d|/h (kernel weight without 1/h) times the scale */
     aenl_real_t mean; /**< weighted mean */
     aenl_real_t m2;   /**< weighted second central moment (times the scale) */
     aenl_real_t w2;   /**< sum of squared weights (times the scale squared) */
@@ -99,7 +107,8 @@ typedef struct aenl_moments
  * @param[out] m    state; its previous content (even garbage) is irrelevant
  * @param[in]  cfg  configuration; copied
  * @return AENL_OK; AENL_E_ARG for NULL, a non-finite or inverted grid, n_grid < 3, bandwidth <= 0,
- *         n_lags = 0, a zero or repeated lag, forgetting outside (0, 1], direction_split not 0/1;
+ *         n_lags = 0, a zero or repeated lag, forgetting outside [AENL_MOMENTS_MIN_FORGETTING, 1],
+ *         direction_split not 0/1;
  *         AENL_E_DIM for n_grid, n_lags or a lag above its compile-time maximum, or
  *         n_lags * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS.
  *         On error *m is not written.
@@ -136,7 +145,10 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample);
  * @param[out] out        the estimate
  * @return AENL_OK; AENL_E_ARG for NULL, an index out of range, or a direction the configuration
  *         lacks; AENL_E_EMPTY when no pair has weight at that node yet (out then holds x only, the
- *         rest zero).
+ *         rest zero); AENL_E_NUMERIC when the cell's statistics overflowed (out as for
+ *         AENL_E_EMPTY). Overflow needs samples far beyond any physical range: the squared spread
+ *         of the samples times the weight sum must exceed AENL_REAL_MAX (float32: about 1e10 in
+ *         magnitude over 2^32 samples); it never happens silently as an Inf or NaN result.
  * @note O(1), no allocation.
  */
 aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, uint16_t node,

@@ -36,17 +36,28 @@ int aenl_cli_is_time_column(const char *name);
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
                            const char *channel);
 
+/** Largest sample magnitude the subcommands take: squares (variances) stay far from overflow. */
+#define AENL_CLI_MAX_ABS 1e120
+
+/**
+ * @brief Check a record before use: every time column (aenl_cli_is_time_column) holds finite,
+ *        strictly increasing values, and column `col` (all non-time columns when col < 0) holds
+ *        at least one finite value and none beyond +-AENL_CLI_MAX_ABS. On failure prints one
+ *        message naming the file, the column and the data row, and returns -1; else 0.
+ */
+int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *path, long col);
+
 int aenl_cmd_moments(int argc, char **argv);
 int aenl_cmd_simulate(int argc, char **argv);
 int aenl_cmd_flutter(int argc, char **argv);
 int aenl_cmd_plot(int argc, char **argv);
 int aenl_cmd_demo(int argc, char **argv);
 int aenl_cmd_bench(int argc, char **argv);
+/** `aenl bench simulate` (tools/cli/bench_simulate.c). */
+int aenl_bench_simulate(int argc, char **argv);
 /** `aenl fit` (tools/cli/cmd_fit.c). */
 int aenl_cmd_fit(int argc, char **argv);
 /** `aenl bench fit` (tools/cli/bench_fit.c). */
 int aenl_bench_fit(int argc, char **argv);
-/** `aenl bench simulate` (tools/cli/bench_simulate.c). */
-int aenl_bench_simulate(int argc, char **argv);
 
 #endif /* AENL_CLI_H */

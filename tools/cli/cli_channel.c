@@ -3,6 +3,7 @@
  * @file cli_channel.c
  * @brief Reading one channel of a CSV record for the subcommands.
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -59,4 +60,55 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
         return -1;
     }
     return found;
+}
+
+int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *path, long col)
+{
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        const double *v = aenl_table_col(t, c);
+        if (aenl_cli_is_time_column(t->names[c]))
+        {
+            for (size_t r = 0; r < t->n_rows; ++r)
+            {
+                if (isnan(v[r]))
+                {
+                    aenl_cli_error(cmd, "%s: column '%s', data row %zu: missing time value", path,
+                                   t->names[c], r + 1u);
+                    return -1;
+                }
+                if (r > 0 && !(v[r] > v[r - 1u]))
+                {
+                    aenl_cli_error(cmd,
+                                   "%s: column '%s', data row %zu: time %.10g does not increase "
+                                   "(previous %.10g)",
+                                   path, t->names[c], r + 1u, v[r], v[r - 1u]);
+                    return -1;
+                }
+            }
+        }
+        else if (col < 0 || (size_t)col == c)
+        {
+            size_t n_finite = 0;
+            for (size_t r = 0; r < t->n_rows; ++r)
+            {
+                n_finite += isnan(v[r]) ? 0u : 1u;
+                if (fabs(v[r]) > AENL_CLI_MAX_ABS)
+                {
+                    aenl_cli_error(cmd,
+                                   "%s: column '%s', data row %zu: value %g is too large "
+                                   "(the limit is +-%g)",
+                                   path, t->names[c], r + 1u, v[r], AENL_CLI_MAX_ABS);
+                    return -1;
+                }
+            }
+            if (n_finite == 0 && t->n_rows > 0)
+            {
+                aenl_cli_error(cmd, "%s, channel %s: no finite sample (%zu samples, all missing)",
+                               path, t->names[c], t->n_rows);
+                return -1;
+            }
+        }
+    }
+    return 0;
 }

@@ -166,9 +166,10 @@ int aenl_cmd_moments(int argc, char **argv)
             {
                 return AENL_EXIT_USAGE;
             }
-            if (!(o.forgetting > 0.0) || o.forgetting > 1.0)
+            if (!(o.forgetting >= AENL_MOMENTS_MIN_FORGETTING) || o.forgetting > 1.0)
             {
-                aenl_cli_error(k_cmd, "--forgetting: %s is outside (0, 1]", v);
+                aenl_cli_error(k_cmd, "--forgetting: %s is outside [%g, 1]", v,
+                               AENL_MOMENTS_MIN_FORGETTING);
                 return AENL_EXIT_USAGE;
             }
         }
@@ -225,7 +226,7 @@ int aenl_cmd_moments(int argc, char **argv)
         return AENL_EXIT_USAGE;
     }
     const long col = aenl_cli_pick_channel(k_cmd, &t, data, channel);
-    if (col < 0)
+    if (col < 0 || aenl_cli_check_record(k_cmd, &t, data, col) != 0)
     {
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;

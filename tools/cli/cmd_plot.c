@@ -21,6 +21,44 @@ static void help(void)
            "      timeseries  IN from `aenl simulate` or any record: every channel against time\n");
 }
 
+/* A moments CSV as `aenl moments` writes it: whole lags >= 1, x finite and increasing within each
+ * lag, some finite mean, no value gnuplot would choke on. One message naming the row otherwise. */
+static int moments_check(const char *in, const aenl_table_t *t, const double *lag, const double *x,
+                         const double *mean)
+{
+    size_t n_finite = 0;
+    for (size_t r = 0; r < t->n_rows; ++r)
+    {
+        if (!(lag[r] >= 1.0 && lag[r] <= 1e9) || (double)(long)lag[r] < lag[r])
+        {
+            aenl_cli_error(k_cmd, "%s: data row %zu: lag %g is not a whole number >= 1", in, r + 1u,
+                           lag[r]);
+            return -1;
+        }
+        if (!isfinite(x[r]) || fabs(x[r]) > AENL_CLI_MAX_ABS ||
+            (r > 0 && !(lag[r] > lag[r - 1u] || lag[r] < lag[r - 1u]) && !(x[r] > x[r - 1u])))
+        {
+            aenl_cli_error(k_cmd,
+                           "%s: data row %zu: x %g is not finite and increasing within lag %g", in,
+                           r + 1u, x[r], lag[r]);
+            return -1;
+        }
+        if (fabs(mean[r]) > AENL_CLI_MAX_ABS)
+        {
+            aenl_cli_error(k_cmd, "%s: data row %zu: mean %g is too large (the limit is +-%g)", in,
+                           r + 1u, mean[r], AENL_CLI_MAX_ABS);
+            return -1;
+        }
+        n_finite += isnan(mean[r]) ? 0u : 1u;
+    }
+    if (n_finite == 0)
+    {
+        aenl_cli_error(k_cmd, "%s: no finite mean in any row (nothing to plot)", in);
+        return -1;
+    }
+    return 0;
+}
+
 /* The distinct lags of a moments CSV (column "lag"), space-separated, in order of appearance. */
 static int moments_lags(const char *in, char *lags, size_t n)
 {
@@ -33,13 +71,21 @@ static int moments_lags(const char *in, char *lags, size_t n)
         return -1;
     }
     const long c = aenl_table_find(&t, "lag");
-    if (c < 0 || aenl_table_find(&t, "mean") < 0 || aenl_table_find(&t, "var") < 0 || t.n_rows == 0)
+    const long cx = aenl_table_find(&t, "x");
+    const long cm = aenl_table_find(&t, "mean");
+    if (c < 0 || cx < 0 || cm < 0 || aenl_table_find(&t, "var") < 0 || t.n_rows == 0)
     {
         aenl_cli_error(k_cmd, "%s: not a moments CSV (needs rows and columns lag,x,mean,var)", in);
         aenl_table_free(&t);
         return -1;
     }
     const double *lag = aenl_table_col(&t, (size_t)c);
+    if (moments_check(in, &t, lag, aenl_table_col(&t, (size_t)cx),
+                      aenl_table_col(&t, (size_t)cm)) != 0)
+    {
+        aenl_table_free(&t);
+        return -1;
+    }
     lags[0] = '\0';
     double last = -1.0;
     for (size_t r = 0; r < t.n_rows; ++r)
@@ -178,10 +224,16 @@ int aenl_cmd_plot(int argc, char **argv)
             return AENL_EXIT_USAGE;
         }
         const int ok = t.n_rows > 0 && t.n_cols >= 2;
-        aenl_table_free(&t);
         if (!ok)
         {
+            aenl_table_free(&t);
             aenl_cli_error(k_cmd, "%s: a time series needs a time column, a channel and rows", in);
+            return AENL_EXIT_USAGE;
+        }
+        const int bad = aenl_cli_check_record(k_cmd, &t, in, -1);
+        aenl_table_free(&t);
+        if (bad)
+        {
             return AENL_EXIT_USAGE;
         }
     }

@@ -6,6 +6,7 @@ set -euo pipefail
 want=(cmake make gcc pkg-config liblapacke-dev libinih-dev libcjson-dev gnuplot-nox)
 if [[ ${1:-all} == all ]]; then
   want+=(gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi)
+  want+=(clang libclang-rt-14-dev valgrind) # run_fuzz.sh (libFuzzer runtime), run_valgrind.sh
 fi
 missing=()
 for p in "${want[@]}"; do

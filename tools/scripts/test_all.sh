@@ -5,6 +5,9 @@
 #   2. strict build (warnings as errors, header self-check) and the full ctest suite
 #      (Unity suites f32/f64, host tools, core purity);
 #   3. the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer;
+#   3a. libFuzzer targets (CSV reader, INI loader, aenl_moments f32/f64) for a bounded time each
+#       from the committed seed corpus (tools/scripts/run_fuzz.sh);
+#   3b. valgrind memcheck of every CLI subcommand, success and error paths (run_valgrind.sh);
 #   4. the Cortex-M4F cross build of aenl_core_f32 with the undefined-symbol allow-list and sizes.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -23,6 +26,12 @@ cmake -S "$root" -B "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_
 cmake --build "$root/build/asan" -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$root/build/asan" -j"$jobs" --output-on-failure
+
+step "fuzz (libFuzzer, ${AENL_FUZZ_SECONDS:-25} s per target)"
+"$root/tools/scripts/run_fuzz.sh" "$root/build/fuzz"
+
+step "valgrind memcheck of the CLI"
+"$root/tools/scripts/run_valgrind.sh" "$root/build/strict/tools/aenl"
 
 step "Cortex-M4F cross build of the core"
 "$root/tools/scripts/check_m4f.sh" "$root/build/m4f"

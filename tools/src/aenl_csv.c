@@ -807,12 +807,13 @@ aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path, const
         aenl_err_set(err, "%s: no columns to write", path != NULL ? path : "(null)");
         return AENL_E_ARG;
     }
-    /* A name the reader would reject must not be written. */
+    /* A name the reader would reject, or read back differently, must not be written (a leading
+     * UTF-8 byte order mark would be taken off the first line: found by fuzz_csv). */
     for (c = 0; c < n_cols; ++c)
     {
         const char *s = names[c];
         if (s == NULL || s[0] == '\0' || strpbrk(s, ",\r\n\"") != NULL || is_blank(s[0]) ||
-            is_blank(s[strlen(s) - 1]) || s[0] == '#')
+            is_blank(s[strlen(s) - 1]) || s[0] == '#' || strncmp(s, "\xEF\xBB\xBF", 3) == 0)
         {
             aenl_err_set(err, "%s: column %lu: invalid column name '%s'",
                          path != NULL ? path : "(null)", (unsigned long)(c + 1),

@@ -149,9 +149,11 @@ static aenl_status_t check_opts(const aenl_curves_opts_t *o, aenl_err_t *err)
                      o->bandwidth);
         return AENL_E_ARG;
     }
-    if (!isfinite(o->forgetting) || !(o->forgetting > 0.0) || o->forgetting > 1.0)
+    if (!isfinite(o->forgetting) || !(o->forgetting >= AENL_MOMENTS_MIN_FORGETTING) ||
+        o->forgetting > 1.0)
     {
-        aenl_err_set(err, "the forgetting factor %g must be in (0, 1]", o->forgetting);
+        aenl_err_set(err, "the forgetting factor %g must be in [%g, 1]", o->forgetting,
+                     AENL_MOMENTS_MIN_FORGETTING);
         return AENL_E_ARG;
     }
     return AENL_OK;

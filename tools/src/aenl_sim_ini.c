@@ -210,7 +210,16 @@ static aenl_status_t bad(ini_ctx_t *c, const entry_t *e, const char *what)
     return AENL_E_ARG;
 }
 
-static aenl_status_t parse_num(ini_ctx_t *c, const entry_t *e, int range, double scale, double *out)
+/* Physical ranges: a value beyond them is a typo or an absurd input, rejected here with its key
+ * and line rather than failing later inside the integrator. */
+#define MAX_ABS_PARAM 1e6 /* any model parameter, in its own unit */
+#define MAX_ABS_ANGLE                                                                              \
+    1.5707963267948966       /* angles (gap, gap start, preload, initial angle): 90 deg */
+#define MAX_ABS_PLUNGE 100.0 /* plunge lengths: xi = h/b, or metres */
+#define MAX_ABS_RATE   1e4   /* initial rates per model time unit */
+
+static aenl_status_t parse_num(ini_ctx_t *c, const entry_t *e, int range, double scale,
+                               double max_abs, double *out)
 {
     char *end;
     double v;
@@ -231,6 +240,14 @@ static aenl_status_t parse_num(ini_ctx_t *c, const entry_t *e, int range, double
     if (range == V_NONNEG && v < 0.0)
     {
         return bad(c, e, "must be >= 0");
+    }
+    if (!(fabs(v * scale) <= max_abs))
+    {
+        char what[96];
+        (void)snprintf(what, sizeof(what), "outside the physical range (|value| <= %g%s)",
+                       scale > 0.0 && scale < 1.0 ? max_abs / scale : max_abs,
+                       scale > 0.0 && scale < 1.0 ? " deg" : "");
+        return bad(c, e, what);
     }
     *out = v * scale;
     return AENL_OK;
@@ -356,7 +373,7 @@ static int apply_table(ini_ctx_t *c, const entry_t *e, const key_spec_t *tab, si
     {
         if (strcmp(e->key, tab[i].name) == 0)
         {
-            *st = parse_num(c, e, tab[i].range, 1.0, tab[i].target);
+            *st = parse_num(c, e, tab[i].range, 1.0, MAX_ABS_PARAM, tab[i].target);
             return 1;
         }
     }
@@ -453,19 +470,20 @@ static aenl_status_t apply_law(ini_ctx_t *c, const entry_t *e, aenl_sim_law_t *l
     }
     if (piecewise && angle_key(e, "delta", angular, &scale))
     {
-        return parse_num(c, e, V_POS, scale, &law->delta);
+        return parse_num(c, e, V_POS, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE, &law->delta);
     }
     if (piecewise && angle_key(e, "alpha_f", angular, &scale))
     {
-        return parse_num(c, e, V_ANY, scale, &law->x_f);
+        return parse_num(c, e, V_ANY, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE, &law->x_f);
     }
     if (piecewise && angle_key(e, "preload", angular, &scale))
     {
-        return parse_num(c, e, V_ANY, scale, &law->preload);
+        return parse_num(c, e, V_ANY, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE,
+                         &law->preload);
     }
     if (piecewise && strcmp(e->key, "inner_stiffness") == 0)
     {
-        return parse_num(c, e, V_ANY, 1.0, &law->inner_stiffness);
+        return parse_num(c, e, V_ANY, 1.0, MAX_ABS_PARAM, &law->inner_stiffness);
     }
     if (law->kind == AENL_SIM_LAW_POLYNOMIAL && strcmp(e->key, "coeffs") == 0)
     {
@@ -491,12 +509,13 @@ static aenl_status_t apply_initial(ini_ctx_t *c, const entry_t *e, aenl_sim_mode
         }
         if (angle_key(e, names[d], angular, &scale))
         {
-            return parse_num(c, e, V_ANY, scale, &m->x0[d]);
+            return parse_num(c, e, V_ANY, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE,
+                             &m->x0[d]);
         }
         (void)snprintf(dot, sizeof(dot), "%s_dot", names[d]);
         if (angle_key(e, dot, angular, &scale))
         {
-            return parse_num(c, e, V_ANY, scale, &m->v0[d]);
+            return parse_num(c, e, V_ANY, scale, MAX_ABS_RATE, &m->v0[d]);
         }
     }
     return unknown_key(c, e,
