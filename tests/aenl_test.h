@@ -25,4 +25,27 @@
 #define AENL_TEST_REL_TOL 1e-4
 #endif
 
+/* ---- deterministic test signals ------------------------------------------------------------ */
+
+/** State of the tests' portable generator (a 64-bit LCG); set it to seed a sequence. */
+static uint64_t g_lcg;
+
+/** Uniform in [0, 1) from the top 53 bits of the LCG. */
+static inline double lcg_uniform(void)
+{
+    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/** Sum of 12 uniforms minus 6: unit variance, approximately normal, libm-free. */
+static inline double lcg_normal(void)
+{
+    double s = 0.0;
+    for (int i = 0; i < 12; ++i)
+    {
+        s += lcg_uniform();
+    }
+    return s - 6.0;
+}
+
 #endif /* AENL_TEST_H */

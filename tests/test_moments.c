@@ -23,25 +23,6 @@ void tearDown(void)
 
 /* ---- deterministic test signal ------------------------------------------------------------- */
 
-static uint64_t g_lcg;
-
-static double lcg_uniform(void)
-{
-    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Sum of 12 uniforms minus 6: a portable, libm-free approximately normal deviate. */
-static double lcg_normal(void)
-{
-    double s = 0.0;
-    for (int i = 0; i < 12; ++i)
-    {
-        s += lcg_uniform();
-    }
-    return s - 6.0;
-}
-
 /* A damped two-frequency oscillation driven by noise: an AR(2) process plus measurement noise. */
 static void make_signal(aenl_real_t *x, size_t n, uint64_t seed, double offset)
 {

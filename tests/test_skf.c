@@ -38,28 +38,6 @@ void tearDown(void)
 {
 }
 
-/* ---- deterministic noise ----------------------------------------------------------------------
- */
-
-static uint64_t g_lcg;
-
-static double lcg_uniform(void)
-{
-    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
-    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Sum of 12 uniforms minus 6: unit variance, libm-free. */
-static double lcg_normal(void)
-{
-    double s = 0.0;
-    for (int i = 0; i < 12; ++i)
-    {
-        s += lcg_uniform();
-    }
-    return s - 6.0;
-}
-
 /* ---- the test model: two coupled damped oscillators, 4 states, 2 outputs ----------------------
  */
 

@@ -102,7 +102,8 @@
 #error "AENL_SKF_MAX_Z must be in [1, AENL_SKF_MAX_X]"
 #endif
 
-/** Most modes. State: 2 (n_x^2 + n_x) + 2 reals per mode (per-mode IMM estimates, double-buffered). */
+/** Most modes. State: 2 (n_x^2 + n_x) + 2 reals per mode (per-mode IMM estimates, double-buffered).
+ */
 #ifndef AENL_SKF_MAX_MODES
 #define AENL_SKF_MAX_MODES 4
 #endif

@@ -75,8 +75,8 @@ static int curves_of_array(const double *x, size_t n, const char *source, const 
     st = aenl_curves_write_csv(&c, AENL_DIR_ALL, source, channel, csv, &err);
     if (st == AENL_OK && aenl_plot_available())
     {
-        const aenl_plot_var_t vars[] = {{"in", csv}, {"lags", "1 10 30"}, {"title", title},
-                                        {"xlabel", channel}};
+        const aenl_plot_var_t vars[] = {
+            {"in", csv}, {"lags", "1 10 30"}, {"title", title}, {"xlabel", channel}};
         st = aenl_plot_run("moments", vars, 4, png, &err);
     }
     if (st != AENL_OK)
@@ -110,8 +110,8 @@ static int curves_of_file(const char *data, const char *channel, const char *out
         aenl_table_free(&t);
         return -1;
     }
-    const int rc = curves_of_array(aenl_table_col(&t, (size_t)col), t.n_rows, data, channel,
-                                   outdir, stem, label);
+    const int rc = curves_of_array(aenl_table_col(&t, (size_t)col), t.n_rows, data, channel, outdir,
+                                   stem, label);
     aenl_table_free(&t);
     return rc;
 }
