@@ -270,24 +270,6 @@ static int32_t node_floor(aenl_real_t v, uint16_t n_grid)
     return (int32_t)v; /* v >= 0: truncation is floor */
 }
 
-/* Pair (u, y) into the nodes of one cell row. Kernel phi_h(d) = (1 - |d|/h)/h, |d| < h. */
-static void accumulate(aenl_moments_t *m, aenl_moments_cell_t *row, aenl_real_t u, aenl_real_t y)
-{
-    const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
-    const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
-    const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
-    const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
-    const aenl_real_t wscale = m->scale; /* 1/h applied at query time, see the file comment */
-    for (int32_t k = k0; k <= k1; ++k)
-    {
-        const aenl_real_t d = aenl_fabs(aenl_moments_node_x(m, (uint16_t)k) - u);
-        if (d < m->cfg.bandwidth)
-        {
-            cell_update(&row[k], wscale * (AENL_R(1.0) - d * m->inv_h), y);
-        }
-    }
-}
-
 static void renormalise(aenl_moments_t *m)
 {
     const uint32_t n = active_cells(m);
@@ -330,32 +312,54 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
             renormalise(m);
         }
     }
-    const uint16_t n_grid = m->cfg.n_grid;
-    for (uint16_t li = 0; li < m->cfg.n_lags; ++li)
+    /* Lockstep pairing: every lag is conditioned on the same sample c = n - max_lag, with the
+     * responses X_{c+L}. All lags thus see one set of conditioning samples, so differences
+     * between lags (aenl_moments_taylor) carry no bias from where the record starts or ends. */
+    const uint16_t max_lag = m->max_lag;
+    if (m->n_hist <= max_lag + (m->n_dir == 2u ? 1u : 0u))
     {
-        const uint16_t lag = m->cfg.lags[li];
-        if (m->n_hist <= lag)
+        return AENL_OK;
+    }
+    const uint16_t pc = ring_back(m->head, max_lag);
+    if (!m->valid[pc])
+    {
+        return AENL_OK;
+    }
+    const aenl_real_t u = m->hist[pc];
+    uint32_t dir = 0u;
+    if (m->n_dir == 2u)
+    {
+        const uint16_t q = ring_back(pc, 1u);
+        if (!m->valid[q])
+        {
+            return AENL_OK; /* the direction of u is unknown: no pair is formed */
+        }
+        dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
+    }
+    /* The nodes within h of u, found once for all lags. */
+    const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
+    const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
+    const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
+    const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
+    const uint16_t n_grid = m->cfg.n_grid;
+    for (int32_t k = k0; k <= k1; ++k)
+    {
+        const aenl_real_t d = aenl_fabs(aenl_moments_node_x(m, (uint16_t)k) - u);
+        if (!(d < m->cfg.bandwidth))
         {
             continue;
         }
-        const uint16_t p = ring_back(m->head, lag);
-        if (!m->valid[p])
+        /* 1/h is left out of the stored weight and applied at query time (file comment). */
+        const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
+        for (uint16_t li = 0; li < m->cfg.n_lags; ++li)
         {
-            continue;
-        }
-        const aenl_real_t u = m->hist[p];
-        uint32_t dir = 0u;
-        if (m->n_dir == 2u)
-        {
-            const uint16_t q = ring_back(p, 1u);
-            if (m->n_hist <= lag + 1u || !m->valid[q])
+            const uint16_t pr = ring_back(m->head, (uint16_t)(max_lag - m->cfg.lags[li]));
+            if (m->valid[pr])
             {
-                continue; /* the direction of u is unknown: the pair is not used */
+                cell_update(&m->cell[((uint32_t)li * m->n_dir + dir) * n_grid + (uint32_t)k], w,
+                            m->hist[pr]);
             }
-            dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
         }
-        aenl_moments_cell_t *row = &m->cell[((uint32_t)li * m->n_dir + dir) * n_grid];
-        accumulate(m, row, u, sample);
     }
     return AENL_OK;
 }
@@ -431,5 +435,138 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     out->weight = aenl_is_finite(weight) ? weight : AENL_REAL_MAX;
     out->n_eff = n_eff;
     out->se = se;
+    return AENL_OK;
+}
+
+aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
+                                  uint16_t order, aenl_moments_taylor_t *out)
+{
+    enum
+    {
+        NT = AENL_MOMENTS_TAYLOR_MAX_ORDER + 1
+    };
+    if (m == NULL || out == NULL || order < 2u || order > AENL_MOMENTS_TAYLOR_MAX_ORDER ||
+        order + 1u > m->cfg.n_lags || node >= m->cfg.n_grid)
+    {
+        return AENL_E_ARG;
+    }
+    const uint16_t nt = (uint16_t)(order + 1u);
+    const uint16_t n = m->cfg.n_lags;
+    /* Weighted design matrix [sqrt(w) t^k | sqrt(w) y], lags scaled to t = L / L_max in (0, 1],
+     * solved by modified Gram-Schmidt QR: no normal equations, whose squared condition number
+     * costs float32 every digit at order 4. */
+    aenl_real_t a[AENL_MOMENTS_MAX_LAGS][NT + 1];
+    const aenl_real_t inv_lmax = AENL_R(1.0) / (aenl_real_t)m->max_lag;
+    int weighted = 1;
+    for (uint16_t li = 0; li < n; ++li)
+    {
+        aenl_moments_point_t p;
+        const aenl_status_t st = aenl_moments_query(m, li, node, dir, &p);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        weighted = weighted && (p.se > AENL_R(0.0));
+        a[li][nt] = p.mean;
+        a[li][0] = p.se; /* kept here until every lag is known to have a weight */
+    }
+    for (uint16_t li = 0; li < n; ++li)
+    {
+        const aenl_real_t sw = weighted ? AENL_R(1.0) / a[li][0] : AENL_R(1.0);
+        const aenl_real_t t = (aenl_real_t)m->cfg.lags[li] * inv_lmax;
+        aenl_real_t pw = sw;
+        for (uint16_t k = 0; k < nt; ++k)
+        {
+            a[li][k] = pw;
+            pw *= t;
+        }
+        a[li][nt] *= sw;
+    }
+    aenl_real_t r[NT][NT];
+    memset(r, 0, sizeof(r));
+    aenl_real_t qtb[NT];
+    for (uint16_t j = 0; j < nt; ++j)
+    {
+        aenl_real_t norm2 = AENL_R(0.0);
+        for (uint16_t li = 0; li < n; ++li)
+        {
+            norm2 += a[li][j] * a[li][j];
+        }
+        const aenl_real_t norm = aenl_sqrt(norm2);
+        if (!(norm > AENL_R(0.0)) || !aenl_is_finite(norm))
+        {
+            return AENL_E_NUMERIC;
+        }
+        r[j][j] = norm;
+        for (uint16_t li = 0; li < n; ++li)
+        {
+            a[li][j] /= norm;
+        }
+        for (uint16_t k = (uint16_t)(j + 1u); k <= nt; ++k) /* k = nt: the right-hand side */
+        {
+            aenl_real_t dot = AENL_R(0.0);
+            for (uint16_t li = 0; li < n; ++li)
+            {
+                dot += a[li][j] * a[li][k];
+            }
+            for (uint16_t li = 0; li < n; ++li)
+            {
+                a[li][k] -= dot * a[li][j];
+            }
+            if (k < nt)
+            {
+                r[j][k] = dot;
+            }
+            else
+            {
+                qtb[j] = dot;
+            }
+        }
+    }
+    /* Back substitution R c = Q'b, and R^-1 (upper triangular) for the coefficient variances:
+     * Cov(c) = (R'R)^-1 = R^-1 R^-T, so var(c_k) = sum_j (R^-1)_kj^2. */
+    aenl_real_t c[NT], rinv[NT][NT];
+    memset(rinv, 0, sizeof(rinv));
+    for (int i = (int)nt - 1; i >= 0; --i)
+    {
+        aenl_real_t acc = qtb[i];
+        for (uint16_t k = (uint16_t)(i + 1); k < nt; ++k)
+        {
+            acc -= r[i][k] * c[k];
+        }
+        c[i] = acc / r[i][i];
+        rinv[i][i] = AENL_R(1.0) / r[i][i];
+        for (uint16_t k = (uint16_t)(i + 1); k < nt; ++k)
+        {
+            aenl_real_t sum = AENL_R(0.0);
+            for (uint16_t j = (uint16_t)(i + 1); j <= k; ++j)
+            {
+                sum += r[i][j] * rinv[j][k];
+            }
+            rinv[i][k] = -sum / r[i][i];
+        }
+    }
+    aenl_real_t var[3] = {AENL_R(0.0), AENL_R(0.0), AENL_R(0.0)};
+    for (uint16_t k = 0; k < 3u; ++k)
+    {
+        for (uint16_t j = k; j < nt; ++j)
+        {
+            var[k] += rinv[k][j] * rinv[k][j];
+        }
+    }
+    const aenl_real_t s1 = inv_lmax, s2 = inv_lmax * inv_lmax;
+    memset(out, 0, sizeof(*out));
+    out->x = aenl_moments_node_x(m, node);
+    if (!aenl_is_finite(c[0]) || !aenl_is_finite(c[1]) || !aenl_is_finite(c[2]))
+    {
+        return AENL_E_NUMERIC;
+    }
+    out->position = c[0];
+    out->velocity = c[1] * s1;
+    out->accel = AENL_R(2.0) * c[2] * s2;
+    /* Nominal errors need weights in units of 1/se^2; an unweighted fit has none. */
+    out->se_position = weighted ? aenl_sqrt(var[0]) : AENL_R(0.0);
+    out->se_velocity = weighted ? aenl_sqrt(var[1]) * s1 : AENL_R(0.0);
+    out->se_accel = weighted ? AENL_R(2.0) * aenl_sqrt(var[2]) * s2 : AENL_R(0.0);
     return AENL_OK;
 }

@@ -45,36 +45,52 @@ typedef struct
     int empty;
 } ref_point_t;
 
-static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, double node, double h,
-                         int dir /* 0 all, 1 rising, 2 falling */, int split, double lambda)
+/* Weight of the pair (x[c], x[c + lag]) for the reference: 0 when it is not in the estimate.
+ * The estimator conditions every lag on the same samples c = 0 (1 with the split) .. n-1-max_lag,
+ * and forms them at push c + max_lag, whose age sets the forgetting weight. */
+static double pair_weight(const aenl_real_t *x, size_t n, size_t c, unsigned max_lag, double node,
+                          double h, int dir, int split, double lambda)
+{
+    if (c + max_lag >= n || (split && c == 0))
+    {
+        return 0.0;
+    }
+    const double u = (double)x[c];
+    if (split)
+    {
+        const int rising = u > (double)x[c - 1u];
+        if ((dir == 1 && !rising) || (dir == 2 && rising))
+        {
+            return 0.0;
+        }
+    }
+    const double d = u > node ? u - node : node - u;
+    if (!(d < h))
+    {
+        return 0.0;
+    }
+    double w = (1.0 - d / h) / h;
+    if (lambda < 1.0)
+    {
+        w *= pow(lambda, (double)(n - 1u - (c + max_lag)));
+    }
+    return w;
+}
+
+/* Formula (10) and its variance analogue by direct summation over the pairs, two-pass. */
+static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, unsigned max_lag,
+                         double node, double h, int dir /* 0 all, 1 rising, 2 falling */, int split,
+                         double lambda)
 {
     ref_point_t r = {0.0, 0.0, 0.0, 0.0, 1};
     double sw = 0.0, swy = 0.0, sw2 = 0.0;
-    for (size_t i = lag; i < n; ++i)
+    for (size_t c = 0; c < n; ++c)
     {
-        const double u = (double)x[i - lag];
-        if (split)
+        const double w = pair_weight(x, n, c, max_lag, node, h, dir, split, lambda);
+        if (w > 0.0)
         {
-            if (i < (size_t)lag + 1u)
-            {
-                continue;
-            }
-            const int rising = u > (double)x[i - lag - 1u];
-            if ((dir == 1 && !rising) || (dir == 2 && rising))
-            {
-                continue;
-            }
-        }
-        const double d = u > node ? u - node : node - u;
-        if (d < h)
-        {
-            double w = (1.0 - d / h) / h;
-            if (lambda < 1.0)
-            {
-                w *= pow(lambda, (double)(n - 1u - i));
-            }
             sw += w;
-            swy += w * (double)x[i];
+            swy += w * (double)x[c + lag];
             sw2 += w * w;
         }
     }
@@ -84,31 +100,11 @@ static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, double no
         r.w = sw;
         r.mean = swy / sw;
         double s = 0.0;
-        for (size_t i = lag; i < n; ++i)
+        for (size_t c = 0; c < n; ++c)
         {
-            const double u = (double)x[i - lag];
-            if (split)
-            {
-                if (i < (size_t)lag + 1u)
-                {
-                    continue;
-                }
-                const int rising = u > (double)x[i - lag - 1u];
-                if ((dir == 1 && !rising) || (dir == 2 && rising))
-                {
-                    continue;
-                }
-            }
-            const double d = u > node ? u - node : node - u;
-            if (d < h)
-            {
-                double w = (1.0 - d / h) / h;
-                if (lambda < 1.0)
-                {
-                    w *= pow(lambda, (double)(n - 1u - i));
-                }
-                s += w * ((double)x[i] - r.mean) * ((double)x[i] - r.mean);
-            }
+            const double w = pair_weight(x, n, c, max_lag, node, h, dir, split, lambda);
+            const double e = (w > 0.0) ? (double)x[c + lag] - r.mean : 0.0;
+            s += w * e * e;
         }
         r.var = s / sw;
         r.n_eff = sw * sw / sw2;
@@ -149,8 +145,8 @@ static void compare_all(const aenl_moments_t *m, const aenl_real_t *x, size_t n,
                 aenl_moments_point_t p;
                 const aenl_status_t st = aenl_moments_query(m, li, k, (aenl_dir_t)dir, &p);
                 const ref_point_t r =
-                    brute(x, n, m->cfg.lags[li], (double)p.x, (double)m->cfg.bandwidth, dir,
-                          m->cfg.direction_split, lambda);
+                    brute(x, n, m->cfg.lags[li], m->max_lag, (double)p.x, (double)m->cfg.bandwidth,
+                          dir, m->cfg.direction_split, lambda);
                 if (r.empty)
                 {
                     TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, st);
@@ -408,17 +404,161 @@ static void test_moments_reset_keeps_config(void)
 
 static void test_moments_far_outlier_is_harmless(void)
 {
-    const aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11);
+    c.n_lags = 1; /* lag 1 only: the first pair forms at the third sample */
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(1e30)));
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(-1e30)));
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(0.0)));
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, AENL_R(0.0)));
     aenl_moments_point_t p;
-    /* Lag 1: (0 after -1e30) is rising; the pairs conditioned on +-1e30 touch no node. */
+    /* Pairs (-1e30 -> 0) and (0 after -1e30 -> 0): only the second lands on the grid, rising. */
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 0, 5, AENL_DIR_RISING, &p));
-    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.n_eff);
     TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(0.0), p.mean);
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.n_eff);
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 5, AENL_DIR_FALLING, &p));
+}
+
+/* Independent weighted polynomial fit in double (Gauss-Jordan on the normal equations). */
+static void wls_double(const double *t, const double *y, const double *w, int n, int nt, double *c)
+{
+    double a[5][6];
+    memset(a, 0, sizeof(a));
+    for (int i = 0; i < n; ++i)
+    {
+        double pw[5] = {1.0, 0, 0, 0, 0};
+        for (int k = 1; k < nt; ++k)
+        {
+            pw[k] = pw[k - 1] * t[i];
+        }
+        for (int r = 0; r < nt; ++r)
+        {
+            for (int q = 0; q < nt; ++q)
+            {
+                a[r][q] += w[i] * pw[r] * pw[q];
+            }
+            a[r][nt] += w[i] * pw[r] * y[i];
+        }
+    }
+    for (int col = 0; col < nt; ++col)
+    {
+        for (int r = 0; r < nt; ++r)
+        {
+            if (r != col)
+            {
+                const double f = a[r][col] / a[col][col];
+                for (int q = col; q <= nt; ++q)
+                {
+                    a[r][q] -= f * a[col][q];
+                }
+            }
+        }
+    }
+    for (int r = 0; r < nt; ++r)
+    {
+        c[r] = a[r][nt] / a[r][r];
+    }
+}
+
+static void test_moments_taylor_matches_weighted_fit(void)
+{
+    make_signal(g_x, N_SIG, 4242u, 0.1);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-2.0), AENL_R(2.0), 21);
+    static const uint16_t lags[6] = {1, 2, 3, 5, 8, 13};
+    c.n_lags = 6;
+    memcpy(c.lags, lags, sizeof(lags));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        aenl_moments_push(&g_m, g_x[i]);
+    }
+    int n_checked = 0;
+    for (uint16_t order = 2; order <= 4; ++order)
+    {
+        for (int dir = 0; dir < 3; ++dir)
+        {
+            for (uint16_t k = 4; k < 17; ++k)
+            {
+                double t[6], y[6], w[6], cf[5];
+                for (uint16_t li = 0; li < 6; ++li)
+                {
+                    aenl_moments_point_t p;
+                    TEST_ASSERT_EQUAL_INT(AENL_OK,
+                                          aenl_moments_query(&g_m, li, k, (aenl_dir_t)dir, &p));
+                    t[li] = (double)lags[li];
+                    y[li] = (double)p.mean;
+                    w[li] = 1.0 / ((double)p.se * (double)p.se);
+                }
+                wls_double(t, y, w, 6, order + 1, cf);
+                aenl_moments_taylor_t tp;
+                TEST_ASSERT_EQUAL_INT(AENL_OK,
+                                      aenl_moments_taylor(&g_m, k, (aenl_dir_t)dir, order, &tp));
+                /* float32 normal equations lose digits with the order: tolerances grow with it. */
+                const double tol = AENL_USE_DOUBLE ? 1e-8 : 2e-3 * (double)(order * order);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(cf[0]) + 1.0), cf[0], (double)tp.position);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(cf[1]) + 0.1), cf[1], (double)tp.velocity);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(2.0 * cf[2]) + 0.01), 2.0 * cf[2],
+                                          (double)tp.accel);
+                TEST_ASSERT_TRUE(tp.se_accel > AENL_R(0.0));
+                n_checked++;
+            }
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(3 * 3 * 13, n_checked);
+}
+
+/* A clean sinusoid of amplitude 1 and period 197.3 samples (incommensurate with the sampling, so
+ * 40 cycles cover every phase): per direction the expansion is the phase portrait,
+ * v = +-w sqrt(1 - p^2) and a = -w^2 p, with w = 2 pi / 197.3 (analytic). */
+static void test_moments_taylor_sinusoid_phase_portrait(void)
+{
+    const double w = 2.0 * 3.14159265358979323846 / 197.3;
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-1.1), AENL_R(1.1), 23); /* fits the MCU capacity */
+    static const uint16_t lags[8] = {1, 2, 4, 6, 9, 13, 18, 25};
+    c.n_lags = 8;
+    memcpy(c.lags, lags, sizeof(lags));
+    c.bandwidth = AENL_R(0.15);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (int i = 0; i < 8000; ++i)
+    {
+        aenl_moments_push(&g_m, (aenl_real_t)sin(w * i + 0.3));
+    }
+    int n_checked = 0;
+    for (uint16_t k = 0; k < 23; ++k)
+    {
+        aenl_moments_taylor_t up, down, all;
+        if (fabs((double)aenl_moments_node_x(&g_m, k)) > 0.7)
+        {
+            continue;
+        }
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_taylor(&g_m, k, AENL_DIR_RISING, 4, &up));
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_taylor(&g_m, k, AENL_DIR_FALLING, 4, &down));
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_taylor(&g_m, k, AENL_DIR_ALL, 4, &all));
+        const double p = (double)up.position;
+        TEST_ASSERT_DOUBLE_WITHIN(0.01, (double)up.x, p);
+        /* The kernel averages the concave sqrt over +-h: 0.8 % low at |x| = 0.7 (measured). */
+        TEST_ASSERT_DOUBLE_WITHIN(0.01 * w, w * sqrt(1.0 - p * p), (double)up.velocity);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01 * w, -w * sqrt(1.0 - p * p), (double)down.velocity);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01 * w * w, -w * w * p, (double)up.accel);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01 * w * w, -w * w * (double)down.position, (double)down.accel);
+        /* All pairs: zero for a stationary record, up to the unequal record ends of the lags. */
+        TEST_ASSERT_DOUBLE_WITHIN(0.02 * w, 0.0, (double)all.velocity);
+        n_checked++;
+    }
+    TEST_ASSERT_GREATER_THAN_INT(10, n_checked);
+}
+
+static void test_moments_taylor_rejects_bad_arguments(void)
+{
+    const aenl_moments_cfg_t c = std_cfg(AENL_R(-1.0), AENL_R(1.0), 11); /* 3 lags */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    aenl_moments_taylor_t t;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor(NULL, 0, AENL_DIR_ALL, 2, &t));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor(&g_m, 0, AENL_DIR_ALL, 2, NULL));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor(&g_m, 11, AENL_DIR_ALL, 2, &t));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor(&g_m, 5, AENL_DIR_ALL, 1, &t));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor(&g_m, 5, AENL_DIR_ALL, 3, &t));
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_taylor(&g_m, 5, AENL_DIR_ALL, 2, &t));
 }
 
 #if !AENL_USE_DOUBLE
@@ -456,22 +596,23 @@ static void test_moments_float32_long_stream(void)
         const float xf = (float)(1000.0 + y);
         aenl_moments_push(&g_m, xf);
         hist[n & 63u] = xf;
-        for (unsigned li = 0; li < 3u; ++li)
+        /* Lockstep pairing, as the estimator: conditioning sample c = n - 30 for every lag. */
+        if (n < 31u)
         {
-            const uint32_t lag = c.lags[li];
-            if (n < lag + 1u)
+            continue;
+        }
+        const uint32_t cnd = n - 30u;
+        const double u = (double)hist[cnd & 63u];
+        const int d = u > (double)hist[(cnd - 1u) & 63u] ? 0 : 1;
+        for (unsigned k = 0; k < LONG_CHECKED; ++k)
+        {
+            const double dist = fabs(u - node_x[k]);
+            if (dist < h)
             {
-                continue;
-            }
-            const double u = (double)hist[(n - lag) & 63u];
-            const int d = u > (double)hist[(n - lag - 1u) & 63u] ? 0 : 1;
-            for (unsigned k = 0; k < LONG_CHECKED; ++k)
-            {
-                const double dist = fabs(u - node_x[k]);
-                if (dist < h)
+                const double w = (1.0 - dist / h) / h;
+                for (unsigned li = 0; li < 3u; ++li)
                 {
-                    const double w = (1.0 - dist / h) / h;
-                    const double r = (double)xf - 1000.0;
+                    const double r = (double)hist[(cnd + c.lags[li]) & 63u] - 1000.0;
                     sw[li][d][k] += w;
                     s1[li][d][k] += w * r;
                     s2[li][d][k] += w * r * r;
@@ -567,6 +708,9 @@ int main(void)
     RUN_TEST(test_moments_query_rejects_bad_arguments);
     RUN_TEST(test_moments_reset_keeps_config);
     RUN_TEST(test_moments_far_outlier_is_harmless);
+    RUN_TEST(test_moments_taylor_matches_weighted_fit);
+    RUN_TEST(test_moments_taylor_sinusoid_phase_portrait);
+    RUN_TEST(test_moments_taylor_rejects_bad_arguments);
 #if !AENL_USE_DOUBLE
     RUN_TEST(test_moments_float32_long_stream);
 #endif

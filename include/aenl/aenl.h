@@ -13,6 +13,7 @@
 
 #include "aenl/aenl_config.h"
 #include "aenl/aenl_types.h"
+#include "aenl/aenl_filter.h"
 #include "aenl/aenl_moments.h"
 #include "aenl/aenl_skf.h"
 

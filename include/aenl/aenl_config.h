@@ -111,6 +111,16 @@
 #error "AENL_SKF_MAX_MODES must be in [1, 16]"
 #endif
 
+/* ---- aenl_filter -------------------------------------------------------------------------- */
+
+/** Most second-order sections of a low-pass pre-filter (order = 2 x sections). 28 B each. */
+#ifndef AENL_FILTER_MAX_SECTIONS
+#define AENL_FILTER_MAX_SECTIONS 4
+#endif
+#if (AENL_FILTER_MAX_SECTIONS < 1) || (AENL_FILTER_MAX_SECTIONS > 16)
+#error "AENL_FILTER_MAX_SECTIONS must be in [1, 16]"
+#endif
+
 /* ---- assertions --------------------------------------------------------------------------- */
 
 /** Internal invariants only (never argument checks). Override with a trap on target. */

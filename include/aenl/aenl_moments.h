@@ -10,10 +10,13 @@
  *
  * with the triangular kernel phi_h(u) = (1 - |u|/h)/h for |u| < h, 0 otherwise (the paper's
  * formulas (10)-(11)): m = sum X_n phi(x - X_{n-L}) / sum phi(x - X_{n-L}), and v the same weighted
- * mean of (X_n - m)^2. Each (lag, node[, direction]) cell holds the weight sum, the weighted mean
- * and the weighted second central moment M2 updated in Welford form, so there is no
- * sum(x^2) - sum(x)^2 cancellation; with AENL_MOMENTS_COMPENSATED (default in float32) every sum
- * also carries a Kahan compensation term, so a float32 estimator stays accurate past 10^8 samples.
+ * mean of (X_n - m)^2. All lags are conditioned on the same samples (lockstep): the pairs are
+ * (X_c, X_{c+L}) for c = 0 .. N-1-L_max (from 1 with the direction split), L_max the largest lag,
+ * so lag curves differ only by the lag, never by which part of the record they saw. Each (lag,
+ * node[, direction]) cell holds the weight sum, the weighted mean and the weighted second central
+ * moment M2 updated in Welford form, so there is no sum(x^2) - sum(x)^2 cancellation; with
+ * AENL_MOMENTS_COMPENSATED (default in float32) every sum also carries a Kahan compensation term,
+ * so a float32 estimator stays accurate past 10^8 samples.
  *
  * Options: an exponential forgetting factor lambda (weight of a sample of age a is lambda^a), for
  * non-stationary conditions; and a direction split, which accumulates separately for a rising
@@ -123,14 +126,16 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
 void aenl_moments_reset(aenl_moments_t *m);
 
 /**
- * @brief Add one sample X_n: for each lag L the pair (X_{n-L}, X_n) updates the nodes within h of
- *        X_{n-L} (with the split: the cells of its direction).
+ * @brief Add one sample X_n. The conditioning sample is c = n - L_max; for each lag L the pair
+ *        (X_c, X_{c+L}) updates the nodes within h of X_c (with the split: the cells of the
+ *        direction of X_c against X_{c-1}). The first pairs form once L_max + 1 samples are in.
  * @param[in,out] m       an initialised estimator
  * @param[in]     sample  X_n in input units
  * @return AENL_OK; AENL_E_ARG for NULL (nothing changed); AENL_E_NUMERIC for a NaN/Inf sample,
  *         which is a *missing* sample: the statistics stay byte-identical, the history records the
  *         gap (no pair is formed across it, time alignment is kept) and n_missing counts it.
- * @note O(n_lags * min(n_grid, 2h/dx + 1)) per sample, no loop over the grid. With forgetting < 1,
+ * @note O(n_lags * min(n_grid, 2h/dx + 1)) per sample, no loop over the grid (the node range is
+ *       found once per sample for all lags). With forgetting < 1,
  *       one push in every ~(14 / -ln(lambda)) also rescales all active cells (O(cells)).
  *       No allocation, stack < 96 B.
  */
@@ -153,6 +158,45 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample);
  */
 aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, uint16_t node,
                                  aenl_dir_t dir, aenl_moments_point_t *out);
+
+/** Highest power of the lag in aenl_moments_taylor(). */
+#define AENL_MOMENTS_TAYLOR_MAX_ORDER 4
+
+/**
+ * Local expansion of the conditional mean in the lag at one node (aenl_moments_taylor): for a
+ * response s observed with independent noise, X = s + e, and lags L in samples,
+ *     m_L(x) = E(X_{n+L} | X_n = x) = p(x) + v(x) L + a(x) L^2 / 2 + ...
+ * where p(x) = E(s_n | X_n = x) is the noise-free position given the observed one (the intercept
+ * at L = 0, which the noisy X_n itself is not: the errors-in-variables correction), v(x) the
+ * conditional velocity and a(x) the conditional acceleration, both per sample. For all pairs of a
+ * stationary record v(x) = 0; per direction (the split) v and a trace the phase portrait, and
+ * a(p) is the restoring-force curve of the DOF. Standard errors are nominal: they treat the lags'
+ * estimates as independent, which they are not (the same samples condition every lag).
+ */
+typedef struct aenl_moments_taylor
+{
+    aenl_real_t x;           /**< node, input units */
+    aenl_real_t position;    /**< p(x), input units */
+    aenl_real_t velocity;    /**< v(x), input units per sample */
+    aenl_real_t accel;       /**< a(x), input units per sample squared */
+    aenl_real_t se_position; /**< nominal standard errors of the three */
+    aenl_real_t se_velocity;
+    aenl_real_t se_accel;
+} aenl_moments_taylor_t;
+
+/**
+ * @brief Fit m_L = c0 + c1 L + ... + c_order L^order over every configured lag at one node and
+ *        direction (weighted by 1 / se_L^2, or unweighted when a lag's se is 0), and report
+ *        position c0, velocity c1 and acceleration 2 c2.
+ * @param[in] order  2 .. AENL_MOMENTS_TAYLOR_MAX_ORDER, and at most n_lags - 1 (the lags must
+ *                   span the curvature: small against the period, e.g. 1 .. T/8)
+ * @return AENL_OK; AENL_E_ARG for NULL, an index or direction as in aenl_moments_query, or an
+ *         order outside its range; AENL_E_EMPTY when a lag has no weight at the node;
+ *         AENL_E_NUMERIC when the weighted normal equations are singular.
+ * @note O(n_lags * order^2 + order^3); no allocation, stack < 400 B in float32.
+ */
+aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
+                                  uint16_t order, aenl_moments_taylor_t *out);
 
 /** Position of a grid node (no range check beyond returning x_max past the end). */
 static inline aenl_real_t aenl_moments_node_x(const aenl_moments_t *m, uint16_t node)

@@ -88,6 +88,26 @@ static inline aenl_real_t aenl_ceil(aenl_real_t x)
 #endif
 }
 
+/** Cosine in the build's precision. */
+static inline aenl_real_t aenl_cos(aenl_real_t x)
+{
+#if AENL_USE_DOUBLE
+    return cos(x);
+#else
+    return cosf(x);
+#endif
+}
+
+/** Tangent in the build's precision. */
+static inline aenl_real_t aenl_tan(aenl_real_t x)
+{
+#if AENL_USE_DOUBLE
+    return tan(x);
+#else
+    return tanf(x);
+#endif
+}
+
 /** 1 when x is neither NaN nor infinite. */
 static inline int aenl_is_finite(aenl_real_t x)
 {

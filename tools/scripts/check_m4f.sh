@@ -12,7 +12,7 @@ cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/tools/cmake/arm-none-
 cmake --build "$build" --target aenl_core_f32 -j2 >/dev/null
 lib=$(find "$build" -name 'libaenl_core_f32.a' | head -n 1)
 
-allowed='^(expf|sqrtf|logf|fabsf|floorf|ceilf|memset|memcpy|memmove|__aeabi_mem(set|clr|cpy|move)[48]?|__aeabi_u?idiv(mod)?|__aeabi_u?ldivmod|__aeabi_l(asr|lsl|lsr|mul|cmp)|__aeabi_ulcmp)$'
+allowed='^(expf|sqrtf|logf|fabsf|floorf|ceilf|cosf|tanf|memset|memcpy|memmove|__aeabi_mem(set|clr|cpy|move)[48]?|__aeabi_u?idiv(mod)?|__aeabi_u?ldivmod|__aeabi_l(asr|lsl|lsr|mul|cmp)|__aeabi_ulcmp)$'
 # Calls between the library's own objects are not external: drop symbols the archive defines.
 defined=$(arm-none-eabi-nm --defined-only "$lib" | awk 'NF==3{print $3}' | sort -u)
 undef=$(arm-none-eabi-nm -u "$lib" | awk 'NF==2{print $2}' | sort -u | comm -23 - <(echo "$defined"))

@@ -3,5 +3,6 @@
  * sizes of the float32 MCU build exactly as firmware would declare them. Never linked. */
 #include "aenl/aenl.h"
 
+aenl_filter_t aenl_sizeof_filter;
 aenl_moments_t aenl_sizeof_moments;
 aenl_skf_t aenl_sizeof_skf;
