@@ -3,7 +3,8 @@
  * @file test_em.c
  * @brief Host EM identification: on data simulated from a known 3-mode switching model the
  *        log-likelihood never decreases and each mode's frequencies, damping and the noise
- *        covariance are recovered; frozen parameters stay put; threshold refinement moves a wrong
+ *        covariance are recovered; the steady-state reuse of the covariance recursion equals the
+ *        full recursion; frozen parameters stay put; threshold refinement moves a wrong
  *        threshold towards the true one; the modal reading is exact on a known rotation; and the
  *        core f64 filter converges to the DARE solution computed here with LAPACKE (structure-
  *        preserving doubling, dgesv), independently of both the core and the EM code.
@@ -200,6 +201,93 @@ static void test_em_recovers_switching_model_and_loglik_never_decreases(void)
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 1.0, r.model.C[0]);
     TEST_ASSERT_DOUBLE_WITHIN(0.0, 0.0, r.model.C[2]);
     aenl_em_result_free(&r);
+    free(y);
+}
+
+/* Slow first oscillator (long stays in each threshold interval, so the covariance recursion
+ * reaches its steady state inside the mode runs) and a few missing samples. */
+static void make_truth_slow(truth_t *t)
+{
+    make_truth(t);
+    const double th1[3] = {0.035, 0.025, 0.035};
+    for (int s = 0; s < 3; ++s)
+    {
+        double b1[2][2];
+        rot(b1, 0.997, th1[s]);
+        for (int i = 0; i < 2; ++i)
+        {
+            for (int j = 0; j < 2; ++j)
+            {
+                t->A[s][i][j] = b1[i][j];
+            }
+        }
+        const double c0 = (s == 0) ? t->thr[0] : (s == 2 ? t->thr[1] : 0.0);
+        for (int i = 0; i < NX; ++i)
+        {
+            t->b[s][i] = ((i == 0) ? c0 : 0.0) - t->A[s][i][0] * c0;
+        }
+    }
+    t->q_std = 0.02;
+}
+
+static double max_rel_diff(const double *a, const double *b, size_t n)
+{
+    double scale = 0.0, d = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        scale = fabs(a[i]) > scale ? fabs(a[i]) : scale;
+        d = fabs(a[i] - b[i]) > d ? fabs(a[i] - b[i]) : d;
+    }
+    return d / (scale > 0.0 ? scale : 1.0);
+}
+
+/* The steady-state reuse of the covariance recursion (opts.steady_tol, the default) against the
+ * full recursion at every step (steady_tol = 0): same log-likelihoods and parameters to 1e-8
+ * relative, while most steps reused the steady state. */
+static void test_em_steady_state_reuse_equals_full_recursion(void)
+{
+    truth_t t;
+    make_truth_slow(&t);
+    int count[3];
+    const size_t n = 6000;
+    double *y = simulate_truth(&t, n, 11u, count);
+    TEST_ASSERT_TRUE(count[0] > 500 && count[1] > 500 && count[2] > 500);
+    y[1500 * NZ] = NAN; /* missing samples break the runs */
+    y[3001 * NZ + 1] = NAN;
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.n_thresholds = 2;
+    o.thresholds[0] = t.thr[0];
+    o.thresholds[1] = t.thr[1];
+    o.max_iter = 15;
+    aenl_em_result_t fast, full;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &fast, &err), err.msg);
+    o.steady_tol = 0.0;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &full, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(n, full.n_cov_steps);
+    TEST_ASSERT_TRUE_MESSAGE(fast.n_cov_steps < n / 2, "the steady state was not reused");
+    TEST_ASSERT_EQUAL_size_t(full.n_iter, fast.n_iter);
+    check_monotone(&fast);
+    for (size_t i = 0; i < full.n_iter; ++i)
+    {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-8 * fabs(full.loglik[i]), full.loglik[i], fast.loglik[i]);
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-8 * fabs(full.loglik_final), full.loglik_final, fast.loglik_final);
+    for (size_t s = 0; s < 3; ++s)
+    {
+        TEST_ASSERT_TRUE(
+            max_rel_diff(full.model.A + s * NX * NX, fast.model.A + s * NX * NX, NX * NX) < 1e-8);
+        TEST_ASSERT_TRUE(
+            max_rel_diff(full.model.Q + s * NX * NX, fast.model.Q + s * NX * NX, NX * NX) < 1e-8);
+        TEST_ASSERT_TRUE(max_rel_diff(full.model.b + s * NX, fast.model.b + s * NX, NX) < 1e-8);
+    }
+    TEST_ASSERT_TRUE(max_rel_diff(full.model.R, fast.model.R, NZ * NZ) < 1e-8);
+    TEST_ASSERT_TRUE(max_rel_diff(full.model.x0, fast.model.x0, NX) < 1e-8);
+    aenl_em_result_free(&fast);
+    aenl_em_result_free(&full);
     free(y);
 }
 
@@ -532,6 +620,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_em_recovers_switching_model_and_loglik_never_decreases);
+    RUN_TEST(test_em_steady_state_reuse_equals_full_recursion);
     RUN_TEST(test_em_frozen_parameters_stay_put);
     RUN_TEST(test_em_refine_moves_a_wrong_threshold_towards_truth);
     RUN_TEST(test_em_modal_reading_is_exact_for_a_rotation);

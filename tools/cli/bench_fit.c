@@ -3,7 +3,10 @@
  * @file bench_fit.c
  * @brief `aenl bench fit`: one switching-Kalman-filter step (8 states, 2 outputs, 3 modes) in ns,
  *        its state size and its Cortex-M4F code size; EM on 20 000 samples x 50 iterations and how
- *        the time grows with samples and states. Figures are printed, never asserted.
+ *        the time grows with samples and states; the identification must-show on the
+ *        turbulence-excited airfoil with pitch freeplay (true vs identified sub-model frequencies
+ *        and damping, LCO amplitude of the identified model). Figures are printed, never
+ *        asserted.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -17,6 +20,7 @@
 #include "aenl_cli.h"
 #include "aenl/aenl_skf.h"
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_sim.h"
 
 static double now_s(void)
 {
@@ -69,12 +73,16 @@ static double *make_record(size_t n)
     return y;
 }
 
-static double time_em(const double *y, size_t n, size_t states, size_t iters)
+static size_t g_cov_steps; /* of the last time_em run */
+static int g_one_mode;     /* time_em: no thresholds */
+
+static double time_em_tol(const double *y, size_t n, size_t states, size_t iters, double steady_tol)
 {
     aenl_em_opts_t o;
     aenl_em_opts_default(&o);
+    o.steady_tol = steady_tol;
     o.n_states = states;
-    o.n_thresholds = 2;
+    o.n_thresholds = g_one_mode ? 0 : 2;
     o.thresholds[0] = -0.2;
     o.thresholds[1] = 0.2;
     o.max_iter = iters;
@@ -89,8 +97,14 @@ static double time_em(const double *y, size_t n, size_t states, size_t iters)
         printf("  EM failed: %s\n", err.msg);
         return NAN;
     }
+    g_cov_steps = r.n_cov_steps;
     aenl_em_result_free(&r);
     return t;
+}
+
+static double time_em(const double *y, size_t n, size_t states, size_t iters)
+{
+    return time_em_tol(y, n, states, iters, AENL_EM_STEADY_TOL);
 }
 
 static void skf_step_bench(void)
@@ -213,6 +227,192 @@ static void skf_m4f(void)
     printf("    code (aenl_skf.c + aenl_linalg.c, .text) = %lu B\n", text);
 }
 
+/* ---- the identification must-show (issue 5): turbulence-excited airfoil with pitch freeplay ----
+ */
+
+#define MS_STATES 8
+#define MS_ITER   300
+#define MS_PI     3.14159265358979323846
+
+/* Half peak-to-peak and centre of channel 0 over samples [k0, n) (stride 1 or 2). */
+static void amplitude(const double *a, size_t k0, size_t n, size_t stride, double *half,
+                      double *centre)
+{
+    double mx = -HUGE_VAL, mn = HUGE_VAL;
+    for (size_t k = k0; k < n; ++k)
+    {
+        mx = a[k * stride] > mx ? a[k * stride] : mx;
+        mn = a[k * stride] < mn ? a[k * stride] : mn;
+    }
+    *half = 0.5 * (mx - mn);
+    *centre = 0.5 * (mx + mn);
+}
+
+/* True sub-model of EM mode s (pitch slope outer 1 / inner) against the identified one: every
+ * true oscillatory pair with damping < 0.5, matched to the identified pair nearest in frequency. */
+static void compare_mode(const aenl_sim_model_t *sm, const aenl_em_model_t *em, size_t s,
+                         double slope)
+{
+    const double u = sm->airfoil.ustar, sl[AENL_SIM_N_DOF] = {slope, 1.0, 1.0};
+    aenl_sim_mode_t tm[AENL_SIM_MAX_X];
+    aenl_em_eig_t e[AENL_EM_MAX_X];
+    size_t nt = 0, ne = 0, no = 0;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    if (aenl_sim_modes(sm, u, sl, tm, AENL_SIM_MAX_X, &nt, &err) != AENL_OK ||
+        aenl_em_modal(em, s, e, &ne, &no, &err) != AENL_OK)
+    {
+        printf("    mode %zu: %s\n", s, err.msg);
+        return;
+    }
+    printf("    mode %zu (pitch slope %g):", s, slope);
+    int shown = 0;
+    for (size_t i = 0; i < nt; ++i)
+    {
+        if (!(tm[i].damping < 0.5))
+        {
+            continue;
+        }
+        const double ft = tm[i].frequency / (2.0 * MS_PI * u); /* omega/omega_alpha -> per tau */
+        size_t best = no;
+        for (size_t j = 0; j < no; ++j)
+        {
+            if (best == no || fabs(e[j].frequency - ft) < fabs(e[best].frequency - ft))
+            {
+                best = j;
+            }
+        }
+        if (best == no)
+        {
+            printf(" true f %.5f zeta %.4f: no identified pair;", ft, tm[i].damping);
+        }
+        else
+        {
+            printf(" f %.5f/%.5f (%+.1f %%) zeta %.4f/%.4f (%+.1f %%);", ft, e[best].frequency,
+                   100.0 * (e[best].frequency / ft - 1.0), tm[i].damping, e[best].damping,
+                   100.0 * (e[best].damping / tm[i].damping - 1.0));
+        }
+        shown = 1;
+    }
+    if (!shown)
+    {
+        printf(" no lightly damped true pair (zero pitch stiffness: a divergence pole);"
+               " identified pairs:");
+        for (size_t j = 0; j < no; ++j)
+        {
+            printf(" f %.5f zeta %.4f;", e[j].frequency, e[j].damping);
+        }
+    }
+    printf("\n");
+}
+
+static void must_show(void)
+{
+    const char *ini = AENL_SOURCE_DIR "/tools/examples/fit_airfoil_turbulence.ini";
+    aenl_sim_model_t sm;
+    aenl_sim_run_t run;
+    aenl_sim_result_t rec, lco;
+    aenl_em_result_t fit;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    const double t0 = now_s();
+    if (aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK ||
+        aenl_sim_simulate(&sm, &run, &rec, &err) != AENL_OK)
+    {
+        printf("  must-show: %s\n", err.msg);
+        return;
+    }
+    const size_t n = rec.n_samples;
+    double *y = malloc(2 * n * sizeof(double));
+    double *ys = malloc(2 * 6000 * sizeof(double));
+    if (y == NULL || ys == NULL)
+    {
+        free(y);
+        free(ys);
+        aenl_sim_result_free(&rec);
+        return;
+    }
+    for (size_t k = 0; k < n; ++k)
+    {
+        y[2 * k] = rec.y[k];
+        y[2 * k + 1] = rec.y[n + k];
+    }
+    aenl_sim_result_free(&rec);
+    const aenl_sim_law_t *law = &sm.law[AENL_SIM_DOF_PITCH];
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = MS_STATES;
+    o.n_thresholds = 2;
+    o.thresholds[0] = law->x_f;
+    o.thresholds[1] = law->x_f + law->delta;
+    o.max_iter = MS_ITER;
+    o.dt = run.dt;
+    if (aenl_em_fit(y, n, 2, &o, &fit, &err) != AENL_OK)
+    {
+        printf("  must-show: %s\n", err.msg);
+        free(y);
+        free(ys);
+        return;
+    }
+    printf("  must-show (fit_airfoil_turbulence.ini: U* %.2f, turbulence %.4f, SNR %g, %zu "
+           "samples, alpha and xi; %d states, %zu iterations, %.1f s):\n",
+           sm.airfoil.ustar, run.turb_intensity, run.snr, n, MS_STATES, fit.n_iter, now_s() - t0);
+    printf("    true/identified frequency (cycles per tau) and damping of the true sub-models'"
+           " oscillatory pairs:\n");
+    compare_mode(&sm, &fit.model, 0, 1.0);
+    compare_mode(&sm, &fit.model, 1, law->inner_stiffness);
+    compare_mode(&sm, &fit.model, 2, 1.0);
+    /* LCO: the simulator without turbulence from alpha = 1 deg, and the identified model from
+     * its filtered state after 200 samples of that record (the core filter, exported model) */
+    run.turbulence = 0;
+    run.turb_intensity = 0.0;
+    run.snr = 0.0;
+    run.duration = 2999.5;
+    sm.x0[AENL_SIM_DOF_PITCH] = MS_PI / 180.0;
+    static aenl_skf_model_t km;
+    static aenl_skf_t kf;
+    double x[AENL_EM_MAX_X] = {0.0};
+    if (aenl_sim_simulate(&sm, &run, &lco, &err) == AENL_OK &&
+        aenl_em_to_skf(&fit.model, &km, &err) == AENL_OK && aenl_skf_init(&kf, &km) == AENL_OK)
+    {
+        const size_t nl = lco.n_samples;
+        for (size_t k = 0; k < 200 && k < nl; ++k)
+        {
+            const aenl_real_t z[2] = {lco.y[k], lco.y[nl + k]};
+            (void)aenl_skf_step(&kf, z, NULL);
+        }
+        aenl_real_t xe[AENL_SKF_MAX_X], pe[AENL_SKF_MAX_X * AENL_SKF_MAX_X];
+        (void)aenl_skf_estimate(&kf, xe, pe);
+        for (size_t i = 0; i < MS_STATES; ++i)
+        {
+            x[i] = xe[i];
+        }
+        double a_true, c_true, a_id, c_id;
+        amplitude(lco.y, nl / 2, nl, 1, &a_true, &c_true);
+        if (aenl_em_simulate(&fit.model, x, 6000, ys, &err) == AENL_OK)
+        {
+            amplitude(ys, 3000, 6000, 2, &a_id, &c_id);
+            printf("    LCO without turbulence at U* %.2f (half peak-to-peak of alpha, centre): "
+                   "simulator %.4f deg (%.4f), identified model %.4f deg (%.4f): %+.1f %% "
+                   "(goal 5 %%)\n",
+                   sm.airfoil.ustar, a_true * 180.0 / MS_PI, c_true * 180.0 / MS_PI,
+                   a_id * 180.0 / MS_PI, c_id * 180.0 / MS_PI, 100.0 * (a_id / a_true - 1.0));
+        }
+        else
+        {
+            printf("    identified model: %s\n", err.msg);
+        }
+        aenl_sim_result_free(&lco);
+    }
+    else
+    {
+        printf("    LCO check: %s\n", err.msg);
+    }
+    aenl_em_result_free(&fit);
+    free(y);
+    free(ys);
+}
+
 int aenl_bench_fit(int argc, char **argv)
 {
     if (argc > 1)
@@ -233,10 +433,28 @@ int aenl_bench_fit(int argc, char **argv)
     {
         return AENL_EXIT_FAIL;
     }
-    const double t = time_em(y, 20000, 8, 50);
+    double t = time_em(y, 20000, 8, 50);
+    for (int rep = 0; rep < 2; ++rep) /* best of 3: the machine may be shared */
+    {
+        const double t2 = time_em(y, 20000, 8, 50);
+        t = t2 < t ? t2 : t;
+    }
     printf("  EM, 20000 samples x 50 iterations, 8 states, 2 outputs, 3 modes: %.3f s "
-           "(goal < 1 s)\n",
+           "(goal < 1 s; best of 3)\n",
            t);
+    printf("    steady-state covariance reuse: %zu of 20000 steps computed (modes switch every "
+           "few samples on this record)\n",
+           g_cov_steps);
+    const double tf = time_em_tol(y, 20000, 8, 50, 0.0);
+    printf("    full covariance recursion at every step (steady_tol = 0): %.3f s\n", tf);
+    g_one_mode = 1; /* one mode: a single run, where the steady state takes over */
+    const double t1 = time_em_tol(y, 20000, 8, 50, AENL_EM_STEADY_TOL);
+    const size_t c1 = g_cov_steps;
+    const double t1f = time_em_tol(y, 20000, 8, 50, 0.0);
+    g_one_mode = 0;
+    printf("    one mode (one long run), same size: %.3f s with reuse (%zu steps computed), "
+           "%.3f s without\n",
+           t1, c1, t1f);
     printf("  growth with samples (8 states, 10 iterations, s per iteration):\n   ");
     const size_t ns[] = {5000, 10000, 20000, 40000};
     for (size_t i = 0; i < 4; ++i)
@@ -249,7 +467,9 @@ int aenl_bench_fit(int argc, char **argv)
     {
         printf(" n_x=%zu: %.4f;", nxs[i], time_em(y, 20000, nxs[i], 10) / 10.0);
     }
-    printf("\n  (time ~ N n_x^3: the E-step's n_x x n_x products and the smoother's Cholesky)\n");
+    printf(
+        "\n  (time ~ N n_x^3: the E-step's n_x x n_x products and the Cholesky solve per step)\n");
     free(y);
+    must_show();
     return AENL_EXIT_OK;
 }

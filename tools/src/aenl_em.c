@@ -47,23 +47,6 @@ static void mm(double *c, const double *a, const double *b, size_t n, size_t k, 
     }
 }
 
-/* C (n x m) = A (n x k) B' with B (m x k) */
-static void mmt(double *c, const double *a, const double *b, size_t n, size_t k, size_t m)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = 0; j < m; ++j)
-        {
-            double s = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                s += a[i * k + r] * b[j * k + r];
-            }
-            c[i * m + j] = s;
-        }
-    }
-}
-
 static void symm(double *a, size_t n)
 {
     for (size_t i = 0; i < n; ++i)
@@ -77,8 +60,9 @@ static void symm(double *a, size_t n)
     }
 }
 
-/* In-place lower Cholesky; 0 on success. */
-static int chol(double *a, size_t n)
+/* In-place lower Cholesky (the upper triangle is left as it was); 0 on success. inv (may be
+ * NULL; n entries) receives the reciprocals of the diagonal, so that the solves multiply. */
+static int chol_inv(double *a, size_t n, double *inv)
 {
     for (size_t j = 0; j < n; ++j)
     {
@@ -91,8 +75,12 @@ static int chol(double *a, size_t n)
         {
             return -1;
         }
-        const double l = sqrt(d);
+        const double l = sqrt(d), il = 1.0 / l;
         a[j * n + j] = l;
+        if (inv != NULL)
+        {
+            inv[j] = il;
+        }
         for (size_t i = j + 1; i < n; ++i)
         {
             double s = a[i * n + j];
@@ -100,41 +88,19 @@ static int chol(double *a, size_t n)
             {
                 s -= a[i * n + r] * a[j * n + r];
             }
-            a[i * n + j] = s / l;
+            a[i * n + j] = s * il;
         }
     }
     return 0;
 }
 
-/* Solve (L L') X = B, B n x m in place. */
-static void chol_solve(const double *l, size_t n, double *b, size_t m)
+static int chol(double *a, size_t n)
 {
-    for (size_t c = 0; c < m; ++c)
-    {
-        for (size_t i = 0; i < n; ++i)
-        {
-            double s = b[i * m + c];
-            for (size_t r = 0; r < i; ++r)
-            {
-                s -= l[i * n + r] * b[r * m + c];
-            }
-            b[i * m + c] = s / l[i * n + i];
-        }
-        for (size_t ii = n; ii > 0; --ii)
-        {
-            const size_t i = ii - 1;
-            double s = b[i * m + c];
-            for (size_t r = i + 1; r < n; ++r)
-            {
-                s -= l[r * n + i] * b[r * m + c];
-            }
-            b[i * m + c] = s / l[i * n + i];
-        }
-    }
+    return chol_inv(a, n, NULL);
 }
 
 /* Factor a copy of a symmetric matrix, adding a growing diagonal jitter if needed. */
-static int chol_jitter(double *l, const double *a, size_t n)
+static int chol_jitter(double *l, const double *a, size_t n, double *inv)
 {
     double tr = 0.0;
     for (size_t i = 0; i < n; ++i)
@@ -149,7 +115,7 @@ static int chol_jitter(double *l, const double *a, size_t n)
         {
             l[i * n + i] += jit;
         }
-        if (chol(l, n) == 0)
+        if (chol_inv(l, n, inv) == 0)
         {
             return 0;
         }
@@ -168,6 +134,7 @@ void aenl_em_opts_default(aenl_em_opts_t *o)
     o->freeze = AENL_EM_FREEZE_C;
     o->refine_iter = 5;
     o->dt = 1.0;
+    o->steady_tol = AENL_EM_STEADY_TOL;
 }
 
 aenl_status_t aenl_em_model_alloc(aenl_em_model_t *m, size_t n_x, size_t n_z, size_t n_modes,
@@ -263,20 +230,325 @@ static size_t mode_of(const double *thr, size_t n_modes, double u)
     return s;
 }
 
+/* ---- small-matrix kernels for the E-step ------------------------------------------------------
+ * Row-major, contiguous. The products keep a 2 x 4 block of the result in registers (8
+ * independent accumulators), which is what makes the 8-state E-step fast without -O3 or
+ * intrinsics; the `_sym` variants compute only the blocks on or below the diagonal and copy
+ * the lower triangle into the upper one (the result is symmetric in exact arithmetic).
+ */
+
+static void mirror_lower(double *S, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = i + 1; j < n; ++j)
+        {
+            S[i * n + j] = S[j * n + i];
+        }
+    }
+}
+
+/* C (n x m) = A (n x k) B (k x m); sym: n == m and only the lower triangle is computed. */
+static void mul_nn(double *c, const double *a, const double *b, size_t n, size_t k, size_t m,
+                   int sym)
+{
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2)
+    {
+        const double *a0 = a + i * k, *a1 = a0 + k;
+        const size_t jend = sym ? (i + 2 < m ? i + 2 : m) : m;
+        size_t j = 0;
+        for (; j + 4 <= jend || (j < jend && j + 4 <= m); j += 4)
+        {
+            double c00 = 0.0, c01 = 0.0, c02 = 0.0, c03 = 0.0;
+            double c10 = 0.0, c11 = 0.0, c12 = 0.0, c13 = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                const double *br = b + r * m + j;
+                const double x0 = a0[r], x1 = a1[r];
+                c00 += x0 * br[0];
+                c01 += x0 * br[1];
+                c02 += x0 * br[2];
+                c03 += x0 * br[3];
+                c10 += x1 * br[0];
+                c11 += x1 * br[1];
+                c12 += x1 * br[2];
+                c13 += x1 * br[3];
+            }
+            double *c0 = c + i * m + j, *c1 = c0 + m;
+            c0[0] = c00;
+            c0[1] = c01;
+            c0[2] = c02;
+            c0[3] = c03;
+            c1[0] = c10;
+            c1[1] = c11;
+            c1[2] = c12;
+            c1[3] = c13;
+        }
+        for (; j < jend; ++j)
+        {
+            double s0 = 0.0, s1 = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                s0 += a0[r] * b[r * m + j];
+                s1 += a1[r] * b[r * m + j];
+            }
+            c[i * m + j] = s0;
+            c[(i + 1) * m + j] = s1;
+        }
+    }
+    for (; i < n; ++i)
+    {
+        const size_t jend = sym ? i + 1 : m;
+        for (size_t j = 0; j < jend; ++j)
+        {
+            double s = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                s += a[i * k + r] * b[r * m + j];
+            }
+            c[i * m + j] = s;
+        }
+    }
+    if (sym)
+    {
+        mirror_lower(c, n);
+    }
+}
+
+/* C (n x m) = A' B with A (k x n), B (k x m); sym: n == m, lower triangle computed and mirrored.
+ * Both operands are read along contiguous rows. */
+static void mul_tn(double *c, const double *a, const double *b, size_t n, size_t k, size_t m,
+                   int sym)
+{
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2)
+    {
+        const size_t jend = sym ? (i + 2 < m ? i + 2 : m) : m;
+        size_t j = 0;
+        for (; j + 4 <= jend || (j < jend && j + 4 <= m); j += 4)
+        {
+            double c00 = 0.0, c01 = 0.0, c02 = 0.0, c03 = 0.0;
+            double c10 = 0.0, c11 = 0.0, c12 = 0.0, c13 = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                const double *br = b + r * m + j;
+                const double x0 = a[r * n + i], x1 = a[r * n + i + 1];
+                c00 += x0 * br[0];
+                c01 += x0 * br[1];
+                c02 += x0 * br[2];
+                c03 += x0 * br[3];
+                c10 += x1 * br[0];
+                c11 += x1 * br[1];
+                c12 += x1 * br[2];
+                c13 += x1 * br[3];
+            }
+            double *c0 = c + i * m + j, *c1 = c0 + m;
+            c0[0] = c00;
+            c0[1] = c01;
+            c0[2] = c02;
+            c0[3] = c03;
+            c1[0] = c10;
+            c1[1] = c11;
+            c1[2] = c12;
+            c1[3] = c13;
+        }
+        for (; j < jend; ++j)
+        {
+            double s0 = 0.0, s1 = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                s0 += a[r * n + i] * b[r * m + j];
+                s1 += a[r * n + i + 1] * b[r * m + j];
+            }
+            c[i * m + j] = s0;
+            c[(i + 1) * m + j] = s1;
+        }
+    }
+    for (; i < n; ++i)
+    {
+        const size_t jend = sym ? i + 1 : m;
+        for (size_t j = 0; j < jend; ++j)
+        {
+            double s = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                s += a[r * n + i] * b[r * m + j];
+            }
+            c[i * m + j] = s;
+        }
+    }
+    if (sym)
+    {
+        mirror_lower(c, n);
+    }
+}
+
+/* Solve (L L') X = B in place for B n x m (L lower, from chol_inv; inv = 1/diag). Eight (then
+ * four, then one) columns of B at a time stay in registers through the forward and backward
+ * substitutions: the substitutions are latency-bound chains, and independent columns fill them. */
+static void chol_solve_rows(const double *l, const double *inv, size_t n, double *b, size_t m)
+{
+    size_t j = 0;
+    for (; j + 8 <= m; j += 8)
+    {
+        for (size_t pass = 0; pass < 2; ++pass)
+        {
+            for (size_t t = 0; t < n; ++t)
+            {
+                const size_t i = pass ? n - 1 - t : t;
+                double *bi = b + i * m + j;
+                double c0 = bi[0], c1 = bi[1], c2 = bi[2], c3 = bi[3];
+                double c4 = bi[4], c5 = bi[5], c6 = bi[6], c7 = bi[7];
+                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
+                for (size_t r = r0; r < r1; ++r)
+                {
+                    const double lr = pass ? l[r * n + i] : l[i * n + r];
+                    const double *br = b + r * m + j;
+                    c0 -= lr * br[0];
+                    c1 -= lr * br[1];
+                    c2 -= lr * br[2];
+                    c3 -= lr * br[3];
+                    c4 -= lr * br[4];
+                    c5 -= lr * br[5];
+                    c6 -= lr * br[6];
+                    c7 -= lr * br[7];
+                }
+                const double d = inv[i];
+                bi[0] = c0 * d;
+                bi[1] = c1 * d;
+                bi[2] = c2 * d;
+                bi[3] = c3 * d;
+                bi[4] = c4 * d;
+                bi[5] = c5 * d;
+                bi[6] = c6 * d;
+                bi[7] = c7 * d;
+            }
+        }
+    }
+    for (; j + 4 <= m; j += 4)
+    {
+        for (size_t pass = 0; pass < 2; ++pass)
+        {
+            for (size_t t = 0; t < n; ++t)
+            {
+                const size_t i = pass ? n - 1 - t : t;
+                double *bi = b + i * m + j;
+                double c0 = bi[0], c1 = bi[1], c2 = bi[2], c3 = bi[3];
+                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
+                for (size_t r = r0; r < r1; ++r)
+                {
+                    const double lr = pass ? l[r * n + i] : l[i * n + r];
+                    const double *br = b + r * m + j;
+                    c0 -= lr * br[0];
+                    c1 -= lr * br[1];
+                    c2 -= lr * br[2];
+                    c3 -= lr * br[3];
+                }
+                const double d = inv[i];
+                bi[0] = c0 * d;
+                bi[1] = c1 * d;
+                bi[2] = c2 * d;
+                bi[3] = c3 * d;
+            }
+        }
+    }
+    for (; j < m; ++j)
+    {
+        for (size_t pass = 0; pass < 2; ++pass)
+        {
+            for (size_t t = 0; t < n; ++t)
+            {
+                const size_t i = pass ? n - 1 - t : t;
+                double c = b[i * m + j];
+                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
+                for (size_t r = r0; r < r1; ++r)
+                {
+                    c -= (pass ? l[r * n + i] : l[i * n + r]) * b[r * m + j];
+                }
+                b[i * m + j] = c * inv[i];
+            }
+        }
+    }
+}
+
+/* ||a - b|| / ||a|| in the Frobenius norm (0 when both are zero); branch-free, four partial
+ * sums. */
+static double rel_change(const double *a, const double *b, size_t n)
+{
+    double d0 = 0.0, d1 = 0.0, s0 = 0.0, s1 = 0.0;
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2)
+    {
+        const double e0 = a[i] - b[i], e1 = a[i + 1] - b[i + 1];
+        d0 += e0 * e0;
+        d1 += e1 * e1;
+        s0 += a[i] * a[i];
+        s1 += a[i + 1] * a[i + 1];
+    }
+    for (; i < n; ++i)
+    {
+        const double e = a[i] - b[i];
+        d0 += e * e;
+        s0 += a[i] * a[i];
+    }
+    const double d = d0 + d1, s = s0 + s1;
+    return (s > 0.0) ? sqrt(d / s) : (d > 0.0 ? HUGE_VAL : 0.0);
+}
+
+/* Geometric-convergence test of a covariance recursion (see the E-step comment): with the last
+ * two relative changes d (now) and d_prev, the contraction estimate rho = d/d_prev bounds the
+ * remaining drift by d rho/(1 - rho); converged when that is below tol. */
+static int converged(double d, double d_prev, double tol)
+{
+    if (!(tol > 0.0))
+    {
+        return 0;
+    }
+    if (d <= 0.0)
+    {
+        return 1;
+    }
+    if (!(d < 1e-6) || !isfinite(d_prev) || !(d < d_prev))
+    {
+        return 0;
+    }
+    const double rho = d / d_prev;
+    return d * rho <= tol * (1.0 - rho);
+}
+
 /* ---- workspace --------------------------------------------------------------------------------
  */
 
+/* The covariance-side quantities of the E-step do not depend on the data, only on the mode
+ * sequence and the missing-sample pattern. They live in "slots": slot[k] indexes the filtered
+ * covariance Pf_k, the gain K_k = Pp_k C' S_k^-1 (nx x nz), the Cholesky factor of the
+ * innovation covariance S_k and its log-determinant, and for the transition (k-1 -> k) the
+ * smoother gain J_{k-1} = Pf_{k-1} A' Pp_k^-1 and Pfg_{k-1} = Pf_{k-1} - J_{k-1} Pp_k J_{k-1}'
+ * (so that the RTS covariance is Ps_{k-1} = Pfg_{k-1} + J_{k-1} Ps_k J_{k-1}', no Pp needed).
+ * Once the recursion has converged inside a run of constant mode, consecutive steps share one
+ * slot (steady state) until the mode changes or a sample is missing. */
 typedef struct
 {
     size_t n, nx, nz, nm;
     const double *y;
-    unsigned char *obs;        /* y_k fully observed */
-    unsigned char *mode;       /* mode[k]: transition k-1 -> k (mode[0] unused) */
-    double *xp, *Pp, *xf, *Pf; /* xf/Pf become the smoothed moments in the backward pass */
-    double *tmp;               /* scratch: 6 nx*nx + 4 nx + 2 nz*nz + 2 nx*nz */
+    unsigned char *obs;  /* y_k fully observed */
+    unsigned char *mode; /* mode[k]: transition k-1 -> k (mode[0] unused) */
+    double *xp, *xf;     /* predicted and filtered means; xf becomes x_{k|n} in the backward pass */
+    size_t *slot;        /* covariance slot of step k */
+    double *JP;          /* per slot, what the backward pass needs: J' (nn), Pfg (packed lower) */
+    size_t slot_len;     /* nn + nx (nx + 1) / 2 */
+    double *At, *Ct;     /* A_s' per mode and C', refreshed by each forward pass */
+    int c_select; /* C is a 0/1 selection (the default C = [I 0]): state sel[r] is output r */
+    size_t sel[AENL_EM_MAX_X];
+    double *Pf, *K, *Ls, *logdet; /* of the last two slots (index slot & 1): nn, nx*nz, nz*nz, 1 */
+    size_t n_slots;               /* slots used by the last forward pass */
+    double steady_tol;            /* steady-state tolerance (0: full recursion at every step) */
+    double *tmp; /* scratch: [0,5nn) predict, [6nn,9nn) update, 10nn means, 11nn 1/diag */
     /* statistics */
     double *S11, *S10, *S00, *s1, *s0, cnt[AENL_EM_MAX_MODES];
     double *Syx, *Sxx, *Syy, ny;
+    double *bE, *be; /* (n_modes+1)^2 * 2 buckets of nn and nx (see add_state_stats) */
 } ws_t;
 
 static void ws_free(ws_t *w)
@@ -284,9 +556,15 @@ static void ws_free(ws_t *w)
     free(w->obs);
     free(w->mode);
     free(w->xp);
-    free(w->Pp);
     free(w->xf);
+    free(w->slot);
     free(w->Pf);
+    free(w->JP);
+    free(w->At);
+    free(w->Ct);
+    free(w->K);
+    free(w->Ls);
+    free(w->logdet);
     free(w->tmp);
     free(w->S11);
     free(w->S10);
@@ -296,6 +574,8 @@ static void ws_free(ws_t *w)
     free(w->Syx);
     free(w->Sxx);
     free(w->Syy);
+    free(w->bE);
+    free(w->be);
     memset(w, 0, sizeof(*w));
 }
 
@@ -303,27 +583,39 @@ static aenl_status_t ws_alloc(ws_t *w, const double *y, size_t n, size_t nx, siz
                               aenl_err_t *err)
 {
     memset(w, 0, sizeof(*w));
+    const size_t nn = nx * nx;
     w->n = n;
     w->nx = nx;
     w->nz = nz;
     w->nm = nm;
     w->y = y;
+    w->steady_tol = AENL_EM_STEADY_TOL;
     w->obs = calloc(n, 1);
     w->mode = calloc(n, 1);
     w->xp = malloc(n * nx * sizeof(double));
-    w->Pp = malloc(n * nx * nx * sizeof(double));
     w->xf = malloc(n * nx * sizeof(double));
-    w->Pf = malloc(n * nx * nx * sizeof(double));
-    w->tmp = malloc((6 * nx * nx + 4 * nx + 2 * nz * nz + 2 * nx * nz + 16) * sizeof(double));
-    w->S11 = calloc(nm * nx * nx, sizeof(double));
-    w->S10 = calloc(nm * nx * nx, sizeof(double));
-    w->S00 = calloc(nm * nx * nx, sizeof(double));
+    w->slot = malloc(n * sizeof(size_t));
+    w->Pf = malloc(2 * nn * sizeof(double));
+    w->slot_len = nn + nx * (nx + 1) / 2;
+    w->JP = malloc(n * w->slot_len * sizeof(double));
+    w->At = malloc(nm * nn * sizeof(double));
+    w->Ct = malloc(nx * nz * sizeof(double));
+    w->K = malloc(2 * nx * nz * sizeof(double));
+    w->Ls = malloc(2 * nz * nz * sizeof(double));
+    w->logdet = malloc(2 * sizeof(double));
+    w->tmp = malloc((12 * nn + 4 * nx + 4 * nz * nz + 4 * nx * nz + 16) * sizeof(double));
+    w->S11 = calloc(nm * nn, sizeof(double));
+    w->S10 = calloc(nm * nn, sizeof(double));
+    w->S00 = calloc(nm * nn, sizeof(double));
     w->s1 = calloc(nm * nx, sizeof(double));
     w->s0 = calloc(nm * nx, sizeof(double));
     w->Syx = calloc(nz * nx, sizeof(double));
-    w->Sxx = calloc(nx * nx, sizeof(double));
+    w->Sxx = calloc(nn, sizeof(double));
     w->Syy = calloc(nz * nz, sizeof(double));
-    if (!w->obs || !w->mode || !w->xp || !w->Pp || !w->xf || !w->Pf || !w->tmp || !w->S11 ||
+    w->bE = calloc((nm + 1) * (nm + 1) * 2 * nn, sizeof(double));
+    w->be = calloc((nm + 1) * (nm + 1) * 2 * nx, sizeof(double));
+    if (!w->bE || !w->be || !w->obs || !w->mode || !w->xp || !w->xf || !w->slot || !w->Pf ||
+        !w->JP || !w->At || !w->Ct || !w->K || !w->Ls || !w->logdet || !w->tmp || !w->S11 ||
         !w->S10 || !w->S00 || !w->s1 || !w->s0 || !w->Syx || !w->Sxx || !w->Syy)
     {
         ws_free(w);
@@ -353,53 +645,256 @@ static void set_modes(ws_t *w, const double *thr, const double *u, size_t stride
 }
 
 /* ---- E-step -----------------------------------------------------------------------------------
- */
+ * Exactness of the steady-state reuse: inside a run of constant mode with every sample observed,
+ * the filter covariance follows the Riccati map of that mode and converges geometrically. With
+ * d_k = ||Pf_k - Pf_{k-1}|| / ||Pf_k|| (Frobenius) and rho = d_k/d_{k-1}, the distance from Pf_k to
+ * the fixed point is at most about d_k rho/(1 - rho); when that is below steady_tol (default 1e-10,
+ * relative) the run's remaining steps reuse slot k (Pf, gain, smoother gain) instead of
+ * recomputing it, and the backward covariance recursion Ps does the same (same test, run read
+ * backwards). The result equals the full recursion to about steady_tol relative (the equivalence
+ * is checked by a test with steady_tol = 0). */
 
-/* Forward Kalman filter: fills xp, Pp, xf, Pf; returns the log-likelihood in *ll. */
-static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
+/* Measurement update of slot q from the predicted covariance Pp: gain, chol(S), log det S, Pf. */
+static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q, const double *Pp)
 {
     const size_t nx = w->nx, nz = w->nz, nn = nx * nx;
-    double *T = w->tmp, *PCt = T + nn, *S = PCt + nx * nz, *e = S + nz * nz, *u = e + nz;
-    double total = 0.0;
-    for (size_t k = 0; k < w->n; ++k)
+    double *PCt = w->tmp + 6 * nn, *S = PCt + nx * nz, *Kt = S + nz * nz;
+    const size_t r2 = q & 1u;
+    double *K = w->K + r2 * nx * nz, *L = w->Ls + r2 * nz * nz, *Pf = w->Pf + r2 * nn;
+    if (w->c_select)
     {
-        double *xp = w->xp + k * nx, *Pp = w->Pp + k * nn;
-        double *xf = w->xf + k * nx, *Pf = w->Pf + k * nn;
-        if (k == 0)
+        /* C picks states: P C' and C P C' are columns and entries of P */
+        for (size_t i = 0; i < nx; ++i)
         {
-            memcpy(xp, m->x0, nx * sizeof(double));
-            memcpy(Pp, m->P0, nn * sizeof(double));
+            for (size_t r = 0; r < nz; ++r)
+            {
+                PCt[i * nz + r] = Pp[i * nx + w->sel[r]];
+            }
+        }
+        for (size_t r = 0; r < nz; ++r)
+        {
+            for (size_t c = 0; c < nz; ++c)
+            {
+                S[r * nz + c] = PCt[w->sel[r] * nz + c];
+            }
+        }
+    }
+    else
+    {
+        mul_nn(PCt, Pp, w->Ct, nx, nx, nz, 0); /* P C' (nx x nz) */
+        mul_nn(S, m->C, PCt, nz, nx, nz, 1);   /* C P C' */
+    }
+    for (size_t i = 0; i < nz * nz; ++i)
+    {
+        S[i] += m->R[i];
+    }
+    symm(S, nz);
+    memcpy(L, S, nz * nz * sizeof(double));
+    if (chol(L, nz) != 0)
+    {
+        return AENL_E_NOT_PD;
+    }
+    double ld = 0.0;
+    for (size_t i = 0; i < nz; ++i)
+    {
+        ld += 2.0 * log(L[i * nz + i]);
+    }
+    w->logdet[r2] = ld;
+    /* K' = S^-1 C P (nz x nx) */
+    for (size_t r = 0; r < nz; ++r)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            Kt[r * nx + j] = PCt[j * nz + r];
+        }
+    }
+    for (size_t i = 0; i < nz; ++i)
+    {
+        w->tmp[11 * nn + i] = 1.0 / L[i * nz + i];
+    }
+    chol_solve_rows(L, w->tmp + 11 * nn, nz, Kt, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t r = 0; r < nz; ++r)
+        {
+            K[i * nz + r] = Kt[r * nx + i];
+        }
+    }
+    /* Pf = Pp - P C' K' */
+    mul_nn(Pf, PCt, Kt, nx, nz, nx, 1);
+    for (size_t i = 0; i < nn; ++i)
+    {
+        Pf[i] = Pp[i] - Pf[i];
+    }
+    return AENL_OK;
+}
+
+/* Prediction from slot p through mode s into Pp; the smoother quantities of the transition
+ * (J', Pfg) go to slot q. */
+static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, size_t p, size_t q,
+                                 double *Pp)
+{
+    const size_t nx = w->nx, nn = nx * nx;
+    const double *A = m->A + s * nn, *Q = m->Q + s * nn, *Pfp = w->Pf + (p & 1u) * nn;
+    double *T = w->tmp, *L = T + nn;
+    double *Jt = w->JP + q * w->slot_len, *Pfg = Jt + nn, *G = L + nn;
+    mul_nn(T, A, Pfp, nx, nx, nx, 0);             /* T = A Pf_{k-1} */
+    mul_nn(Pp, T, w->At + s * nn, nx, nx, nx, 1); /* A Pf A' */
+    for (size_t i = 0; i < nn; ++i)
+    {
+        Pp[i] += Q[i];
+    }
+    /* J' = Pp^-1 T */
+    memcpy(L, Pp, nn * sizeof(double));
+    double *inv = w->tmp + 11 * nn;
+    if (chol_inv(L, nx, inv) != 0 && chol_jitter(L, Pp, nx, inv) != 0)
+    {
+        return AENL_E_NOT_PD;
+    }
+    double *X = w->tmp + 4 * nn; /* solved in cache, then stored once */
+    memcpy(X, T, nn * sizeof(double));
+    chol_solve_rows(L, inv, nx, X, nx);
+    memcpy(Jt, X, nn * sizeof(double));
+    /* Pfg = Pf - J Pp J' = Pf - J T (J Pp = Pf A' = T'), packed lower triangle */
+    mul_tn(G, X, T, nx, nx, nx, 1);
+    for (size_t i = 0, idx = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j <= i; ++j)
+        {
+            Pfg[idx++] = Pfp[i * nx + j] - G[i * nx + j];
+        }
+    }
+    return AENL_OK;
+}
+
+/* Forward Kalman filter: fills xp, xf and the covariance slots; log-likelihood in *ll. */
+static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
+{
+    const size_t nx = w->nx, nz = w->nz, nn = nx * nx, n = w->n;
+    double *Pp = w->tmp + 3 * nn, *e = w->tmp + 10 * nn, *u = e + nz;
+    double total = 0.0, d_prev = HUGE_VAL;
+    int steady = 0;
+    size_t nslot = 0;
+    aenl_status_t st = AENL_OK;
+    for (size_t s = 0; s < w->nm; ++s)
+    {
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t j = 0; j < nx; ++j)
+            {
+                w->At[s * nn + j * nx + i] = m->A[s * nn + i * nx + j];
+            }
+        }
+    }
+    w->c_select = 1;
+    for (size_t r = 0; r < nz; ++r)
+    {
+        size_t ones = 0, zeros = 0;
+        for (size_t j = 0; j < nx; ++j)
+        {
+            const double c = m->C[r * nx + j];
+            w->Ct[j * nz + r] = c;
+            if (fabs(c - 1.0) <= 0.0) /* exactly 1: a structural 0/1 pattern */
+            {
+                ++ones;
+                w->sel[r] = j;
+            }
+            else if (fabs(c) <= 0.0)
+            {
+                ++zeros;
+            }
+        }
+        w->c_select &= (ones == 1 && zeros + 1 == nx) ? 1 : 0;
+    }
+    for (size_t k = 0; k < n; ++k)
+    {
+        double *xp = w->xp + k * nx, *xf = w->xf + k * nx;
+        const size_t s = w->mode[k];
+        if (k > 0 && steady && s == w->mode[k - 1] && w->obs[k])
+        {
+            w->slot[k] = w->slot[k - 1]; /* steady state: reuse everything */
         }
         else
         {
-            const size_t s = w->mode[k];
-            const double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
-            const double *xo = w->xf + (k - 1) * nx, *Po = w->Pf + (k - 1) * nn;
+            steady = 0;
+            const size_t q = nslot++;
+            w->slot[k] = q;
+            if (k == 0)
+            {
+                memcpy(Pp, m->P0, nn * sizeof(double));
+            }
+            else
+            {
+                st = cov_predict(w, m, s, w->slot[k - 1], q, Pp);
+                if (st != AENL_OK)
+                {
+                    return st;
+                }
+            }
+            if (w->obs[k])
+            {
+                st = cov_update(w, m, q, Pp);
+                if (st != AENL_OK)
+                {
+                    return st;
+                }
+            }
+            else
+            {
+                memcpy(w->Pf + (q & 1u) * nn, Pp, nn * sizeof(double));
+            }
+            if (k > 0 && s == w->mode[k - 1] && w->obs[k] && w->obs[k - 1] && w->steady_tol > 0.0)
+            {
+                const double *Pa = w->Pf + (q & 1u) * nn, *Pb = w->Pf + (w->slot[k - 1] & 1u) * nn;
+                /* the diagonal first: far from convergence the full test is not worth it */
+                double dd = 0.0, sd = 0.0;
+                for (size_t i = 0; i < nn; i += nx + 1)
+                {
+                    dd += (Pa[i] - Pb[i]) * (Pa[i] - Pb[i]);
+                    sd += Pa[i] * Pa[i];
+                }
+                if (dd > 1e-12 * sd)
+                {
+                    d_prev = HUGE_VAL;
+                }
+                else
+                {
+                    const double d = rel_change(Pa, Pb, nn);
+                    steady = converged(d, d_prev, w->steady_tol);
+                    d_prev = d;
+                }
+            }
+            else
+            {
+                d_prev = HUGE_VAL;
+            }
+        }
+        /* means: xp = A xf_{k-1} + b, xf = xp + K (y - C xp) */
+        if (k == 0)
+        {
+            memcpy(xp, m->x0, nx * sizeof(double));
+        }
+        else
+        {
+            const double *A = m->A + s * nn, *b = m->b + s * nx, *xo = w->xf + (k - 1) * nx;
             for (size_t i = 0; i < nx; ++i)
             {
                 double acc = b[i];
+                const double *Ai = A + i * nx;
                 for (size_t j = 0; j < nx; ++j)
                 {
-                    acc += A[i * nx + j] * xo[j];
+                    acc += Ai[j] * xo[j];
                 }
                 xp[i] = acc;
             }
-            mm(T, A, Po, nx, nx, nx);
-            mmt(Pp, T, A, nx, nx, nx);
-            for (size_t i = 0; i < nn; ++i)
-            {
-                Pp[i] += Q[i];
-            }
-            symm(Pp, nx);
         }
         if (!w->obs[k])
         {
             memcpy(xf, xp, nx * sizeof(double));
-            memcpy(Pf, Pp, nn * sizeof(double));
             continue;
         }
-        const double *yk = w->y + k * nz;
-        mmt(PCt, Pp, m->C, nx, nx, nz); /* P C' (nx x nz) */
+        const size_t q = w->slot[k] & 1u;
+        const double *yk = w->y + k * nz, *K = w->K + q * nx * nz, *L = w->Ls + q * nz * nz;
         for (size_t r = 0; r < nz; ++r)
         {
             double acc = yk[r];
@@ -408,69 +903,30 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
                 acc -= m->C[r * nx + j] * xp[j];
             }
             e[r] = acc;
-            for (size_t c = 0; c < nz; ++c)
-            {
-                double sc = m->R[r * nz + c];
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    sc += m->C[r * nx + j] * PCt[j * nz + c];
-                }
-                S[r * nz + c] = sc;
-            }
         }
-        symm(S, nz);
-        if (chol(S, nz) != 0)
-        {
-            return AENL_E_NOT_PD;
-        }
-        memcpy(u, e, nz * sizeof(double));
-        double logdet = 0.0, q = 0.0;
+        double qf = 0.0;
         for (size_t i = 0; i < nz; ++i) /* forward solve for the quadratic form */
         {
-            double acc = u[i];
+            double acc = e[i];
             for (size_t r = 0; r < i; ++r)
             {
-                acc -= S[i * nz + r] * u[r];
+                acc -= L[i * nz + r] * u[r];
             }
-            u[i] = acc / S[i * nz + i];
-            q += u[i] * u[i];
-            logdet += 2.0 * log(S[i * nz + i]);
+            u[i] = acc / L[i * nz + i];
+            qf += u[i] * u[i];
         }
-        total += -0.5 * (q + logdet + (double)nz * LOG_2PI);
-        memcpy(u, e, nz * sizeof(double));
-        chol_solve(S, nz, u, 1); /* S^-1 e */
+        total += -0.5 * (qf + w->logdet[q] + (double)nz * LOG_2PI);
         for (size_t i = 0; i < nx; ++i)
         {
             double acc = xp[i];
             for (size_t r = 0; r < nz; ++r)
             {
-                acc += PCt[i * nz + r] * u[r];
+                acc += K[i * nz + r] * e[r];
             }
             xf[i] = acc;
         }
-        /* K' = S^-1 C P  (nz x nx) in T; Pf = Pp - P C' K' */
-        for (size_t r = 0; r < nz; ++r)
-        {
-            for (size_t j = 0; j < nx; ++j)
-            {
-                T[r * nx + j] = PCt[j * nz + r];
-            }
-        }
-        chol_solve(S, nz, T, nx);
-        for (size_t i = 0; i < nx; ++i)
-        {
-            for (size_t j = 0; j < nx; ++j)
-            {
-                double acc = Pp[i * nx + j];
-                for (size_t r = 0; r < nz; ++r)
-                {
-                    acc -= PCt[i * nz + r] * T[r * nx + j];
-                }
-                Pf[i * nx + j] = acc;
-            }
-        }
-        symm(Pf, nx);
     }
+    w->n_slots = nslot;
     if (!isfinite(total))
     {
         return AENL_E_NUMERIC;
@@ -479,20 +935,47 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
     return AENL_OK;
 }
 
-static void add_outer(double *S, const double *a, const double *b, size_t n)
+/* S += a b' (lower triangle only when sym) */
+static void add_outer(double *S, const double *a, const double *b, size_t n, int sym)
 {
     for (size_t i = 0; i < n; ++i)
     {
-        for (size_t j = 0; j < n; ++j)
+        const double ai = a[i];
+        const size_t jend = sym ? i + 1 : n;
+        double *Si = S + i * n;
+        for (size_t j = 0; j < jend; ++j)
         {
-            S[i * n + j] += a[i] * b[j];
+            Si[j] += ai * b[j];
         }
     }
 }
 
-static void add_obs_stats(ws_t *w, size_t k, const double *xs, const double *Ps)
+/* E_k = Ps_k + x_{k|n} x_{k|n}' enters S11 (as the arrival of transition k-1 -> k, mode[k]),
+ * S00 (as the start of k -> k+1, mode[k+1]) and Sxx (when y_k is observed). It is added once,
+ * to the bucket of its (arrival mode, start mode, observed) triple; the buckets are spread into
+ * the statistics after the pass. Lower triangles only. */
+static size_t bucket_of(const ws_t *w, size_t k)
 {
-    const size_t nx = w->nx, nz = w->nz;
+    const size_t nm = w->nm;
+    const size_t a = (k >= 1) ? w->mode[k] : nm, b = (k + 1 < w->n) ? w->mode[k + 1] : nm;
+    return (a * (nm + 1) + b) * 2 + (w->obs[k] ? 1u : 0u);
+}
+
+static void add_state_stats(ws_t *w, size_t k, const double *xs, const double *Ps)
+{
+    const size_t nx = w->nx, nz = w->nz, bk = bucket_of(w, k);
+    double *E = w->bE + bk * nx * nx, *e = w->be + bk * nx;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        const double xi = xs[i];
+        double *Ei = E + i * nx;
+        const double *Pi = Ps + i * nx;
+        for (size_t j = 0; j <= i; ++j)
+        {
+            Ei[j] += Pi[j] + xi * xs[j];
+        }
+        e[i] += xi;
+    }
     if (!w->obs[k])
     {
         return;
@@ -509,18 +992,65 @@ static void add_obs_stats(ws_t *w, size_t k, const double *xs, const double *Ps)
             w->Syy[r * nz + c] += yk[r] * yk[c];
         }
     }
-    for (size_t i = 0; i < nx * nx; ++i)
-    {
-        w->Sxx[i] += Ps[i];
-    }
-    add_outer(w->Sxx, xs, xs, nx);
     w->ny += 1.0;
 }
 
-/* RTS smoother in place over xf/Pf, accumulating the sufficient statistics. */
-static aenl_status_t rts_backward(ws_t *w, const aenl_em_model_t *m)
+static void spread_buckets(ws_t *w)
 {
-    const size_t nx = w->nx, nn = nx * nx, nm = w->nm, nz = w->nz;
+    const size_t nx = w->nx, nn = nx * nx, nm = w->nm;
+    for (size_t a = 0; a <= nm; ++a)
+    {
+        for (size_t b = 0; b <= nm; ++b)
+        {
+            for (size_t o = 0; o < 2; ++o)
+            {
+                const size_t bk = (a * (nm + 1) + b) * 2 + o;
+                const double *E = w->bE + bk * nn, *e = w->be + bk * nx;
+                for (size_t i = 0; i < nn; ++i)
+                {
+                    if (a < nm)
+                    {
+                        w->S11[a * nn + i] += E[i];
+                    }
+                    if (b < nm)
+                    {
+                        w->S00[b * nn + i] += E[i];
+                    }
+                    if (o)
+                    {
+                        w->Sxx[i] += E[i];
+                    }
+                }
+                for (size_t i = 0; i < nx; ++i)
+                {
+                    if (a < nm)
+                    {
+                        w->s1[a * nx + i] += e[i];
+                    }
+                    if (b < nm)
+                    {
+                        w->s0[b * nx + i] += e[i];
+                    }
+                }
+            }
+        }
+    }
+    for (size_t s = 0; s < nm; ++s)
+    {
+        mirror_lower(w->S11 + s * nn, nx);
+        mirror_lower(w->S00 + s * nn, nx);
+    }
+    mirror_lower(w->Sxx, nx);
+}
+
+/* RTS smoother: xf becomes x_{k|n}; accumulates the sufficient statistics. The covariance
+ * recursion Ps_k = Pfg_k + J_k Ps_{k+1} J_k' and the lag-one covariance Pc_k = Ps_{k+1} J_k'
+ * (Cov(x_{k+1}, x_k | y)) are data-independent too: when two consecutive transitions share a
+ * slot and Ps has converged (same test as the forward pass), they are reused. */
+static aenl_status_t rts_backward(ws_t *w)
+{
+    const size_t nx = w->nx, nn = nx * nx, nm = w->nm, nz = w->nz, n = w->n;
+    const size_t nb = (nm + 1) * (nm + 1) * 2;
     memset(w->S11, 0, nm * nn * sizeof(double));
     memset(w->S10, 0, nm * nn * sizeof(double));
     memset(w->S00, 0, nm * nn * sizeof(double));
@@ -530,77 +1060,85 @@ static aenl_status_t rts_backward(ws_t *w, const aenl_em_model_t *m)
     memset(w->Syx, 0, nz * nx * sizeof(double));
     memset(w->Sxx, 0, nn * sizeof(double));
     memset(w->Syy, 0, nz * nz * sizeof(double));
+    memset(w->bE, 0, nb * nn * sizeof(double));
+    memset(w->be, 0, nb * nx * sizeof(double));
     w->ny = 0.0;
-    double *L = w->tmp, *M = L + nn, *J = M + nn, *D = J + nn, *T = D + nn, *Pc = T + nn;
-    double *dx = Pc + nn;
-    const size_t n = w->n;
-    add_obs_stats(w, n - 1, w->xf + (n - 1) * nx, w->Pf + (n - 1) * nn);
+    double *Ps1 = w->tmp, *Ps = Ps1 + nn, *Pc = Ps + nn, *dx = w->tmp + 10 * nn;
+    memcpy(Ps1, w->Pf + (w->slot[n - 1] & 1u) * nn, nn * sizeof(double));
+    add_state_stats(w, n - 1, w->xf + (n - 1) * nx, Ps1);
+    int steady = 0;
+    double d_prev = HUGE_VAL;
     for (size_t kk = n - 1; kk > 0; --kk)
     {
         const size_t k = kk - 1; /* smooth k from k+1 */
-        const size_t s = w->mode[k + 1];
-        const double *A = m->A + s * nn;
-        double *xf = w->xf + k * nx, *Pf = w->Pf + k * nn;
-        const double *xs1 = w->xf + (k + 1) * nx, *Ps1 = w->Pf + (k + 1) * nn;
-        const double *xp1 = w->xp + (k + 1) * nx, *Pp1 = w->Pp + (k + 1) * nn;
-        /* J = Pf A' Pp1^-1  <=>  Pp1 J' = A Pf */
-        if (chol_jitter(L, Pp1, nx) != 0)
+        const size_t s = w->mode[k + 1], q = w->slot[k + 1];
+        const double *Jt = w->JP + q * w->slot_len;
+        const int same = (k + 2 < n) && w->slot[k + 2] == q && w->mode[k + 2] == s;
+        const double *Psk = Ps1; /* Ps_k: Ps_{k+1} in the steady state */
+        if (!(steady && same))
         {
-            return AENL_E_NOT_PD;
-        }
-        mm(M, A, Pf, nx, nx, nx);
-        chol_solve(L, nx, M, nx); /* M = J' */
-        for (size_t i = 0; i < nx; ++i)
-        {
-            for (size_t j = 0; j < nx; ++j)
+            steady = 0;
+            Psk = Ps;
+            mul_nn(Pc, Ps1, Jt, nx, nx, nx, 0); /* Pc = Ps_{k+1} J' */
+            mul_tn(Ps, Jt, Pc, nx, nx, nx, 1);  /* J Ps_{k+1} J' */
+            const double *Pfg = Jt + nn;
+            for (size_t i = 0, idx = 0; i < nx; ++i)
             {
-                J[i * nx + j] = M[j * nx + i];
+                for (size_t j = 0; j < i; ++j)
+                {
+                    Ps[i * nx + j] += Pfg[idx];
+                    Ps[j * nx + i] += Pfg[idx++];
+                }
+                Ps[i * nx + i] += Pfg[idx++];
+            }
+            if (same)
+            {
+                const double d = rel_change(Ps, Ps1, nn);
+                steady = converged(d, d_prev, w->steady_tol);
+                d_prev = d;
+            }
+            else
+            {
+                d_prev = HUGE_VAL;
             }
         }
+        /* means: x_{k|n} = x_{k|k} + J (x_{k+1|n} - x_{k+1|k}) */
+        double *xf = w->xf + k * nx;
+        const double *xs1 = w->xf + (k + 1) * nx, *xp1 = w->xp + (k + 1) * nx;
         for (size_t i = 0; i < nx; ++i)
         {
             dx[i] = xs1[i] - xp1[i];
         }
-        for (size_t i = 0; i < nn; ++i)
+        for (size_t r = 0; r < nx; ++r)
         {
-            D[i] = Ps1[i] - Pp1[i];
+            const double dr = dx[r];
+            const double *Jr = Jt + r * nx;
+            for (size_t i = 0; i < nx; ++i)
+            {
+                xf[i] += Jr[i] * dr;
+            }
         }
+        double *S10 = w->S10 + s * nn;
         for (size_t i = 0; i < nx; ++i)
         {
-            double acc = 0.0;
+            const double xi = xs1[i];
+            double *Si = S10 + i * nx;
+            const double *Pi = Pc + i * nx;
             for (size_t j = 0; j < nx; ++j)
             {
-                acc += J[i * nx + j] * dx[j];
+                Si[j] += Pi[j] + xi * xf[j];
             }
-            xf[i] += acc;
-        }
-        mm(T, J, D, nx, nx, nx);
-        mmt(D, T, J, nx, nx, nx);
-        for (size_t i = 0; i < nn; ++i)
-        {
-            Pf[i] += D[i];
-        }
-        symm(Pf, nx);
-        /* lag-one covariance Cov(x_{k+1}, x_k) = Ps1 J' */
-        mmt(Pc, Ps1, J, nx, nx, nx);
-        double *S11 = w->S11 + s * nn, *S10 = w->S10 + s * nn, *S00 = w->S00 + s * nn;
-        for (size_t i = 0; i < nn; ++i)
-        {
-            S11[i] += Ps1[i];
-            S10[i] += Pc[i];
-            S00[i] += Pf[i];
-        }
-        add_outer(S11, xs1, xs1, nx);
-        add_outer(S10, xs1, xf, nx);
-        add_outer(S00, xf, xf, nx);
-        for (size_t i = 0; i < nx; ++i)
-        {
-            w->s1[s * nx + i] += xs1[i];
-            w->s0[s * nx + i] += xf[i];
         }
         w->cnt[s] += 1.0;
-        add_obs_stats(w, k, xf, Pf);
+        add_state_stats(w, k, xf, Psk);
+        if (Psk == Ps)
+        {
+            double *t = Ps1; /* Ps becomes Ps_{k+1} of the next step */
+            Ps1 = Ps;
+            Ps = t;
+        }
     }
+    spread_buckets(w);
     return AENL_OK;
 }
 
@@ -609,7 +1147,7 @@ static aenl_status_t e_step(ws_t *w, const aenl_em_model_t *m, double *ll, int s
     aenl_status_t st = kf_forward(w, m, ll);
     if (st == AENL_OK && smooth)
     {
-        st = rts_backward(w, m);
+        st = rts_backward(w);
     }
     return st;
 }
@@ -902,7 +1440,7 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
                 continue;
             }
             zeta[nx] = 1.0;
-            add_outer(G, zeta, z, na);
+            add_outer(G, zeta, z, na, 0);
             for (size_t i = 0; i < na; ++i)
             {
                 for (size_t r = 0; r < nz; ++r)
@@ -995,7 +1533,7 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             {
                 continue;
             }
-            add_outer(res, e, e, nz);
+            add_outer(res, e, e, nz, 0);
         }
         for (size_t r = 0; r < nz; ++r)
         {
@@ -1277,6 +1815,7 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
     memcpy(m->thresholds, opts->thresholds, opts->n_thresholds * sizeof(double));
     ws_t w;
     st = ws_alloc(&w, y, n, nx, n_z, nm, err);
+    w.steady_tol = opts->steady_tol;
     double *u = (st == AENL_OK) ? malloc(n * sizeof(double)) : NULL;
     res->loglik = (st == AENL_OK) ? calloc(opts->max_iter + 1, sizeof(double)) : NULL;
     if (st == AENL_OK && (u == NULL || res->loglik == NULL))
@@ -1325,6 +1864,7 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
             res->mode_count[w.mode[k]]++;
         }
         st = em_run(&w, m, opts, opts->max_iter, res->loglik, &res->n_iter, &res->loglik_final);
+        res->n_cov_steps = w.n_slots;
         if (st != AENL_OK)
         {
             aenl_err_set(err, "EM failed (%s) after %zu iterations", aenl_status_str(st),
@@ -1355,6 +1895,7 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
     {
         return st;
     }
+    w.steady_tol = opts->steady_tol;
     set_modes(&w, m->thresholds, y + m->switch_channel, m->n_z);
     double final_ll = 0.0;
     st = em_run(&w, m, opts, opts->max_iter, loglik, n_iter, &final_ll);

@@ -18,6 +18,13 @@
  * lag-one covariances) and an exact M-step (closed form per mode, LAPACKE dposv), so the
  * log-likelihood never decreases (Shumway & Stoffer 1982, with an affine term per mode).
  *
+ * Speed: the covariance side of the E-step (filter covariance, gain, smoother gain, smoothed and
+ * lag-one covariances) depends only on the mode sequence and the missing-sample pattern, not on
+ * the data values. It is computed with register-blocked small-matrix kernels, symmetric products
+ * halved, one Cholesky factorisation per predicted covariance and no per-step allocation; inside
+ * a run of constant mode it is frozen once it has converged (opts.steady_tol), which leaves only
+ * the O(n_x^2) mean updates per step. The result equals the full recursion to about steady_tol.
+ *
  * Initialisation by least squares: the state is the delay embedding x_k = (y_k, y_{k-1}, ...)
  * truncated to n_x entries (so C = [I 0] and the switching state is the switching channel);
  * per mode, y_{k+1} is regressed on (x_k, 1); the other rows shift. C stays [I 0] unless freed.
@@ -42,6 +49,9 @@
 
 #define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
 #define AENL_EM_MAX_X     32 /**< states */
+
+/** Default opts.steady_tol: relative tolerance of the steady-state covariance reuse. */
+#define AENL_EM_STEADY_TOL 1e-10
 
 /** Freeze flags (opts.freeze): these parameters keep their initial values. */
 #define AENL_EM_FREEZE_A  0x01u
@@ -83,6 +93,10 @@ typedef struct aenl_em_opts
     double refine_step;  /**< first search step (0: 10 % of the channel's std) */
     size_t refine_iter;  /**< EM iterations per candidate (default 5) */
     int no_iv;           /**< 1: plain least-squares start (default 0: instrumental variables) */
+    double steady_tol;   /**< steady-state covariance reuse: inside a run of constant mode, once
+                              the filter (and smoother) covariance has converged to this relative
+                              tolerance, the remaining steps reuse it instead of recomputing it
+                              (default AENL_EM_STEADY_TOL; 0: the full recursion at every step) */
 } aenl_em_opts_t;
 
 /** Result of aenl_em_fit. */
@@ -94,7 +108,10 @@ typedef struct aenl_em_result
                               that iteration's E-step (non-decreasing) */
     double loglik_final; /**< of the returned model */
     size_t mode_count[AENL_EM_MAX_MODES]; /**< transitions assigned to each mode */
-    size_t n_missing; /**< samples with a NaN component (treated as fully missing) */
+    size_t n_missing;   /**< samples with a NaN component (treated as fully missing) */
+    size_t n_cov_steps; /**< filter steps whose covariance the last E-step computed (the other
+                             n - n_cov_steps reused a converged steady state; n with
+                             steady_tol = 0) */
 } aenl_em_result_t;
 
 /** One eigenvalue of a mode and its continuous-time reading. */
