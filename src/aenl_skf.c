@@ -396,6 +396,11 @@ static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint16_
     {
         st = check_result(f->x[nxt][0], &f->P[nxt][0][0][0], f->n_x);
     }
+    /* A finite estimate can still come with an innovation whose square overflows. */
+    if (st == AENL_OK && (!aenl_is_finite(nis) || !aenl_is_finite(ll)))
+    {
+        st = AENL_E_NUMERIC;
+    }
     if (st != AENL_OK)
     {
         return st;
@@ -455,6 +460,31 @@ static void imm_mix(aenl_skf_t *f, uint16_t j)
     }
 }
 
+/* The moment-matched mixture of the estimates in half h with probabilities prob stays finite:
+ * every spread (x_j - xbar)^2 + P_j of a mode with prob_j > 0 is finite (then so is every term
+ * of aenl_skf_estimate's covariance, a convex combination of them). */
+static int imm_mixture_finite(const aenl_skf_t *f, uint16_t h, const aenl_real_t *prob)
+{
+    const uint16_t nx = f->n_x, nm = f->n_modes;
+    for (uint16_t r = 0; r < nx; ++r)
+    {
+        aenl_real_t xbar = AENL_R(0.0);
+        for (uint16_t j = 0; j < nm; ++j)
+        {
+            xbar += prob[j] * f->x[h][j][r];
+        }
+        for (uint16_t j = 0; j < nm; ++j)
+        {
+            const aenl_real_t d = f->x[h][j][r] - xbar;
+            if (prob[j] > AENL_R(0.0) && !aenl_is_finite(d * d + f->P[h][j][r][r]))
+            {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
 static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, aenl_skf_out_t *out)
 {
     const aenl_skf_model_t *m = f->model;
@@ -469,7 +499,7 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
         }
         w->cbar[j] = c;
     }
-    aenl_real_t nis_j[AENL_SKF_MAX_MODES];
+    aenl_real_t nis_j[AENL_SKF_MAX_MODES] = {AENL_R(0.0)};
     for (uint16_t j = 0; j < nm; ++j)
     {
         imm_mix(f, j);
@@ -507,6 +537,10 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     {
         w->cbar[j] /= sum;
         best = (w->cbar[j] > w->cbar[best]) ? j : best;
+    }
+    if (!aenl_is_finite(nis_j[best]) || !imm_mixture_finite(f, nxt, w->cbar))
+    {
+        return AENL_E_NUMERIC;
     }
     const aenl_real_t *x = f->x[f->cur][0];
     const int16_t dir = next_direction(f, x);
@@ -617,6 +651,10 @@ aenl_status_t aenl_skf_estimate(const aenl_skf_t *f, aenl_real_t *x_out, aenl_re
                 for (uint16_t j = 0; j < f->n_modes; ++j)
                 {
                     const aenl_real_t *xj = f->x[cur][j];
+                    if (!(f->mode_prob[j] > AENL_R(0.0)))
+                    {
+                        continue; /* 0 * an overflowing spread would be NaN */
+                    }
                     s += f->mode_prob[j] *
                          (f->P[cur][j][r][c] + (xj[r] - x_out[r]) * (xj[c] - x_out[c]));
                 }

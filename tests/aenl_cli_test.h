@@ -53,7 +53,7 @@ static inline size_t cli_slurp(const char *path, char *buf, size_t cap)
         }
         total += got;
     }
-    fclose(f);
+    (void)fclose(f);
     return total;
 }
 
@@ -61,8 +61,8 @@ static inline size_t cli_slurp(const char *path, char *buf, size_t cap)
 static inline void cli_run(cli_result_t *r, const char *const *args)
 {
     char out_path[512], err_path[512];
-    snprintf(out_path, sizeof(out_path), "%s/cli_stdout.txt", AENL_TEST_TMP_DIR);
-    snprintf(err_path, sizeof(err_path), "%s/cli_stderr.txt", AENL_TEST_TMP_DIR);
+    (void)snprintf(out_path, sizeof(out_path), "%s/cli_stdout.txt", AENL_TEST_TMP_DIR);
+    (void)snprintf(err_path, sizeof(err_path), "%s/cli_stderr.txt", AENL_TEST_TMP_DIR);
     const char *argv[64];
     size_t n = 0;
     argv[n++] = AENL_CLI_PATH;
@@ -72,7 +72,7 @@ static inline void cli_run(cli_result_t *r, const char *const *args)
         n++;
     }
     argv[n] = NULL;
-    fflush(stdout);
+    (void)fflush(stdout);
     const pid_t pid = fork();
     if (pid == 0)
     {
@@ -109,12 +109,12 @@ static inline const char *cli_file(const char *name, const char *text)
     static char paths[8][512];
     static int slot = 0;
     char *p = paths[slot++ % 8];
-    snprintf(p, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
+    (void)snprintf(p, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
     FILE *f = fopen(p, "wb");
     if (f != NULL)
     {
         fputs(text, f);
-        fclose(f);
+        (void)fclose(f);
     }
     return p;
 }
@@ -129,8 +129,8 @@ static inline int cli_exists(const char *path)
 static inline int cli_no_file_like(const char *prefix)
 {
     char cmd[1024];
-    snprintf(cmd, sizeof(cmd), "ls -a '%s' | grep -q '^%s'", AENL_TEST_TMP_DIR, prefix);
-    return system(cmd) != 0;
+    (void)snprintf(cmd, sizeof(cmd), "ls -a '%s' | grep -q '^%s'", AENL_TEST_TMP_DIR, prefix);
+    return system(cmd) != 0; /* NOLINT(cert-env33-c): test helper, fixed command */
 }
 
 #endif /* AENL_CLI_TEST_H */

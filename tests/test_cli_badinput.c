@@ -36,7 +36,7 @@ static const char *put_file(const char *name, const char *text)
     static char paths[64][512];
     static int slot = 0;
     char *p = paths[slot++ % 64];
-    snprintf(p, 512, "%s", cli_file(name, text));
+    (void)snprintf(p, 512, "%s", cli_file(name, text));
     return p;
 }
 
@@ -46,7 +46,7 @@ static const char *write_binary(const char *name)
     static char paths[4][512];
     static int slot = 0;
     char *path = paths[slot++ % 4];
-    snprintf(path, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
+    (void)snprintf(path, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
     FILE *f = fopen(path, "wb");
     if (f != NULL)
     {
@@ -57,7 +57,7 @@ static const char *write_binary(const char *name)
                 fputc(b, f);
             }
         }
-        fclose(f);
+        (void)fclose(f);
     }
     return path;
 }
@@ -123,9 +123,9 @@ static int no_output_left(void)
 static void remove_outputs(void)
 {
     char cmd[1024];
-    snprintf(cmd, sizeof(cmd), "rm -f '%s'/bad_out* '%s'/.bad_out*", AENL_TEST_TMP_DIR,
-             AENL_TEST_TMP_DIR);
-    if (system(cmd) != 0)
+    (void)snprintf(cmd, sizeof(cmd), "rm -f '%s'/bad_out* '%s'/.bad_out*", AENL_TEST_TMP_DIR,
+                   AENL_TEST_TMP_DIR);
+    if (system(cmd) != 0) /* NOLINT(cert-env33-c): test helper, fixed command */
     {
         TEST_FAIL_MESSAGE("cannot clean the test folder");
     }
@@ -138,13 +138,13 @@ static void run_case(const bad_case_t *c)
     char prefix[64];
     remove_outputs();
     cli_run(&r, c->args);
-    snprintf(prefix, sizeof(prefix), "aenl %s: ", c->args[0]);
+    (void)snprintf(prefix, sizeof(prefix), "aenl %s: ", c->args[0]);
     const int left = !no_output_left();
     const int ok = r.status == 2 && r.err_lines == 1 && r.n_out == 0u && !left &&
                    strncmp(r.err, prefix, strlen(prefix)) == 0 && strstr(r.err, c->needle) != NULL;
-    snprintf(msg, sizeof(msg), "%s %s: exit %d, %d stderr line(s), %zu stdout bytes%s; stderr: %s",
-             c->args[0], c->what, r.status, r.err_lines, r.n_out, left ? ", OUTPUT LEFT" : "",
-             r.err);
+    (void)snprintf(msg, sizeof(msg),
+                   "%s %s: exit %d, %d stderr line(s), %zu stdout bytes%s; stderr: %s", c->args[0],
+                   c->what, r.status, r.err_lines, r.n_out, left ? ", OUTPUT LEFT" : "", r.err);
     TEST_ASSERT_TRUE_MESSAGE(r.status >= 0, msg); /* never a crash, KNOWN or not */
     if (c->known != NULL)
     {
@@ -187,7 +187,7 @@ static csv_set_t make_csv_set(void)
     const size_t n = f ? fread(cut, 1, sizeof(cut) - 1u, f) : 0u;
     if (f)
     {
-        fclose(f);
+        (void)fclose(f);
     }
     size_t k = n / 2u;
     while (k > 0 && cut[k] != ',')

@@ -13,6 +13,8 @@
 #include "unity.h"
 
 #define EXAMPLES AENL_SOURCE_DIR "/tools/examples/"
+/* EXAMPLES "name.ini" in argument lists is a path, not a missing comma. */
+/* NOLINTBEGIN(bugprone-suspicious-missing-comma) */
 
 void setUp(void)
 {
@@ -34,7 +36,7 @@ static void test_cli_simulate_writes_the_csv_contract(void)
     cli_run(&r, args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_size_t(0, r.n_out);
-    snprintf(path, sizeof(path), "%s/sim_ok.csv", AENL_TEST_TMP_DIR);
+    (void)snprintf(path, sizeof(path), "%s/sim_ok.csv", AENL_TEST_TMP_DIR);
     cli_slurp(path, text, sizeof(text));
     TEST_ASSERT_EQUAL_INT(0, strncmp(text, "t,alpha,xi\n0,0.017453292519943", 30));
     for (p = text; *p; ++p)
@@ -62,8 +64,8 @@ static void test_cli_simulate_same_seed_same_file(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     cli_run(&r, a2);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
-    snprintf(pa, sizeof(pa), "%s/seed_a.csv", AENL_TEST_TMP_DIR);
-    snprintf(pb, sizeof(pb), "%s/seed_b.csv", AENL_TEST_TMP_DIR);
+    (void)snprintf(pa, sizeof(pa), "%s/seed_a.csv", AENL_TEST_TMP_DIR);
+    (void)snprintf(pb, sizeof(pb), "%s/seed_b.csv", AENL_TEST_TMP_DIR);
     na = cli_slurp(pa, x, sizeof(x));
     nb = cli_slurp(pb, y, sizeof(y));
     TEST_ASSERT_TRUE(na > 1000);
@@ -156,3 +158,4 @@ int main(void)
     RUN_TEST(test_cli_flutter_sweep_and_errors);
     return UNITY_END();
 }
+/* NOLINTEND(bugprone-suspicious-missing-comma) */

@@ -9,7 +9,7 @@
 
 #include "aenl_test.h"
 
-#include "aenl_linalg.c"
+#include "aenl_linalg.c" /* NOLINT(bugprone-suspicious-include): white-box test */
 
 #define LD 7 /* a stride larger than the active sizes, as in the filter */
 
@@ -67,7 +67,7 @@ static void test_linalg_products_match_brute_force(void)
         }
         TEST_ASSERT_REAL_WITHIN(0.0, 99.0, c[i * LD + m]);
     }
-    TEST_ASSERT_REAL_WITHIN(0.0, 99.0, c[n * LD]);
+    TEST_ASSERT_REAL_WITHIN(0.0, 99.0, c[(size_t)n * LD]);
     aenl_la_mul_nt(c, LD, a, LD, b, LD, (uint16_t)n, (uint16_t)k, (uint16_t)m);
     for (int i = 0; i < n; ++i)
     {

@@ -200,6 +200,7 @@ static void test_linear_time_response_matches_expm(void)
     {
         const double mu = 100.0, ah = -0.5, xa = 0.25, ra2 = 0.25;
         const double c0 = 1.0 + 1.0 / mu, c1 = xa - ah / mu;
+        /* cppcheck-suppress duplicateExpression ; xa and ra2 happen to be equal */
         const double d0 = xa / ra2 - ah / (mu * ra2),
                      d1 = 1.0 + (1.0 + 8.0 * ah * ah) / (8.0 * mu * ra2);
         const double f = (2.0 / mu) * (0.0 + (0.5 - ah) * 1.0 * DEG);

@@ -609,6 +609,59 @@ static void test_skf_infinite_input_and_overflow_keep_estimate(void)
     TEST_ASSERT_EQUAL_MEMORY(P_before, P, sizeof(P));
 }
 
+/* Found by fuzz_skf: a finite estimate whose innovation square overflows gave AENL_OK with
+ * NIS = inf and log_lik = -inf, which then poisoned nis_sum and aenl_skf_mean_nis for good. */
+static void test_skf_overflowing_nis_is_rejected(void)
+{
+    aenl_real_t x_before[NX], P_before[NX * NX], x[NX], P[NX * NX];
+    model_fill(&g_m, 1);
+    memset(g_m.A, 0, sizeof(g_m.A));
+    memset(g_m.Q, 0, sizeof(g_m.Q));
+    for (int i = 0; i < NX; ++i)
+    {
+        g_m.A[0][i][i] = AENL_R(1.0);
+    }
+    g_m.x0[0] = AENL_REAL_MAX / AENL_R(4.0); /* e = z - x = -REAL_MAX/2: finite, e^2 is not */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_init(&g_f, &g_m));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_estimate(&g_f, x_before, P_before));
+    const aenl_real_t z[NZ] = {-AENL_REAL_MAX / AENL_R(4.0), (aenl_real_t)NAN};
+    aenl_skf_out_t out;
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_skf_step(&g_f, z, &out));
+    TEST_ASSERT_EQUAL_UINT32(1u, g_f.n_numeric);
+    TEST_ASSERT_EQUAL_UINT32(0u, g_f.n_steps);
+    TEST_ASSERT_EQUAL_UINT32(0u, g_f.n_nis);
+    TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_skf_mean_nis(&g_f, x));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_estimate(&g_f, x, P));
+    TEST_ASSERT_EQUAL_MEMORY(x_before, x, sizeof(x));
+    TEST_ASSERT_EQUAL_MEMORY(P_before, P, sizeof(P));
+}
+
+/* Found by fuzz_skf: IMM with a mode of probability 0 whose estimate is far away (finite, but
+ * its squared spread overflows) gave a NaN covariance from aenl_skf_estimate (0 * inf). */
+static void test_skf_imm_estimate_ignores_impossible_far_mode(void)
+{
+    memset(&g_m, 0, sizeof(g_m));
+    g_m.n_x = 1u;
+    g_m.n_z = 1u;
+    g_m.n_modes = 2u;
+    g_m.imm = 1u;
+    g_m.A[0][0][0] = g_m.A[1][0][0] = AENL_R(1.0);
+    g_m.b[1][0] = AENL_REAL_MAX / AENL_R(4.0); /* mode 1 jumps far away */
+    g_m.C[0][0] = g_m.R[0][0] = g_m.P0[0][0] = AENL_R(1.0);
+    g_m.trans[0][0] = g_m.trans[1][1] = AENL_R(1.0);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_init(&g_f, &g_m));
+    const aenl_real_t z[1] = {AENL_R(0.0)};
+    aenl_skf_out_t out;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_step(&g_f, z, &out));
+    TEST_ASSERT_EQUAL_UINT16(0u, out.mode);
+    aenl_real_t prob[2], x[1], P[1];
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_mode_prob(&g_f, prob));
+    TEST_ASSERT_FALSE(prob[1] > AENL_R(0.0)); /* exactly 0: its likelihood underflowed */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_estimate(&g_f, x, P));
+    TEST_ASSERT_TRUE(aenl_is_finite(x[0]) && aenl_is_finite(P[0]));
+    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(0.5), P[0]); /* mode 0 alone: P = 1/2 */
+}
+
 static void test_skf_threshold_band_depends_on_direction(void)
 {
     memset(&g_m, 0, sizeof(g_m));
@@ -756,6 +809,8 @@ int main(void)
     RUN_TEST(test_skf_nan_measurement_predicts_only);
     RUN_TEST(test_skf_partial_nan_uses_the_other_component);
     RUN_TEST(test_skf_infinite_input_and_overflow_keep_estimate);
+    RUN_TEST(test_skf_overflowing_nis_is_rejected);
+    RUN_TEST(test_skf_imm_estimate_ignores_impossible_far_mode);
     RUN_TEST(test_skf_threshold_band_depends_on_direction);
     RUN_TEST(test_skf_imm_one_mode_equals_threshold_filter_and_picks_true_mode);
     RUN_TEST(test_skf_reset_returns_to_x0);

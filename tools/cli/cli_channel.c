@@ -34,10 +34,11 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
             char names[512] = "";
             for (size_t i = 0; i < t->n_cols; ++i)
             {
-                if (strlen(names) + strlen(t->names[i]) + 3 < sizeof(names))
+                const size_t len = strlen(names);
+                if (len + strlen(t->names[i]) + 3 < sizeof(names))
                 {
-                    strcat(names, i ? ", " : "");
-                    strcat(names, t->names[i]);
+                    (void)snprintf(names + len, sizeof(names) - len, "%s%s", i ? ", " : "",
+                                   t->names[i]);
                 }
             }
             aenl_cli_error(cmd, "%s: no channel '%s' (columns: %s)", path, channel, names);

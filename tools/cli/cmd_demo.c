@@ -22,11 +22,12 @@ static const char *const k_cmd = "demo";
 static int make_dir(const char *path)
 {
     char buf[1024];
-    if (strlen(path) >= sizeof(buf))
+    const size_t len = strlen(path);
+    if (len >= sizeof(buf))
     {
         return -1;
     }
-    strcpy(buf, path);
+    memcpy(buf, path, len + 1u);
     for (char *p = buf + 1; *p; ++p)
     {
         if (*p == '/')
@@ -68,10 +69,14 @@ static int curves_of_array(const double *x, size_t n, const char *source, const 
         return -1;
     }
     char csv[1200], png[1200], title[600];
-    snprintf(csv, sizeof(csv), "%s/%s_moments.csv", outdir, stem);
-    snprintf(png, sizeof(png), "%s/%s_moments.png", outdir, stem);
-    snprintf(title, sizeof(title), "%s: conditional mean and variance (h = %.3g by %s)", label,
-             c.bandwidth, c.bw_method < 0 ? "hand" : aenl_bw_method_str(c.bw_method));
+    if (snprintf(csv, sizeof(csv), "%s/%s_moments.csv", outdir, stem) >= (int)sizeof(csv) ||
+        snprintf(png, sizeof(png), "%s/%s_moments.png", outdir, stem) >= (int)sizeof(png))
+    {
+        aenl_cli_error(k_cmd, "%s: output path too long", outdir);
+        return -1;
+    }
+    (void)snprintf(title, sizeof(title), "%s: conditional mean and variance (h = %.3g by %s)",
+                   label, c.bandwidth, c.bw_method < 0 ? "hand" : aenl_bw_method_str(c.bw_method));
     st = aenl_curves_write_csv(&c, AENL_DIR_ALL, source, channel, csv, &err);
     if (st == AENL_OK && aenl_plot_available())
     {
@@ -122,9 +127,14 @@ static int paper_case(const char *ini_name, const char *channel, const char *out
                       const char *stem, const char *label)
 {
     char ini[1200], csv[1200], png[1200];
-    snprintf(ini, sizeof(ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, ini_name);
-    snprintf(csv, sizeof(csv), "%s/%s.csv", outdir, stem);
-    snprintf(png, sizeof(png), "%s/%s_timeseries.png", outdir, stem);
+    if (snprintf(ini, sizeof(ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, ini_name) >=
+            (int)sizeof(ini) ||
+        snprintf(csv, sizeof(csv), "%s/%s.csv", outdir, stem) >= (int)sizeof(csv) ||
+        snprintf(png, sizeof(png), "%s/%s_timeseries.png", outdir, stem) >= (int)sizeof(png))
+    {
+        aenl_cli_error(k_cmd, "%s: output path too long", outdir);
+        return -1;
+    }
     printf("  %s  (%s)\n", label, ini);
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -182,7 +192,7 @@ int aenl_cmd_demo(int argc, char **argv)
                    "records (default: ../shared/data beside the source tree).\n");
             return AENL_EXIT_OK;
         }
-        else if (strcmp(argv[i], "--out") == 0)
+        if (strcmp(argv[i], "--out") == 0)
         {
             if ((outdir = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
@@ -228,11 +238,11 @@ int aenl_cmd_demo(int argc, char **argv)
     printf("Measured: Bristol pitch-heave flutter rig, LCO at 25.0 m/s (polynomial pitch "
            "stiffness)\n");
     char rec[1200];
-    snprintf(rec, sizeof(rec),
-             "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
-             "17092018_CBC_V250_TowardsHB.csv",
-             datadir);
-    if (file_exists(rec))
+    const int rec_len = snprintf(rec, sizeof(rec),
+                                 "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
+                                 "17092018_CBC_V250_TowardsHB.csv",
+                                 datadir);
+    if (rec_len > 0 && rec_len < (int)sizeof(rec) && file_exists(rec))
     {
         printf("  %s\n", rec);
         failures += curves_of_file(rec, "pitch_encoder_rad", outdir, "bristol_V250_pitch",

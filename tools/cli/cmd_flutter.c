@@ -48,7 +48,6 @@ int aenl_cmd_flutter(int argc, char **argv)
     aenl_sim_flutter_t fo, fi;
     double outer[AENL_SIM_N_DOF], inner[AENL_SIM_N_DOF], vmin = 0.0, vmax = 0.0;
     aenl_err_t err;
-    aenl_status_t st;
     sweep_row_t *rows = NULL;
     const char *unit, *funit;
     aenl_err_clear(&err);
@@ -107,8 +106,14 @@ int aenl_cmd_flutter(int argc, char **argv)
     if (range != NULL)
     {
         char buf[128];
-        char *colon;
-        if (strlen(range) >= sizeof(buf) || (colon = strchr(strcpy(buf, range), ':')) == NULL)
+        char *colon = NULL;
+        const size_t len = strlen(range);
+        if (len < sizeof(buf))
+        {
+            memcpy(buf, range, len + 1u);
+            colon = strchr(buf, ':');
+        }
+        if (colon == NULL)
         {
             aenl_cli_error(k_cmd, "--range: '%s' is not VMIN:VMAX", range);
             return AENL_EXIT_USAGE;
@@ -125,14 +130,14 @@ int aenl_cmd_flutter(int argc, char **argv)
             return AENL_EXIT_USAGE;
         }
     }
-    if ((st = aenl_sim_load_ini(ini, &model, NULL, &err)) != AENL_OK)
+    if (aenl_sim_load_ini(ini, &model, NULL, &err) != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
     two = aenl_sim_slopes(&model, outer, inner);
-    if ((st = aenl_sim_flutter(&model, outer, vmin, vmax, &fo, &err)) != AENL_OK ||
-        (two && (st = aenl_sim_flutter(&model, inner, vmin, vmax, &fi, &err)) != AENL_OK))
+    if (aenl_sim_flutter(&model, outer, vmin, vmax, &fo, &err) != AENL_OK ||
+        (two && aenl_sim_flutter(&model, inner, vmin, vmax, &fi, &err) != AENL_OK))
     {
         aenl_cli_error(k_cmd, "%s: %s", ini, err.msg);
         return AENL_EXIT_FAIL;
@@ -155,8 +160,8 @@ int aenl_cmd_flutter(int argc, char **argv)
         for (i = 0; i < (int)points; ++i)
         {
             rows[i].v = lo + (hi - lo) * (double)i / (double)(points - 1);
-            if ((st = aenl_sim_modes(&model, rows[i].v, outer, rows[i].m, AENL_SIM_MAX_X,
-                                     &rows[i].n, &err)) != AENL_OK)
+            if (aenl_sim_modes(&model, rows[i].v, outer, rows[i].m, AENL_SIM_MAX_X, &rows[i].n,
+                               &err) != AENL_OK)
             {
                 free(rows);
                 aenl_cli_error(k_cmd, "%s: %s", ini, err.msg);

@@ -34,12 +34,13 @@ static void help(void)
 static int parse_grid(const char *s, aenl_curves_opts_t *o)
 {
     char buf[256];
-    if (strlen(s) >= sizeof(buf))
+    const size_t len = strlen(s);
+    if (len >= sizeof(buf))
     {
         aenl_cli_error(k_cmd, "--grid: value too long");
         return -1;
     }
-    strcpy(buf, s);
+    memcpy(buf, s, len + 1u);
     char *a = buf;
     char *b = strchr(a, ':');
     char *c = b ? strchr(b + 1, ':') : NULL;
@@ -85,7 +86,7 @@ int aenl_cmd_moments(int argc, char **argv)
             help();
             return AENL_EXIT_OK;
         }
-        else if (strcmp(a, "--channel") == 0)
+        if (strcmp(a, "--channel") == 0)
         {
             if ((channel = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
@@ -232,7 +233,7 @@ int aenl_cmd_moments(int argc, char **argv)
         return AENL_EXIT_USAGE;
     }
     char chan[256];
-    snprintf(chan, sizeof(chan), "%s", t.names[col]);
+    (void)snprintf(chan, sizeof(chan), "%s", t.names[col]); /* a label: truncation is fine */
     if (t.n_rows == 0)
     {
         aenl_cli_error(k_cmd, "%s: no data rows (header only)", data);
@@ -275,34 +276,36 @@ int aenl_cmd_moments(int argc, char **argv)
     }
     if (st == AENL_OK && plot != NULL)
     {
-        char lags[256] = "";
-        for (uint16_t i = 0; i < c.n_lags; ++i)
+        /* 64 lags of up to 4 digits need 320 bytes: bounded append (was strcat into 256 B). */
+        char lags[AENL_MOMENTS_MAX_LAGS * 6 + 1] = "";
+        size_t lags_len = 0;
+        for (uint16_t i = 0; i < c.n_lags && lags_len < sizeof(lags); ++i)
         {
-            char one[16];
-            snprintf(one, sizeof(one), "%s%u", i ? " " : "", (unsigned)c.lags[i]);
-            strcat(lags, one);
+            const int w = snprintf(lags + lags_len, sizeof(lags) - lags_len, "%s%u", i ? " " : "",
+                                   (unsigned)c.lags[i]);
+            lags_len += (w > 0) ? (size_t)w : 0u;
         }
         char title[600];
         const char *base = strrchr(data, '/') ? strrchr(data, '/') + 1 : data;
-        snprintf(title, sizeof(title), "%s: %s (h = %.3g, %s)", base, chan, c.bandwidth,
-                 dir == AENL_DIR_ALL      ? "all pairs"
-                 : dir == AENL_DIR_RISING ? "rising"
-                                          : "falling");
+        (void)snprintf(title, sizeof(title), "%s: %s (h = %.3g, %s)", base, chan, c.bandwidth,
+                       dir == AENL_DIR_ALL      ? "all pairs"
+                       : dir == AENL_DIR_RISING ? "rising"
+                                                : "falling");
         for (char *p = title; *p; ++p)
         {
-            *p = (*p == '\'' || *p == '\n') ? ' ' : *p;
+            *p = (char)((*p == '\'' || *p == '\n') ? ' ' : *p);
         }
         const aenl_plot_var_t vars[] = {
             {"in", csv_path}, {"lags", lags}, {"title", title}, {"xlabel", chan}};
         st = aenl_plot_run("moments", vars, sizeof(vars) / sizeof(vars[0]), plot, &err);
         if (st != AENL_OK && out != NULL && strcmp(out, "-") != 0)
         {
-            remove(out); /* all or nothing: no CSV without its requested figure */
+            (void)remove(out); /* all or nothing: no CSV without its requested figure */
         }
     }
     if (tmp_csv[0] != '\0')
     {
-        remove(tmp_csv);
+        (void)remove(tmp_csv);
     }
     if (st == AENL_OK && out != NULL && strcmp(out, "-") != 0)
     {
@@ -321,7 +324,7 @@ int aenl_cmd_moments(int argc, char **argv)
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
-        return st == AENL_E_IO ? AENL_EXIT_USAGE : AENL_EXIT_USAGE;
+        return AENL_EXIT_USAGE; /* README: 2 on bad input, I/O errors included */
     }
     return AENL_EXIT_OK;
 }

@@ -93,10 +93,11 @@ static int moments_lags(const char *in, char *lags, size_t n)
         if (lag[r] > last || lag[r] < last)
         {
             char one[32];
-            snprintf(one, sizeof(one), "%s%.0f", lags[0] ? " " : "", lag[r]);
-            if (strlen(lags) + strlen(one) + 1 < n && strstr(lags, one) == NULL)
+            (void)snprintf(one, sizeof(one), "%s%.0f", lags[0] ? " " : "", lag[r]);
+            const size_t len = strlen(lags), len_one = strlen(one);
+            if (len + len_one + 1 < n && strstr(lags, one) == NULL)
             {
-                strcat(lags, one);
+                memcpy(lags + len, one, len_one + 1u);
             }
             last = lag[r];
         }
@@ -116,7 +117,7 @@ int aenl_cmd_plot(int argc, char **argv)
             help();
             return AENL_EXIT_OK;
         }
-        else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0)
+        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0)
         {
             if ((out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
@@ -163,7 +164,10 @@ int aenl_cmd_plot(int argc, char **argv)
     }
     aenl_plot_var_t vars[6];
     size_t nv = 0;
+    /* vars[] points into these until aenl_plot_run below: they must outlive the if block. */
+    /* cppcheck-suppress variableScope */
     char lags[256];
+    /* cppcheck-suppress variableScope */
     char mark_words[512] = "";
     vars[nv++] = (aenl_plot_var_t){"in", in};
     vars[nv++] = (aenl_plot_var_t){"title", title ? title : in};
@@ -201,7 +205,7 @@ int aenl_cmd_plot(int argc, char **argv)
             size_t j = 0;
             for (const char *p = marks; *p; ++p)
             {
-                mark_words[j++] = (*p == ',') ? ' ' : *p;
+                mark_words[j++] = (char)((*p == ',') ? ' ' : *p);
             }
             mark_words[j] = '\0';
             vars[nv++] = (aenl_plot_var_t){"marks", mark_words};

@@ -90,7 +90,7 @@ int aenl_cmd_simulate(int argc, char **argv)
         aenl_cli_error(k_cmd, "no MODEL.ini given (aenl simulate --help)");
         return AENL_EXIT_USAGE;
     }
-    if ((st = aenl_sim_load_ini(ini, &model, &run, &err)) != AENL_OK)
+    if (aenl_sim_load_ini(ini, &model, &run, &err) != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;

@@ -7,6 +7,7 @@ want=(cmake make gcc pkg-config liblapacke-dev libinih-dev libcjson-dev gnuplot-
 if [[ ${1:-all} == all ]]; then
   want+=(gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi)
   want+=(clang libclang-rt-14-dev valgrind) # run_fuzz.sh (libFuzzer runtime), run_valgrind.sh
+  want+=(clang-tidy cppcheck)                # test_all.sh static analysis (AENL_STATIC_ANALYSIS)
 fi
 missing=()
 for p in "${want[@]}"; do

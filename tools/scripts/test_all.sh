@@ -5,9 +5,11 @@
 #   2. strict build (warnings as errors, header self-check) and the full ctest suite
 #      (Unity suites f32/f64, host tools, core purity);
 #   3. the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer;
-#   3a. libFuzzer targets (CSV reader, INI loader, aenl_moments f32/f64) for a bounded time each
-#       from the committed seed corpus (tools/scripts/run_fuzz.sh);
-#   3b. valgrind memcheck of every CLI subcommand, success and error paths (run_valgrind.sh);
+#   3a. static analysis: everything (core, tools, tests) built with clang-tidy (.clang-tidy, every
+#       finding an error) and cppcheck (--error-exitcode) run on each source (AENL_STATIC_ANALYSIS);
+#   3b. libFuzzer targets (CSV reader, INI loader, aenl_moments and aenl_skf f32/f64) for a bounded
+#       time each from the committed seed corpus (tools/scripts/run_fuzz.sh);
+#   3c. valgrind memcheck of every CLI subcommand, success and error paths (run_valgrind.sh);
 #   4. the Cortex-M4F cross build of aenl_core_f32 with the undefined-symbol allow-list and sizes.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -26,6 +28,10 @@ cmake -S "$root" -B "$root/build/asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_
 cmake --build "$root/build/asan" -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$root/build/asan" -j"$jobs" --output-on-failure
+
+step "static analysis (clang-tidy + cppcheck)"
+cmake -S "$root" -B "$root/build/sa" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_STATIC_ANALYSIS=ON >/dev/null
+cmake --build "$root/build/sa" -j"$jobs"
 
 step "fuzz (libFuzzer, ${AENL_FUZZ_SECONDS:-25} s per target)"
 "$root/tools/scripts/run_fuzz.sh" "$root/build/fuzz"

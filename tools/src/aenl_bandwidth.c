@@ -275,7 +275,7 @@ static void lag_score_fast(const lagset_t *s, double h, lag_score_t *out)
         double m;
         double r;
         /* Window of |u_i - u_j| < h, with the same comparisons as the direct definition. */
-        while (ui - s->u[lo] >= h)
+        while (lo < i && ui - s->u[lo] >= h) /* lo <= i even if h <= 0 */
         {
             ++lo;
         }
@@ -354,8 +354,8 @@ static void score_combine(const lag_score_t *per_lag, size_t n_lags, aenl_bw_sco
     out->score = defined ? total / (double)n_lags : (double)NAN;
 }
 
-static aenl_status_t check_common(const double *x, const uint16_t *lags, size_t n_lags, void *out,
-                                  aenl_err_t *err)
+static aenl_status_t check_common(const double *x, const uint16_t *lags, size_t n_lags,
+                                  const void *out, aenl_err_t *err)
 {
     size_t l;
     if (x == NULL || lags == NULL || out == NULL)
@@ -723,8 +723,13 @@ static double median_spacing(const double *v, size_t n, aenl_err_t *err, int *oo
 {
     size_t i;
     double med;
-    double *d = (double *)malloc((n - 1) * sizeof *d);
+    double *d = NULL;
     *oom = 0;
+    if (n < 2)
+    {
+        return 0.0;
+    }
+    d = (double *)malloc((n - 1) * sizeof *d);
     if (d == NULL)
     {
         aenl_err_set(err, "bandwidth: out of memory");

@@ -203,7 +203,6 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
     size_t c;
     const char *p;
     char *cell;
-    char *next;
 
     for (p = csv->line; *p != '\0'; ++p)
     {
@@ -221,7 +220,7 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
         char *name;
         size_t len;
         size_t k;
-        next = strchr(cell, ',');
+        char *next = strchr(cell, ',');
         if (next != NULL)
         {
             *next = '\0';
@@ -616,7 +615,7 @@ aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *e
         return st;
     }
     n_cols = csv->n_cols;
-    row = (double *)malloc(n_cols * sizeof *row);
+    row = (double *)calloc(n_cols, sizeof *row);
     n_nan = (size_t *)calloc(n_cols, sizeof *n_nan);
     if (row == NULL || n_nan == NULL)
     {
@@ -758,7 +757,7 @@ aenl_status_t aenl_table_write(const aenl_table_t *t, const char *path, aenl_err
         aenl_err_set(err, "aenl_table_write: empty or NULL table");
         return AENL_E_ARG;
     }
-    row = (double *)malloc(t->n_cols * sizeof *row);
+    row = (double *)calloc(t->n_cols, sizeof *row);
     if (row == NULL)
     {
         aenl_err_set(err, "%s: out of memory", path != NULL ? path : "(null)");

@@ -276,6 +276,12 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
     out->n_samples = m->n_samples;
     out->n_missing = m->n_missing;
     const size_t total = (size_t)out->n_dir * out->n_lags * out->n_grid;
+    if (total == 0) /* aenl_moments_init guarantees n_lags, n_grid >= 1 */
+    {
+        free(m);
+        aenl_err_set(err, "empty configuration (curves)");
+        return AENL_E_ARG;
+    }
     out->x = malloc(out->n_grid * sizeof(double));
     out->mean = malloc(total * sizeof(double));
     out->var = malloc(total * sizeof(double));

@@ -40,7 +40,7 @@ static int on_path(const char *prog)
         {
             memcpy(buf, p, len);
             buf[len] = '/';
-            strcpy(buf + len + 1, prog);
+            memcpy(buf + len + 1, prog, strlen(prog) + 1u);
             if (access(buf, X_OK) == 0)
             {
                 return 1;
@@ -112,7 +112,12 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         return st;
     }
     /* gnuplot writes the temporary itself; keep the name reserved but close our handle. */
-    fflush(of.fp);
+    if (fflush(of.fp) != 0)
+    {
+        aenl_outfile_abort(&of);
+        aenl_err_set(err, "%s: cannot write", out_path);
+        return AENL_E_IO;
+    }
 
     size_t cap = 64;
     for (size_t i = 0; i < n_vars; ++i)
@@ -176,10 +181,10 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
                 {
                     failed = 1;
                 }
-                snprintf(tail, sizeof(tail), "%s", line);
+                (void)snprintf(tail, sizeof(tail), "%s", line);
             }
         }
-        fclose(lf);
+        (void)fclose(lf); /* read-only */
     }
     else
     {

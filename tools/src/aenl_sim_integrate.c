@@ -430,7 +430,7 @@ static aenl_status_t integrate_to(integ_t *in, double t_end, aenl_err_t *err)
     arm(in);
     while (in->t < t_end)
     {
-        double h = in->h, tn, er, fac, best = 2.0;
+        double h = in->h, er, fac, best = 2.0;
         int last = 0, jbest = -1;
         if (in->t + h >= t_end || in->t + 1.01 * h >= t_end)
         {
@@ -529,7 +529,7 @@ static aenl_status_t integrate_to(integ_t *in, double t_end, aenl_err_t *err)
         if (jbest < 0)
         {
             emit_dense(in, 1.0);
-            tn = last ? t_end : in->t + h;
+            const double tn = last ? t_end : in->t + h;
             in->t = tn;
             memcpy(in->x, y, sizeof(double) * (size_t)nx);
             memcpy(in->f, in->K[6], sizeof(double) * (size_t)nx);
@@ -725,7 +725,7 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     integ_t *in;
     gust_gen_t gg;
     aenl_status_t st;
-    size_t n, k;
+    size_t n;
     if (res == NULL)
     {
         aenl_err_set(err, "NULL result");
@@ -782,7 +782,7 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     st = AENL_OK;
     if (sys.gust)
     {
-        for (k = 0; k + 1 < n && st == AENL_OK; ++k)
+        for (size_t k = 0; k + 1 < n && st == AENL_OK; ++k)
         {
             in->u = gust_next(&gg);
             st = integrate_to(in, (double)(k + 1) * run->dt, err);
@@ -869,6 +869,7 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
     }
     h = run->dt / (double)n_sub;
     initial_state(model, &sys, x);
+    memset(y, 0, sizeof(y)); /* stages fill y[0..nx); the rest stays defined */
     gust_init(&gg, run, &sys, x);
     memset(&mode, 0, sizeof(mode));
     for (j = 0; j < sys.nq; ++j)

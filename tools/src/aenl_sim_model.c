@@ -153,7 +153,7 @@ static aenl_status_t validate_law(const aenl_sim_law_t *law, const char *sec, ae
 aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
                                 aenl_err_t *err)
 {
-    aenl_status_t st = AENL_OK;
+    aenl_status_t st;
     int i;
     if (model == NULL)
     {
@@ -679,7 +679,7 @@ aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int 
 static void loads(const sim_sys_t *s, double t, const double *x, int with_forcing, double *F)
 {
     const int nq = s->nq, nz = s->nz;
-    const double *q = x, *qd = x + nq, *z = x + 2 * nq;
+    const double *q = x, *qd = x + nq, *z = x + (ptrdiff_t)2 * nq;
     const double g = s->gust ? x[s->nx - 1] : 0.0;
     double phi = 0.0;
     int i, j;
@@ -705,7 +705,7 @@ static void loads(const sim_sys_t *s, double t, const double *x, int with_forcin
 static void lag_rhs(const sim_sys_t *s, const double *x, double u, double *dx)
 {
     const int nq = s->nq, nz = s->nz;
-    const double *q = x, *qd = x + nq, *z = x + 2 * nq;
+    const double *q = x, *qd = x + nq, *z = x + (ptrdiff_t)2 * nq;
     const double g = s->gust ? x[s->nx - 1] : 0.0;
     int k, j;
     for (k = 0; k < nz; ++k)
@@ -754,8 +754,7 @@ void sim_rhs(const sim_sys_t *s, const sim_mode_t *mode, double t, const double 
     else
     {
         /* Sliding mode: q̈_i = 0 for stuck i; the free rows give the other accelerations. */
-        double Mf[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q], Mfi[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
-        int fr[AENL_SIM_MAX_Q], nf = 0, r, cc;
+        int fr[AENL_SIM_MAX_Q], nf = 0;
         for (i = 0; i < nq; ++i)
         {
             if (!mode->b[i].stuck)
@@ -769,6 +768,8 @@ void sim_rhs(const sim_sys_t *s, const sim_mode_t *mode, double t, const double 
         }
         if (nf > 0)
         {
+            double Mf[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q], Mfi[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
+            int r, cc;
             for (r = 0; r < nf; ++r)
             {
                 for (cc = 0; cc < nf; ++cc)
@@ -776,8 +777,10 @@ void sim_rhs(const sim_sys_t *s, const sim_mode_t *mode, double t, const double 
                     Mf[r][cc] = s->M[fr[r]][fr[cc]];
                 }
             }
-            (void)invert_small(nf, Mf, Mfi); /* principal submatrix of an SPD-like M */
-            for (r = 0; r < nf; ++r)
+            /* principal submatrix of an SPD-like M; if singular all accelerations stay 0 (Mfi
+             * would be uninitialised) */
+            const int singular = invert_small(nf, Mf, Mfi) != 0;
+            for (r = 0; r < nf && !singular; ++r)
             {
                 double acc = 0.0;
                 for (cc = 0; cc < nf; ++cc)

@@ -21,7 +21,7 @@
 typedef struct aenl_csv aenl_csv_t; /**< opaque reader */
 
 /** Open `path` ("-" is stdin) and read its header row. */
-aenl_status_t aenl_csv_open(aenl_csv_t **csv, const char *path, aenl_err_t *err);
+aenl_status_t aenl_csv_open(aenl_csv_t **out, const char *path, aenl_err_t *err);
 size_t aenl_csv_n_cols(const aenl_csv_t *csv);
 const char *aenl_csv_col_name(const aenl_csv_t *csv, size_t col);
 /** Column index of `name`, or -1 when absent. */
