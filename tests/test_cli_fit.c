@@ -9,9 +9,11 @@
  *        Bad input: exit 2, one message on stderr, nothing on stdout, no output file.
  */
 #include "aenl_cli_test.h"
+#include "aenl_tools/aenl_io.h" /* AENL_PRINTF_LIKE */
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdarg.h>
 
 #include "unity.h"
 
@@ -26,6 +28,16 @@ void tearDown(void)
 {
 }
 
+/* snprintf into out[cap]; the test fails if the text (a path or a command) does not fit. */
+static void fmt(char *out, size_t cap, const char *f, ...) AENL_PRINTF_LIKE(3, 4);
+static void fmt(char *out, size_t cap, const char *f, ...)
+{
+    va_list ap;
+    va_start(ap, f);
+    const int len = vsnprintf(out, cap, f, ap);
+    va_end(ap);
+    TEST_ASSERT_TRUE_MESSAGE(len >= 0 && (size_t)len < cap, "path or command too long");
+}
 static uint64_t g_lcg = 77u;
 
 static double uni(void)
@@ -130,12 +142,11 @@ static void test_cli_fit_json_model_and_header(void)
 
     /* the INI and the header exist; the header compiles against the core, f32 and f64 */
     char ini[600], hdr[600], src[600], cmd[4096];
-    snprintf(ini, sizeof(ini), "%s/fit_model.ini", AENL_TEST_TMP_DIR);
-    snprintf(hdr, sizeof(hdr), "%s/fit_model.h", AENL_TEST_TMP_DIR);
+    fmt(ini, sizeof(ini), "%s/fit_model.ini", AENL_TEST_TMP_DIR);
+    fmt(hdr, sizeof(hdr), "%s/fit_model.h", AENL_TEST_TMP_DIR);
     TEST_ASSERT_TRUE(cli_exists(ini));
     TEST_ASSERT_TRUE(cli_exists(hdr));
-    src[0] = '\0';
-    snprintf(src, sizeof(src), "%s", __FILE__);
+    fmt(src, sizeof(src), "%s", __FILE__);
     char *slash = strrchr(src, '/');
     TEST_ASSERT_NOT_NULL(slash);
     *slash = '\0'; /* tests/ */
@@ -150,26 +161,28 @@ static void test_cli_fit_json_model_and_header(void)
                         "-Wfloat-equal -Werror -c";
     for (int dbl = 0; dbl < 2; ++dbl)
     {
-        snprintf(cmd, sizeof(cmd),
-                 "cc %s -DAENL_USE_DOUBLE=%d -I'%s/include' -I'%s' '%s/use_model.c' "
-                 "-o '%s/use_model.o'",
-                 flags, dbl, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
+        fmt(cmd, sizeof(cmd),
+            "cc %s -DAENL_USE_DOUBLE=%d -I'%s/include' -I'%s' '%s/use_model.c' "
+            "-o '%s/use_model.o'",
+            flags, dbl, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
+        /* NOLINTNEXTLINE(cert-env33-c): test, fixed command from build-time paths */
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, system(cmd), cmd);
     }
-    if (system("command -v arm-none-eabi-gcc >/dev/null 2>&1") == 0)
+    if (system("command -v arm-none-eabi-gcc >/dev/null 2>&1") == 0) /* NOLINT(cert-env33-c) */
     {
-        snprintf(cmd, sizeof(cmd),
-                 "arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os "
-                 "%s -I'%s/include' -I'%s' '%s/use_model.c' -o '%s/use_model_m4f.o'",
-                 flags, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
+        fmt(cmd, sizeof(cmd),
+            "arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os "
+            "%s -I'%s/include' -I'%s' '%s/use_model.c' -o '%s/use_model_m4f.o'",
+            flags, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
+        /* NOLINTNEXTLINE(cert-env33-c): test, fixed command from build-time paths */
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, system(cmd), cmd);
     }
     /* a capacity check: the header refuses a core built with too few states */
-    snprintf(cmd, sizeof(cmd),
-             "cc %s -DAENL_SKF_MAX_X=3 -I'%s/include' -I'%s' '%s/use_model.c' "
-             "-o '%s/use_model.o' 2>/dev/null",
-             flags, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
-    TEST_ASSERT_TRUE(system(cmd) != 0);
+    fmt(cmd, sizeof(cmd),
+        "cc %s -DAENL_SKF_MAX_X=3 -I'%s/include' -I'%s' '%s/use_model.c' "
+        "-o '%s/use_model.o' 2>/dev/null",
+        flags, src, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR, AENL_TEST_TMP_DIR);
+    TEST_ASSERT_TRUE(system(cmd) != 0); /* NOLINT(cert-env33-c): test, fixed command */
 }
 
 static void expect_usage_error(const char *const *args, const char *what)
@@ -201,6 +214,9 @@ static void test_cli_fit_bad_input(void)
     const char *a7[] = {"fit",    data,   "--thresholds", "alpha:0",     "--c-header", "bad_out.h",
                         "--name", "9bad", "-o",           "bad_out.ini", NULL};
     expect_usage_error(a7, "bad identifier");
+    const char *a8[] = {"fit",    data, "--thresholds", "alpha:0",     "--c-header", "bad_out.h",
+                        "--name", "",   "-o",           "bad_out.ini", NULL};
+    expect_usage_error(a8, "empty model name");
 }
 
 int main(void)

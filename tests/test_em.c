@@ -252,8 +252,8 @@ static void test_em_steady_state_reuse_equals_full_recursion(void)
     const size_t n = 6000;
     double *y = simulate_truth(&t, n, 11u, count);
     TEST_ASSERT_TRUE(count[0] > 500 && count[1] > 500 && count[2] > 500);
-    y[1500 * NZ] = NAN; /* missing samples break the runs */
-    y[3001 * NZ + 1] = NAN;
+    y[(size_t)1500 * NZ] = NAN; /* missing samples break the runs */
+    y[(size_t)3001 * NZ + 1] = NAN;
     aenl_em_opts_t o;
     aenl_em_opts_default(&o);
     o.n_states = NX;
@@ -278,13 +278,13 @@ static void test_em_steady_state_reuse_equals_full_recursion(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-8 * fabs(full.loglik_final), full.loglik_final, fast.loglik_final);
     for (size_t s = 0; s < 3; ++s)
     {
-        TEST_ASSERT_TRUE(
-            max_rel_diff(full.model.A + s * NX * NX, fast.model.A + s * NX * NX, NX * NX) < 1e-8);
-        TEST_ASSERT_TRUE(
-            max_rel_diff(full.model.Q + s * NX * NX, fast.model.Q + s * NX * NX, NX * NX) < 1e-8);
+        TEST_ASSERT_TRUE(max_rel_diff(full.model.A + s * NX * NX, fast.model.A + s * NX * NX,
+                                      (size_t)NX * NX) < 1e-8);
+        TEST_ASSERT_TRUE(max_rel_diff(full.model.Q + s * NX * NX, fast.model.Q + s * NX * NX,
+                                      (size_t)NX * NX) < 1e-8);
         TEST_ASSERT_TRUE(max_rel_diff(full.model.b + s * NX, fast.model.b + s * NX, NX) < 1e-8);
     }
-    TEST_ASSERT_TRUE(max_rel_diff(full.model.R, fast.model.R, NZ * NZ) < 1e-8);
+    TEST_ASSERT_TRUE(max_rel_diff(full.model.R, fast.model.R, (size_t)NZ * NZ) < 1e-8);
     TEST_ASSERT_TRUE(max_rel_diff(full.model.x0, fast.model.x0, NX) < 1e-8);
     aenl_em_result_free(&fast);
     aenl_em_result_free(&full);
@@ -314,16 +314,16 @@ static void test_em_frozen_parameters_stay_put(void)
     o.freeze = AENL_EM_FREEZE_A | AENL_EM_FREEZE_B | AENL_EM_FREEZE_Q | AENL_EM_FREEZE_C;
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r1, &err), err.msg);
     check_monotone(&r1);
-    TEST_ASSERT_EQUAL_MEMORY(r0.model.A, r1.model.A, 3 * NX * NX * sizeof(double));
-    TEST_ASSERT_EQUAL_MEMORY(r0.model.b, r1.model.b, 3 * NX * sizeof(double));
-    TEST_ASSERT_EQUAL_MEMORY(r0.model.Q, r1.model.Q, 3 * NX * NX * sizeof(double));
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.A, r1.model.A, sizeof(double) * 3 * NX * NX);
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.b, r1.model.b, sizeof(double) * 3 * NX);
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.Q, r1.model.Q, sizeof(double) * 3 * NX * NX);
     TEST_ASSERT_TRUE(fabs(r0.model.R[0] - r1.model.R[0]) > 0.0); /* R did move */
     aenl_em_result_free(&r1);
     /* only R frozen: R stays, the rest moves */
     o.freeze = AENL_EM_FREEZE_R | AENL_EM_FREEZE_C;
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r1, &err), err.msg);
     check_monotone(&r1);
-    TEST_ASSERT_EQUAL_MEMORY(r0.model.R, r1.model.R, NZ * NZ * sizeof(double));
+    TEST_ASSERT_EQUAL_MEMORY(r0.model.R, r1.model.R, sizeof(double) * NZ * NZ);
     TEST_ASSERT_TRUE(fabs(r0.model.A[0] - r1.model.A[0]) > 0.0);
     aenl_em_result_free(&r1);
     aenl_em_result_free(&r0);
@@ -388,7 +388,7 @@ static void test_em_modal_reading_is_exact_for_a_rotation(void)
 static void test_em_rejects_bad_options(void)
 {
     double y[200 * NZ];
-    for (size_t i = 0; i < 200 * NZ; ++i)
+    for (size_t i = 0; i < (size_t)200 * NZ; ++i)
     {
         y[i] = sin(0.1 * (double)i);
     }

@@ -10,12 +10,15 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
+#include <ctype.h>
+#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "aenl_cli.h"
 #include "aenl/aenl_skf.h"
@@ -61,9 +64,10 @@ static double *make_record(size_t n)
         y[2 * k + 1] = x[2] + x[6] + 0.02 * gauss();
         const int s = y[2 * k] < -0.2 ? 0 : (y[2 * k] < 0.2 ? 1 : 2);
         double xn[8];
-        for (int p = 0; p < 4; ++p)
+        for (size_t p = 0; p < 4; ++p)
         {
-            const double r = 0.985 - 0.01 * p, c = r * cos(th[s][p]), sn = r * sin(th[s][p]);
+            const double r = 0.985 - 0.01 * (double)p, c = r * cos(th[s][p]),
+                         sn = r * sin(th[s][p]);
             xn[2 * p] = c * x[2 * p] - sn * x[2 * p + 1] + 0.05 * gauss();
             xn[2 * p + 1] = sn * x[2 * p] + c * x[2 * p + 1] + 0.05 * gauss();
         }
@@ -120,9 +124,9 @@ static void skf_step_bench(void)
     m.thr_rising[1] = m.thr_falling[1] = 0.2;
     for (int s = 0; s < 3; ++s)
     {
-        for (int p = 0; p < 4; ++p)
+        for (size_t p = 0; p < 4; ++p)
         {
-            const double th = (s == 1 && p == 0) ? 0.18 : 0.3 + 0.3 * p, r = 0.98;
+            const double th = (s == 1 && p == 0) ? 0.18 : 0.3 + 0.3 * (double)p, r = 0.98;
             m.A[s][2 * p][2 * p] = m.A[s][2 * p + 1][2 * p + 1] = r * cos(th);
             m.A[s][2 * p][2 * p + 1] = -r * sin(th);
             m.A[s][2 * p + 1][2 * p] = r * sin(th);
@@ -176,10 +180,58 @@ static void skf_step_bench(void)
            sizeof(aenl_skf_t), sizeof(aenl_skf_model_t));
 }
 
+/* Up to n whitespace-separated unsigned numbers (base 10 or 16) from the start of s; how many. */
+static int read_ulongs(const char *s, int base, unsigned long *v, int n)
+{
+    int k = 0;
+    for (; k < n; ++k)
+    {
+        char *end = NULL;
+        errno = 0;
+        const unsigned long x = strtoul(s, &end, base);
+        if (end == s || errno != 0 || (*end != '\0' && !isspace((unsigned char)*end)))
+        {
+            break;
+        }
+        v[k] = x;
+        s = end;
+    }
+    return k;
+}
+
+/* A `nm -S` line "ADDR SIZE KIND NAME": 1 with *size and *is_s (NAME is "s"), else 0. */
+static int nm_size_line(const char *line, unsigned long *size, int *is_s)
+{
+    const char *p = line + strspn(line, " \t");
+    const size_t addr_len = strcspn(p, " \t\n");
+    if (addr_len == 0 || read_ulongs(p + addr_len, 16, size, 1) != 1)
+    {
+        return 0;
+    }
+    p += addr_len;
+    p += strspn(p, " \t");
+    p += strcspn(p, " \t\n"); /* the size, read above */
+    p += strspn(p, " \t");
+    if (*p == '\0' || isspace((unsigned char)*p)) /* the kind letter */
+    {
+        return 0;
+    }
+    p += 1;
+    p += strspn(p, " \t");
+    const size_t name_len = strcspn(p, " \t\n");
+    if (name_len == 0)
+    {
+        return 0;
+    }
+    *is_s = (name_len == 1 && p[0] == 's');
+    return 1;
+}
+
 /* Cortex-M4F: compile the filter's two sources and a sizeof probe with arm-none-eabi-gcc. */
 static void skf_m4f(void)
 {
-    if (system("command -v arm-none-eabi-gcc >/dev/null 2>&1") != 0)
+    /* A fixed command line: no user input reaches the shell. */
+    if (system("command -v arm-none-eabi-gcc >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
     {
         printf("  Cortex-M4F: skipped (arm-none-eabi-gcc not found)\n");
         return;
@@ -191,17 +243,25 @@ static void skf_m4f(void)
     }
     char cmd[4096];
     const char *flags = "-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -std=c99 -Os";
-    snprintf(cmd, sizeof(cmd),
-             "cd '%s' && printf '#include \"aenl/aenl_skf.h\"\\naenl_skf_t s;\\n"
-             "aenl_skf_model_t m;\\n' > p.c && "
-             "arm-none-eabi-gcc %s -I'%s/include' -I'%s/src' -c '%s/src/aenl_skf.c' -o skf.o && "
-             "arm-none-eabi-gcc %s -I'%s/include' -I'%s/src' -c '%s/src/aenl_linalg.c' -o la.o && "
-             "arm-none-eabi-gcc %s -I'%s/include' -c p.c -o p.o && "
-             "arm-none-eabi-size skf.o la.o | tail -n 2 && arm-none-eabi-nm -S p.o; "
-             "cd /; rm -rf '%s'",
-             dir, flags, AENL_SOURCE_DIR, AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR,
-             AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR, dir);
-    FILE *p = popen(cmd, "r");
+    const int len = snprintf(
+        cmd, sizeof(cmd),
+        "cd '%s' && printf '#include \"aenl/aenl_skf.h\"\\naenl_skf_t s;\\n"
+        "aenl_skf_model_t m;\\n' > p.c && "
+        "arm-none-eabi-gcc %s -I'%s/include' -I'%s/src' -c '%s/src/aenl_skf.c' -o skf.o && "
+        "arm-none-eabi-gcc %s -I'%s/include' -I'%s/src' -c '%s/src/aenl_linalg.c' -o la.o && "
+        "arm-none-eabi-gcc %s -I'%s/include' -c p.c -o p.o && "
+        "arm-none-eabi-size skf.o la.o | tail -n 2 && arm-none-eabi-nm -S p.o; "
+        "cd /; rm -rf '%s'",
+        dir, flags, AENL_SOURCE_DIR, AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR,
+        AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR, dir);
+    if (len < 0 || (size_t)len >= sizeof(cmd))
+    {
+        printf("  Cortex-M4F: skipped (source path too long for the command line)\n");
+        (void)rmdir(dir); /* still empty; a leftover empty folder in /tmp is harmless */
+        return;
+    }
+    /* The paths come from the build (AENL_SOURCE_DIR) and mkdtemp: no user input. */
+    FILE *p = popen(cmd, "r"); /* NOLINT(cert-env33-c) */
     if (p == NULL)
     {
         return;
@@ -211,16 +271,15 @@ static void skf_m4f(void)
     printf("  Cortex-M4F (arm-none-eabi-gcc -Os, float32, default capacities 8/4/4):\n");
     while (fgets(line, sizeof(line), p) != NULL)
     {
-        unsigned long tx = 0, da = 0, bs = 0, dec = 0, size = 0;
-        char kind = 0, name[64] = "", addr[32] = "";
-        if (sscanf(line, "%lu %lu %lu %lu", &tx, &da, &bs, &dec) == 4)
+        unsigned long v[4], size = 0;
+        int is_s = 0;
+        if (read_ulongs(line, 10, v, 4) == 4) /* size: text data bss dec ... */
         {
-            text += tx;
+            text += v[0];
         }
-        else if (sscanf(line, "%31s %lx %c %63s", addr, &size, &kind, name) == 4)
+        else if (nm_size_line(line, &size, &is_s)) /* nm -S: addr size kind name */
         {
-            printf("    sizeof(%s) = %lu B\n",
-                   strcmp(name, "s") == 0 ? "aenl_skf_t" : "aenl_skf_model_t", size);
+            printf("    sizeof(%s) = %lu B\n", is_s ? "aenl_skf_t" : "aenl_skf_model_t", size);
         }
     }
     pclose(p);
@@ -324,7 +383,7 @@ static void must_show(void)
     }
     const size_t n = rec.n_samples;
     double *y = malloc(2 * n * sizeof(double));
-    double *ys = malloc(2 * 6000 * sizeof(double));
+    double *ys = malloc(sizeof(double) * 2 * 6000);
     if (y == NULL || ys == NULL)
     {
         free(y);
@@ -371,7 +430,6 @@ static void must_show(void)
     sm.x0[AENL_SIM_DOF_PITCH] = MS_PI / 180.0;
     static aenl_skf_model_t km;
     static aenl_skf_t kf;
-    double x[AENL_EM_MAX_X] = {0.0};
     if (aenl_sim_simulate(&sm, &run, &lco, &err) == AENL_OK &&
         aenl_em_to_skf(&fit.model, &km, &err) == AENL_OK && aenl_skf_init(&kf, &km) == AENL_OK)
     {
@@ -383,6 +441,7 @@ static void must_show(void)
         }
         aenl_real_t xe[AENL_SKF_MAX_X], pe[AENL_SKF_MAX_X * AENL_SKF_MAX_X];
         (void)aenl_skf_estimate(&kf, xe, pe);
+        double x[AENL_EM_MAX_X] = {0.0};
         for (size_t i = 0; i < MS_STATES; ++i)
         {
             x[i] = xe[i];

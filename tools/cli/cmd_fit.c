@@ -6,6 +6,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <cjson/cJSON.h>
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -91,7 +92,11 @@ static void ident_from_path(const char *path, char *out, size_t cap)
     {
         const int ok = (*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') ||
                        (*p >= '0' && *p <= '9') || *p == '_';
-        out[k++] = ok ? *p : '_';
+        out[k++] = *p;
+        if (!ok)
+        {
+            out[k - 1] = '_';
+        }
     }
     out[k] = '\0';
 }
@@ -117,10 +122,10 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
             help();
             return 1;
         }
-        else if (strcmp(o, "--thresholds") == 0 || strcmp(o, "--channels") == 0 ||
-                 strcmp(o, "--freeze") == 0 || strcmp(o, "-o") == 0 ||
-                 strcmp(o, "--c-header") == 0 || strcmp(o, "--name") == 0 ||
-                 strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 || strcmp(o, "--tol") == 0)
+        if (strcmp(o, "--thresholds") == 0 || strcmp(o, "--channels") == 0 ||
+            strcmp(o, "--freeze") == 0 || strcmp(o, "-o") == 0 || strcmp(o, "--c-header") == 0 ||
+            strcmp(o, "--name") == 0 || strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 ||
+            strcmp(o, "--tol") == 0)
         {
             if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
@@ -225,7 +230,7 @@ static int parse_freeze(const char *s, unsigned *flags)
         aenl_cli_error(k_cmd, "--freeze: value too long");
         return -1;
     }
-    strcpy(buf, s);
+    memcpy(buf, s, strlen(s) + 1); /* fits: checked above */
     char *items[16];
     const int n = split_list(buf, items, 16);
     for (int i = 0; i < n; ++i)
@@ -259,7 +264,13 @@ static int pick_outputs(const aenl_table_t *t, const fit_args_t *a, const char *
     if (a->channels != NULL)
     {
         char buf[512];
-        snprintf(buf, sizeof(buf), "%s", a->channels);
+        const int len = snprintf(buf, sizeof(buf), "%s", a->channels);
+        if (len < 0 || (size_t)len >= sizeof(buf))
+        {
+            aenl_cli_error(k_cmd, "--channels: value too long (at most %zu characters)",
+                           sizeof(buf) - 1);
+            return -1;
+        }
         char *items[AENL_EM_MAX_X];
         const int n = split_list(buf, items, AENL_EM_MAX_X);
         if (n <= 0)
@@ -460,7 +471,13 @@ int aenl_cmd_fit(int argc, char **argv)
     }
     /* --thresholds CH:T1,T2,... */
     char thr[512];
-    snprintf(thr, sizeof(thr), "%s", a.thr);
+    const int thr_len = snprintf(thr, sizeof(thr), "%s", a.thr);
+    if (thr_len < 0 || (size_t)thr_len >= sizeof(thr))
+    {
+        aenl_cli_error(k_cmd, "--thresholds: value too long (at most %zu characters)",
+                       sizeof(thr) - 1);
+        return AENL_EXIT_USAGE;
+    }
     char *colon = strrchr(thr, ':');
     if (colon == NULL || colon == thr)
     {
@@ -519,7 +536,9 @@ int aenl_cmd_fit(int argc, char **argv)
     o.dt = dt;
     o.switch_channel = sw;
     o.n_states = a.states > 0 ? (size_t)a.states : 4 * n_out;
-    const char *names[AENL_EM_MAX_X];
+    /* filled for i < n_out (== r.model.n_z, which print_json reads); NULL-initialised so that
+     * the analyser, which cannot see that equality through aenl_em_fit, sees no garbage */
+    const char *names[AENL_EM_MAX_X] = {NULL};
     static char name_buf[AENL_EM_MAX_X][128];
     double *y = malloc(t.n_rows * n_out * sizeof(double));
     if (y == NULL)
@@ -530,7 +549,8 @@ int aenl_cmd_fit(int argc, char **argv)
     }
     for (size_t i = 0; i < n_out; ++i)
     {
-        snprintf(name_buf[i], sizeof(name_buf[i]), "%s", t.names[cols[i]]);
+        /* display copy (t is freed before the fit): a name over 127 characters is shown cut */
+        (void)snprintf(name_buf[i], sizeof(name_buf[i]), "%s", t.names[cols[i]]);
         names[i] = name_buf[i];
         const double *col = aenl_table_col(&t, (size_t)cols[i]);
         for (size_t k = 0; k < t.n_rows; ++k)
@@ -554,19 +574,17 @@ int aenl_cmd_fit(int argc, char **argv)
     }
     if (st == AENL_OK && a.out_h != NULL)
     {
-        char ident[128];
-        if (a.name != NULL)
+        char ident_buf[128];
+        const char *ident = a.name; /* checked (identifier, length) by aenl_em_write_c_header */
+        if (ident == NULL)
         {
-            snprintf(ident, sizeof(ident), "%s", a.name);
-        }
-        else
-        {
-            ident_from_path(a.out_h, ident, sizeof(ident));
+            ident_from_path(a.out_h, ident_buf, sizeof(ident_buf));
+            ident = ident_buf;
         }
         st = aenl_em_write_c_header(&r.model, ident, a.out_h, &err);
-        if (st != AENL_OK && a.out_ini != NULL)
+        if (st != AENL_OK && a.out_ini != NULL && remove(a.out_ini) != 0) /* all or nothing */
         {
-            remove(a.out_ini); /* all or nothing */
+            aenl_cli_error(k_cmd, "could not remove %s: %s", a.out_ini, strerror(errno));
         }
     }
     if (st != AENL_OK)

@@ -654,10 +654,14 @@ static void set_modes(ws_t *w, const double *thr, const double *u, size_t stride
  * backwards). The result equals the full recursion to about steady_tol relative (the equivalence
  * is checked by a test with steady_tol = 0). */
 
-/* Measurement update of slot q from the predicted covariance Pp: gain, chol(S), log det S, Pf. */
-static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q, const double *Pp)
+/* Measurement update of slot q from the predicted covariance Pp: gain, chol(S), log det S, Pf.
+ * Pp is the scratch w->tmp + 3 nn where kf_forward leaves it; it is taken from w, not passed: a
+ * const pointer into w->tmp passed next to w made clang-analyzer lose track of w->tmp and report
+ * a leak that cannot happen. */
+static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q)
 {
     const size_t nx = w->nx, nz = w->nz, nn = nx * nx;
+    const double *Pp = w->tmp + 3 * nn;
     double *PCt = w->tmp + 6 * nn, *S = PCt + nx * nz, *Kt = S + nz * nz;
     const size_t r2 = q & 1u;
     double *K = w->K + r2 * nx * nz, *L = w->Ls + r2 * nz * nz, *Pf = w->Pf + r2 * nn;
@@ -771,7 +775,7 @@ static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, si
 static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
 {
     const size_t nx = w->nx, nz = w->nz, nn = nx * nx, n = w->n;
-    double *Pp = w->tmp + 3 * nn, *e = w->tmp + 10 * nn, *u = e + nz;
+    double *Pp = w->tmp + 3 * nn, *e = w->tmp + 10 * nn, *u = e + nz; /* Pp: see cov_update */
     double total = 0.0, d_prev = HUGE_VAL;
     int steady = 0;
     size_t nslot = 0;
@@ -833,7 +837,7 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
             }
             if (w->obs[k])
             {
-                st = cov_update(w, m, q, Pp);
+                st = cov_update(w, m, q);
                 if (st != AENL_OK)
                 {
                     return st;
@@ -1656,9 +1660,9 @@ static aenl_status_t em_run(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o
         {
             loglik[it] = ll;
         }
-        const int converged = o->tol > 0.0 && it > 0 && (ll - prev) < o->tol * fabs(ll);
+        const int ll_converged = o->tol > 0.0 && it > 0 && (ll - prev) < o->tol * fabs(ll);
         prev = ll;
-        if (converged)
+        if (ll_converged)
         {
             ++it;
             break;
@@ -1750,7 +1754,7 @@ static aenl_status_t refine_thresholds(ws_t *w, aenl_em_model_t *m, const aenl_e
     double best_ll;
     set_modes(w, best.thresholds, u, 1);
     st = em_run(w, &best, o, o->refine_iter, NULL, &done, &best_ll);
-    for (int round = 0; round < 3 && st == AENL_OK; ++round, step *= 0.5)
+    for (int round = 0; round < 3 && st == AENL_OK; ++round)
     {
         for (size_t i = 0; i + 1 < m->n_modes && st == AENL_OK; ++i)
         {
@@ -1776,6 +1780,7 @@ static aenl_status_t refine_thresholds(ws_t *w, aenl_em_model_t *m, const aenl_e
                 }
             }
         }
+        step *= 0.5; /* halved after each round (no continue/break skips it) */
     }
     if (st == AENL_OK)
     {
@@ -1845,7 +1850,7 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
     {
         if (opts->modes_from_data)
         {
-            for (size_t k = 0; k < n; ++k)
+            for (size_t k = 0; k < w.n; ++k) /* w.n == n: the bound refine_thresholds reads to */
             {
                 u[k] = y[k * n_z + opts->switch_channel];
             }
@@ -2186,12 +2191,9 @@ aenl_status_t aenl_em_write_ini(const aenl_em_model_t *m, const char *path, aenl
 static void c_real(FILE *fp, double v)
 {
     char buf[48];
-    snprintf(buf, sizeof(buf), "%.9g", (double)(float)v);
-    if (strpbrk(buf, ".eE") == NULL)
-    {
-        strcat(buf, ".0");
-    }
-    fprintf(fp, "AENL_R(%s)", buf);
+    /* "%.9g" of a float is at most 15 characters ("-1.17549435e-38"): cannot truncate */
+    (void)snprintf(buf, sizeof(buf), "%.9g", (double)(float)v);
+    fprintf(fp, "AENL_R(%s%s)", buf, strpbrk(buf, ".eE") == NULL ? ".0" : "");
 }
 
 static void c_matrix(FILE *fp, const char *indent, const double *a, size_t n, size_t m,
@@ -2222,14 +2224,35 @@ aenl_status_t aenl_em_write_c_header(const aenl_em_model_t *m, const char *name,
         aenl_err_set(err, "NULL argument");
         return AENL_E_ARG;
     }
+    if (name[0] == '\0')
+    {
+        aenl_err_set(err, "the model name is empty (it must be a C identifier)");
+        return AENL_E_ARG;
+    }
     for (const char *p = name; *p; ++p)
     {
         const int ok = (*p >= 'a' && *p <= 'z') || (*p >= 'A' && *p <= 'Z') || *p == '_' ||
                        (p != name && *p >= '0' && *p <= '9');
-        if (!ok || name[0] == '\0')
+        if (!ok)
         {
             aenl_err_set(err, "'%s' is not a C identifier", name);
             return AENL_E_ARG;
+        }
+    }
+    char guard[160];
+    const int glen = snprintf(guard, sizeof(guard), "AENL_MODEL_%s_H", name);
+    if (glen < 0 || (size_t)glen >= sizeof(guard))
+    {
+        /* a truncated guard could collide with another model's header */
+        aenl_err_set(err, "model name '%s' is too long (at most %zu characters)", name,
+                     sizeof(guard) - sizeof("AENL_MODEL__H"));
+        return AENL_E_ARG;
+    }
+    for (char *p = guard; *p; ++p)
+    {
+        if (*p >= 'a' && *p <= 'z')
+        {
+            *p = (char)(*p - 'a' + 'A'); /* 'A'..'Z': fits a char */
         }
     }
     aenl_outfile_t of;
@@ -2240,12 +2263,6 @@ aenl_status_t aenl_em_write_c_header(const aenl_em_model_t *m, const char *name,
     }
     const size_t nx = m->n_x, nz = m->n_z, nm = m->n_modes;
     FILE *fp = of.fp;
-    char guard[160];
-    snprintf(guard, sizeof(guard), "AENL_MODEL_%s_H", name);
-    for (char *p = guard; *p; ++p)
-    {
-        *p = (*p >= 'a' && *p <= 'z') ? (char)(*p - 'a' + 'A') : *p;
-    }
     fprintf(
         fp,
         "/* Generated by `aenl fit`: switching state-space model for the aenl_skf core filter.\n"
