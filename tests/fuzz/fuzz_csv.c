@@ -22,19 +22,10 @@
 #include <string.h>
 #include <unistd.h>
 
+#define FUZZ_NAME "fuzz_csv"
+#include "fuzz_common.h"
+
 #include "aenl_tools/aenl_csv.h"
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(cond, what)                                                                          \
-    do                                                                                             \
-    {                                                                                              \
-        if (!(cond))                                                                               \
-        {                                                                                          \
-            fprintf(stderr, "fuzz_csv: %s (line %d)\n", what, __LINE__);                           \
-            abort();                                                                               \
-        }                                                                                          \
-    } while (0)
 
 static char g_in_path[256];
 static char g_out_path[256];

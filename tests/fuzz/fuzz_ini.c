@@ -19,19 +19,10 @@
 #include <string.h>
 #include <unistd.h>
 
+#define FUZZ_NAME "fuzz_ini"
+#include "fuzz_common.h"
+
 #include "aenl_tools/aenl_sim.h"
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(cond, what)                                                                          \
-    do                                                                                             \
-    {                                                                                              \
-        if (!(cond))                                                                               \
-        {                                                                                          \
-            fprintf(stderr, "fuzz_ini: %s (line %d)\n", what, __LINE__);                           \
-            abort();                                                                               \
-        }                                                                                          \
-    } while (0)
 
 static char g_path[256];
 

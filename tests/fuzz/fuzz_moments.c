@@ -29,44 +29,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#define FUZZ_NAME "fuzz_moments"
+#include "fuzz_common.h"
+
 #include "aenl/aenl_moments.h"
-
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-
-#define CHECK(cond, what)                                                                          \
-    do                                                                                             \
-    {                                                                                              \
-        if (!(cond))                                                                               \
-        {                                                                                          \
-            fprintf(stderr, "fuzz_moments: %s (line %d)\n", what, __LINE__);                       \
-            abort();                                                                               \
-        }                                                                                          \
-    } while (0)
-
-typedef struct
-{
-    const uint8_t *p;
-    size_t n;
-} input_t;
-
-static uint8_t take_u8(input_t *in)
-{
-    if (in->n == 0u)
-    {
-        return 0u;
-    }
-    const uint8_t v = in->p[0];
-    in->p++;
-    in->n--;
-    return v;
-}
-
-static uint16_t take_u16(input_t *in)
-{
-    const uint16_t lo = take_u8(in);
-    const uint16_t hi = take_u8(in);
-    return (uint16_t)(lo | (uint16_t)(hi << 8));
-}
 
 static aenl_real_t take_raw_real(input_t *in)
 {
