@@ -118,6 +118,52 @@ static void test_cli_moments_reports_cv_bandwidth(void)
     TEST_ASSERT_NOT_NULL(strstr(r.out, "lag,x,mean,var,n_eff,se\n"));
 }
 
+/* A clean sinusoid with an incommensurate period of 97.3 samples: with the automatic pre-filter
+ * and lags, the expansion must find the period and the analytic restoring force a = -w^2 p. */
+static void test_cli_moments_expansion_of_a_sinusoid(void)
+{
+    static char text[1 << 20];
+    const double w = 2.0 * 3.14159265358979323846 / 97.3;
+    size_t pos = (size_t)snprintf(text, sizeof(text), "t,alpha\n");
+    for (int i = 0; i < 8000 && pos + 64 < sizeof(text); ++i)
+    {
+        pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%d,%.12f\n", i, sin(w * i));
+    }
+    const char *data = cli_file("sine.csv", text);
+    const char *args[] = {"moments", data,         "--prefilter", "auto",        "--lags",
+                          "auto",    "--grid",     "-1:1:21",     "--bandwidth", "0.15",
+                          "-o",      "sine_m.csv", "--expansion", "sine_x.csv",  NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "period 97."), r.out);
+    char path[600];
+    (void)snprintf(path, sizeof(path), "%s/sine_x.csv", AENL_TEST_TMP_DIR);
+    FILE *f = fopen(path, "r");
+    TEST_ASSERT_NOT_NULL(f);
+    char line[512];
+    int n_checked = 0;
+    while (fgets(line, sizeof(line), f) != NULL)
+    {
+        int dir;
+        double x, p, v, a;
+        /* NOLINTNEXTLINE(cert-err34-c): the field count is checked */
+        if (line[0] == '#' || sscanf(line, "%d,%lf,%lf,%lf,%lf", &dir, &x, &p, &v, &a) != 5 ||
+            fabs(x) > 0.7)
+        {
+            continue;
+        }
+        TEST_ASSERT_DOUBLE_WITHIN(0.02 * w * w, -w * w * p, a);
+        if (dir == 1)
+        {
+            TEST_ASSERT_DOUBLE_WITHIN(0.03 * w, w * sqrt(1.0 - p * p), v);
+        }
+        n_checked++;
+    }
+    (void)fclose(f);
+    TEST_ASSERT_GREATER_THAN_INT(30, n_checked);
+}
+
 /* Bad input: exit 2, one line on stderr containing `needle`, nothing on stdout, no output. */
 static void expect_rejected(const char *const *args, const char *needle)
 {
@@ -182,6 +228,15 @@ static void test_cli_moments_rejects_bad_input(void)
     expect_rejected(a17, "--grid");
     const char *a18[] = {"moments", good, "--channel", "alpha", "--bandwidth", "nan", NULL};
     expect_rejected(a18, "--bandwidth");
+    const char *a19[] = {"moments", good, "--channel", "alpha", "--prefilter", "0.7", NULL};
+    expect_rejected(a19, "--prefilter");
+    const char *a20[] = {"moments", good,          "--channel",     "alpha", "--lags",
+                         "1,5",     "--expansion", "bad_out_x.csv", NULL};
+    expect_rejected(a20, "at least 3 lags");
+    const char *ramp = cli_file("ramp.csv", "t,alpha\n0,0\n1,1\n2,2\n3,3\n4,4\n5,5\n6,6\n7,7\n"
+                                            "8,8\n9,9\n10,10\n11,11\n12,12\n13,13\n14,14\n");
+    const char *a21[] = {"moments", ramp, "--lags", "auto", "-o", "bad_out.csv", NULL};
+    expect_rejected(a21, "fewer than two full oscillations");
 }
 
 int main(void)
@@ -189,6 +244,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_moments_csv_matches_direct_formula);
     RUN_TEST(test_cli_moments_reports_cv_bandwidth);
+    RUN_TEST(test_cli_moments_expansion_of_a_sinusoid);
     RUN_TEST(test_cli_moments_rejects_bad_input);
     return UNITY_END();
 }

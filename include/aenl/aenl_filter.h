@@ -12,8 +12,9 @@
  *
  * Design: digital Butterworth of even order N by the bilinear transform with pre-warping,
  * |H(e^{jw})|^2 = 1 / (1 + (tan(w/2) / tan(pi fc))^(2N)), realised as N/2 biquads in transposed
- * direct form II. The first sample primes every section to its steady state, so a record does
- * not start with a filter transient.
+ * direct form II. The first sample primes every section to its steady state for a constant
+ * input, so a record that starts at rest has no transient; one that starts in motion settles
+ * within about 4 / cutoff samples, which a caller estimating statistics should leave out.
  *
  * Memory: caller-owned state, no allocation. Threading: none; re-entrant per instance.
  */

@@ -22,13 +22,24 @@ static void help(void)
     printf(
         "usage: aenl moments DATA.csv [--channel C] [--lags 1,10,30] [--grid MIN:MAX:N]\n"
         "                    [--bandwidth cv|H] [--direction all|rising|falling] [--no-split]\n"
-        "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n\n"
+        "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n"
+        "                    [--prefilter auto|off|F] [--lags auto] [--expansion exp.csv]\n"
+        "                    [--plot-expansion exp.png]\n\n"
         "Kernel estimates of E(X_n | X_{n-L} = x) and Var(X_n | X_{n-L} = x) on a grid, for each\n"
         "lag L (the paper's j = -L). CSV columns: lag,x,mean,var,n_eff,se (after '#' lines that\n"
         "give the source, the bandwidth and how it was chosen). Without -o the CSV goes to "
         "stdout.\n"
         "Defaults: lags 1,10,30; grid over the 0.1%%..99.9%% quantiles with 64 nodes; bandwidth\n"
-        "by leave-one-out cross-validation; rising/falling accumulated separately.\n");
+        "by leave-one-out cross-validation; rising/falling accumulated separately.\n\n"
+        "--prefilter auto|F  4th-order Butterworth low-pass first: cutoff F of the sample rate, "
+        "or\n"
+        "                    auto = 8 / period (period from mean crossings, at most 0.4)\n"
+        "--lags auto         geometric lags 1 .. max(5, period/8), as the expansion needs\n"
+        "--expansion FILE    per node and direction, the fit m_L = p + v L + a L^2/2 + ...:\n"
+        "                    dir,x,position,velocity,accel,se_position,se_velocity,se_accel\n"
+        "                    (dir 0 all, 1 rising, 2 falling; per sample units); accel against\n"
+        "                    position is the restoring-force curve (needs >= 3 lags)\n"
+        "--plot-expansion F  figure of it: acceleration and velocity against position\n");
 }
 
 static int parse_grid(const char *s, aenl_curves_opts_t *o)
@@ -68,9 +79,54 @@ static int parse_grid(const char *s, aenl_curves_opts_t *o)
     return 0;
 }
 
+/* The expansion CSV (to `path`, or a temporary file when only its figure is asked for) and its
+ * figure; nothing is left behind on failure. */
+static aenl_status_t write_expansion(const aenl_curves_t *c, const char *data, const char *chan,
+                                     const char *path, const char *png, aenl_err_t *err)
+{
+    char tmp[64] = "";
+    const char *csv = path;
+    if (csv == NULL)
+    {
+        (void)snprintf(tmp, sizeof(tmp), "/tmp/aenl_expansion_XXXXXX");
+        const int fd = mkstemp(tmp);
+        if (fd < 0)
+        {
+            aenl_err_set(err, "cannot create a temporary file in /tmp");
+            return AENL_E_IO;
+        }
+        (void)close(fd);
+        csv = tmp;
+    }
+    aenl_status_t st = aenl_curves_write_expansion_csv(c, data, chan, csv, err);
+    if (st == AENL_OK && png != NULL)
+    {
+        char title[600];
+        const char *base = strrchr(data, '/') ? strrchr(data, '/') + 1 : data;
+        (void)snprintf(title, sizeof(title), "%s: %s, lag expansion (order %u, prefilter %.3g)",
+                       base, chan, (unsigned)c->taylor_order, c->prefilter);
+        for (char *p = title; *p; ++p)
+        {
+            *p = (char)((*p == '\'' || *p == '\n') ? ' ' : *p);
+        }
+        const aenl_plot_var_t vars[] = {{"in", csv}, {"title", title}, {"xlabel", chan}};
+        st = aenl_plot_run("expansion", vars, sizeof(vars) / sizeof(vars[0]), png, err);
+        if (st != AENL_OK && path != NULL)
+        {
+            (void)remove(path);
+        }
+    }
+    if (tmp[0] != '\0')
+    {
+        (void)remove(tmp);
+    }
+    return st;
+}
+
 int aenl_cmd_moments(int argc, char **argv)
 {
     const char *data = NULL, *channel = NULL, *out = NULL, *plot = NULL;
+    const char *expansion = NULL, *plot_expansion = NULL;
     int dir = AENL_DIR_ALL;
     aenl_curves_opts_t o;
     aenl_curves_opts_default(&o);
@@ -99,9 +155,52 @@ int aenl_cmd_moments(int argc, char **argv)
             {
                 return AENL_EXIT_USAGE;
             }
-            if (aenl_curves_parse_lags(v, &o, &err) != AENL_OK)
+            if (strcmp(v, "auto") == 0)
+            {
+                o.lags_auto = 1;
+            }
+            else if (aenl_curves_parse_lags(v, &o, &err) != AENL_OK)
             {
                 aenl_cli_error(k_cmd, "%s", err.msg);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--prefilter") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (strcmp(v, "auto") == 0)
+            {
+                o.prefilter = -1.0;
+            }
+            else if (strcmp(v, "off") == 0)
+            {
+                o.prefilter = 0.0;
+            }
+            else if (aenl_cli_parse_double(k_cmd, "--prefilter", v, &o.prefilter) != 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            else if (!(o.prefilter > 0.0 && o.prefilter < 0.5))
+            {
+                aenl_cli_error(k_cmd, "--prefilter: %s is not auto, off or a cutoff in (0, 0.5)",
+                               v);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--expansion") == 0)
+        {
+            if ((expansion = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return AENL_EXIT_USAGE;
+            }
+        }
+        else if (strcmp(a, "--plot-expansion") == 0)
+        {
+            if ((plot_expansion = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
                 return AENL_EXIT_USAGE;
             }
         }
@@ -214,7 +313,12 @@ int aenl_cmd_moments(int argc, char **argv)
                        dir == AENL_DIR_RISING ? "rising" : "falling");
         return AENL_EXIT_USAGE;
     }
-    if (plot != NULL && !aenl_plot_available())
+    if ((expansion != NULL || plot_expansion != NULL) && !o.lags_auto && o.n_lags < 3u)
+    {
+        aenl_cli_error(k_cmd, "--expansion needs at least 3 lags (--lags auto or a list)");
+        return AENL_EXIT_USAGE;
+    }
+    if ((plot != NULL || plot_expansion != NULL) && !aenl_plot_available())
     {
         aenl_cli_error(k_cmd, "--plot needs gnuplot on PATH (Debian: apt-get install gnuplot-nox)");
         return AENL_EXIT_USAGE;
@@ -307,6 +411,22 @@ int aenl_cmd_moments(int argc, char **argv)
     {
         (void)remove(tmp_csv);
     }
+    if (st == AENL_OK && (expansion != NULL || plot_expansion != NULL))
+    {
+        st = write_expansion(&c, data, chan, expansion, plot_expansion, &err);
+        if (st != AENL_OK && out != NULL && strcmp(out, "-") != 0 && plot == NULL)
+        {
+            (void)remove(out); /* all or nothing */
+        }
+        if (st != AENL_OK && plot != NULL)
+        {
+            (void)remove(plot);
+            if (out != NULL && strcmp(out, "-") != 0)
+            {
+                (void)remove(out);
+            }
+        }
+    }
     if (st == AENL_OK && out != NULL && strcmp(out, "-") != 0)
     {
         printf("%s: channel %s, %zu samples (%zu missing), lags", data, chan, c.n_samples,
@@ -319,6 +439,12 @@ int aenl_cmd_moments(int argc, char **argv)
                c.x[c.n_grid - 1u], (unsigned)c.n_grid, c.bandwidth,
                c.bw_method < 0 ? "given" : aenl_bw_method_str(c.bw_method), out, plot ? ", " : "",
                plot ? plot : "");
+    }
+    if (st == AENL_OK && (c.period > 0.0 || c.prefilter > 0.0) && out != NULL &&
+        strcmp(out, "-") != 0)
+    {
+        printf("  period %.4g samples, pre-filter cutoff %.4g of the sample rate\n", c.period,
+               c.prefilter);
     }
     aenl_curves_free(&c);
     if (st != AENL_OK)

@@ -11,13 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aenl/aenl_filter.h"
 #include "aenl_tools/aenl_bandwidth.h"
 
 #define DEFAULT_NODES 64u
 #define QUANTILE_LO   0.001
 
 void aenl_curves_opts_default(aenl_curves_opts_t *o)
-{
+{ /* prefilter 0 (off) and lags_auto 0 by the memset below */
     memset(o, 0, sizeof(*o));
     o->n_lags = 3;
     o->lags[0] = 1;
@@ -40,6 +41,12 @@ void aenl_curves_free(aenl_curves_t *c)
     free(c->var);
     free(c->n_eff);
     free(c->se);
+    free(c->position);
+    free(c->velocity);
+    free(c->accel);
+    free(c->se_position);
+    free(c->se_velocity);
+    free(c->se_accel);
     memset(c, 0, sizeof(*c));
 }
 
@@ -159,8 +166,179 @@ static aenl_status_t check_opts(const aenl_curves_opts_t *o, aenl_err_t *err)
     return AENL_OK;
 }
 
+aenl_status_t aenl_curves_period(const double *x, size_t n, double *period, aenl_err_t *err)
+{
+    double sum = 0.0, sum2 = 0.0;
+    size_t n_fin = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            sum += x[i];
+            n_fin++;
+        }
+    }
+    if (n_fin < 4u)
+    {
+        aenl_err_set(err, "too few finite samples (%zu) to estimate a period", n_fin);
+        return AENL_E_ARG;
+    }
+    const double mean = sum / (double)n_fin;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            sum2 += (x[i] - mean) * (x[i] - mean);
+        }
+    }
+    const double band = 0.5 * sqrt(sum2 / (double)n_fin);
+    /* Count upward passes: below mean - band, then above mean + band. */
+    int state = 0; /* -1 below, +1 above, 0 not yet known */
+    size_t first = 0, last = 0, n_up = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (!isfinite(x[i]))
+        {
+            continue;
+        }
+        if (x[i] < mean - band)
+        {
+            state = -1;
+        }
+        else if (x[i] > mean + band && state == -1)
+        {
+            state = 1;
+            if (n_up == 0u)
+            {
+                first = i;
+            }
+            last = i;
+            n_up++;
+        }
+        else if (x[i] > mean + band)
+        {
+            state = 1;
+        }
+    }
+    if (n_up < 3u)
+    {
+        aenl_err_set(err,
+                     "fewer than two full oscillations: the period (and an automatic pre-filter "
+                     "or lag set) cannot be estimated; give --prefilter F and --lags L1,L2,...");
+        return AENL_E_ARG;
+    }
+    *period = (double)(last - first) / (double)(n_up - 1u);
+    return AENL_OK;
+}
+
+/* Low-pass copy of x (4th-order Butterworth, NaN kept as gaps); NULL when out of memory. The
+ * first 4 / cutoff samples are returned as missing: priming assumes a constant input, so a record
+ * that starts in motion carries a settling transient that long, which would bias the curves. */
+static double *prefiltered(const double *x, size_t n, double cutoff, aenl_err_t *err)
+{
+    aenl_filter_t f;
+    aenl_filter_cfg_t cfg;
+    memset(&cfg, 0, sizeof(cfg));
+    cfg.cutoff = cutoff;
+    cfg.order = 4;
+    if (aenl_filter_init(&f, &cfg) != AENL_OK)
+    {
+        aenl_err_set(err, "pre-filter cutoff %g is outside (0, 0.5) of the sample rate", cutoff);
+        return NULL;
+    }
+    double *y = malloc((n ? n : 1u) * sizeof(double));
+    if (y == NULL)
+    {
+        aenl_err_set(err, "out of memory (pre-filtered copy of %zu samples)", n);
+        return NULL;
+    }
+    const size_t settle = (size_t)ceil(4.0 / cutoff);
+    for (size_t i = 0; i < n; ++i)
+    {
+        (void)aenl_filter_push(&f, x[i], &y[i]); /* NaN: passed through as a gap */
+        if (i < settle)
+        {
+            y[i] = (double)NAN;
+        }
+    }
+    return y;
+}
+
+/* Geometric lags 1 .. max(5, period / 8): small against the period, as the expansion needs. */
+static void auto_lags(double period, aenl_curves_opts_t *o)
+{
+    double top = period / 8.0;
+    top = top < 5.0 ? 5.0 : top;
+    top = top > (double)AENL_MOMENTS_MAX_LAG ? (double)AENL_MOMENTS_MAX_LAG : top;
+    const unsigned want = 8u;
+    uint16_t n = 0;
+    for (unsigned i = 0; i < want && n < AENL_MOMENTS_MAX_LAGS; ++i)
+    {
+        const double v = pow(top, (double)i / (double)(want - 1u));
+        const uint16_t lag = (uint16_t)(v + 0.5);
+        if (n == 0u || lag > o->lags[n - 1u])
+        {
+            o->lags[n++] = lag;
+        }
+    }
+    o->n_lags = n;
+}
+
+static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                    aenl_curves_t *out, aenl_err_t *err);
+
 aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
                                   aenl_curves_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    if (!isfinite(opts->prefilter) || opts->prefilter >= 0.5)
+    {
+        aenl_err_set(err, "the pre-filter cutoff %g must be below 0.5 of the sample rate",
+                     opts->prefilter);
+        return AENL_E_ARG;
+    }
+    aenl_curves_opts_t o = *opts;
+    double period = 0.0;
+    const int need_period = opts->lags_auto || opts->prefilter < 0.0;
+    if (need_period)
+    {
+        const aenl_status_t st = aenl_curves_period(x, n, &period, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+    }
+    if (opts->lags_auto)
+    {
+        auto_lags(period, &o);
+    }
+    double cutoff = opts->prefilter;
+    if (opts->prefilter < 0.0)
+    {
+        cutoff = 8.0 / period;
+        cutoff = cutoff > 0.4 ? 0.4 : cutoff;
+    }
+    double *y = NULL;
+    if (cutoff > 0.0)
+    {
+        y = prefiltered(x, n, cutoff, err);
+        if (y == NULL)
+        {
+            return AENL_E_ARG;
+        }
+    }
+    const aenl_status_t st = curves_compute(y ? y : x, n, &o, out, err);
+    free(y);
+    if (st == AENL_OK)
+    {
+        out->period = period;
+        out->prefilter = cutoff > 0.0 ? cutoff : 0.0;
+    }
+    return st;
+}
+
+static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                    aenl_curves_t *out, aenl_err_t *err)
 {
     memset(out, 0, sizeof(*out));
     aenl_status_t st = check_opts(opts, err);
@@ -324,8 +502,94 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
             }
         }
     }
+    if (out->n_lags >= 3u)
+    {
+        const size_t tot = (size_t)out->n_dir * out->n_grid;
+        double **arrs[6] = {&out->position,    &out->velocity,    &out->accel,
+                            &out->se_position, &out->se_velocity, &out->se_accel};
+        for (size_t a = 0; a < 6u; ++a)
+        {
+            *arrs[a] = malloc(tot * sizeof(double));
+            if (*arrs[a] == NULL)
+            {
+                free(m);
+                aenl_curves_free(out);
+                aenl_err_set(err, "out of memory (expansion)");
+                return AENL_E_IO;
+            }
+        }
+        out->taylor_order = (uint16_t)(out->n_lags - 1u < AENL_MOMENTS_TAYLOR_MAX_ORDER
+                                           ? out->n_lags - 1u
+                                           : AENL_MOMENTS_TAYLOR_MAX_ORDER);
+        for (int d = 0; d < (int)out->n_dir; ++d)
+        {
+            for (uint16_t k = 0; k < out->n_grid; ++k)
+            {
+                aenl_moments_taylor_t t;
+                const size_t at = aenl_curves_node_at(out, d, k);
+                if (aenl_moments_taylor(m, k, (aenl_dir_t)d, out->taylor_order, &t) == AENL_OK)
+                {
+                    out->position[at] = t.position;
+                    out->velocity[at] = t.velocity;
+                    out->accel[at] = t.accel;
+                    out->se_position[at] = t.se_position;
+                    out->se_velocity[at] = t.se_velocity;
+                    out->se_accel[at] = t.se_accel;
+                }
+                else
+                {
+                    out->position[at] = (double)NAN;
+                    out->velocity[at] = (double)NAN;
+                    out->accel[at] = (double)NAN;
+                    out->se_position[at] = (double)NAN;
+                    out->se_velocity[at] = (double)NAN;
+                    out->se_accel[at] = (double)NAN;
+                }
+            }
+        }
+    }
     free(m);
     return AENL_OK;
+}
+
+aenl_status_t aenl_curves_write_expansion_csv(const aenl_curves_t *c, const char *source,
+                                              const char *channel, const char *path,
+                                              aenl_err_t *err)
+{
+    if (c->position == NULL)
+    {
+        aenl_err_set(err, "the lag expansion needs at least 3 lags (got %u)", (unsigned)c->n_lags);
+        return AENL_E_ARG;
+    }
+    aenl_outfile_t of;
+    aenl_status_t st = aenl_outfile_open(&of, path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    FILE *fp = of.fp;
+    fprintf(fp, "# aenl moments expansion: source=%s channel=%s\n", source, channel);
+    fprintf(fp, "# m_L = position + velocity L + accel L^2/2 + ... (order %u, L in samples)\n",
+            (unsigned)c->taylor_order);
+    fprintf(fp, "# bandwidth=%.17g prefilter=%.17g period=%.17g lags=", c->bandwidth, c->prefilter,
+            c->period);
+    for (uint16_t i = 0; i < c->n_lags; ++i)
+    {
+        fprintf(fp, "%s%u", i ? " " : "", (unsigned)c->lags[i]);
+    }
+    fprintf(fp, "\n# dir: 0 all pairs, 1 rising, 2 falling\n");
+    fprintf(fp, "dir,x,position,velocity,accel,se_position,se_velocity,se_accel\n");
+    for (int d = 0; d < (int)c->n_dir; ++d)
+    {
+        for (uint16_t k = 0; k < c->n_grid; ++k)
+        {
+            const size_t at = aenl_curves_node_at(c, d, k);
+            fprintf(fp, "%d,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", d, c->x[k],
+                    c->position[at], c->velocity[at], c->accel[at], c->se_position[at],
+                    c->se_velocity[at], c->se_accel[at]);
+        }
+    }
+    return aenl_outfile_commit(&of, err);
 }
 
 static const char *method_name(int method)

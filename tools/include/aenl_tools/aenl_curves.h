@@ -27,6 +27,9 @@ typedef struct aenl_curves_opts
     double bandwidth;    /**< > 0: use it; <= 0: cross-validation */
     double forgetting;   /**< (0, 1]; default 1 */
     int split;           /**< accumulate rising/falling separately (needed for RISING/FALLING) */
+    double prefilter;    /**< 0 off (default); > 0 low-pass cutoff as a fraction of the sample
+                              rate (< 0.5); < 0 automatic: 8 / period, at most 0.4 */
+    int lags_auto;       /**< 1: lags chosen from the period, geometric 1 .. max(5, period/8) */
 } aenl_curves_opts_t;
 
 /** Defaults: lags 1, 10, 30; 64 nodes; CV bandwidth; no forgetting; split on. */
@@ -42,6 +45,12 @@ typedef struct aenl_curves
     double bandwidth;
     int bw_method; /**< AENL_BW_CV or AENL_BW_RULE (aenl_bandwidth.h), or -1 given */
     size_t n_samples, n_missing;
+    double period;    /**< estimated dominant period in samples (0 when not needed) */
+    double prefilter; /**< cutoff applied, fraction of the sample rate (0: none) */
+    /** Lag expansion per [dir][node] (aenl_moments_taylor, order min(4, n_lags - 1)); NULL when
+     *  fewer than 3 lags; NaN where a node has no estimate. */
+    double *position, *velocity, *accel, *se_position, *se_velocity, *se_accel;
+    uint16_t taylor_order;
 } aenl_curves_t;
 
 /** Index of (dir, lag, node) in the arrays. */
@@ -62,6 +71,30 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
 
 /** Free and zero. Safe on a zeroed struct. */
 void aenl_curves_free(aenl_curves_t *c);
+
+/** Index of (dir, node) in the expansion arrays. */
+static inline size_t aenl_curves_node_at(const aenl_curves_t *c, int dir, size_t node)
+{
+    return (size_t)dir * c->n_grid + node;
+}
+
+/**
+ * @brief Dominant period of x in samples, from crossings of the mean with hysteresis (a crossing
+ *        counts only once the signal has moved half a standard deviation past the mean), so noise
+ *        chattering around the mean does not inflate the count.
+ * @return AENL_OK; AENL_E_ARG with a message when fewer than two full oscillations are found.
+ */
+aenl_status_t aenl_curves_period(const double *x, size_t n, double *period, aenl_err_t *err);
+
+/**
+ * @brief Write the lag expansion as CSV: '#' lines, then
+ *        `dir,x,position,velocity,accel,se_position,se_velocity,se_accel` with dir 0 all pairs,
+ *        1 rising, 2 falling; velocity per sample, accel per sample squared; nan where empty.
+ * @return AENL_OK; AENL_E_ARG when the curves have no expansion (fewer than 3 lags); AENL_E_IO.
+ */
+aenl_status_t aenl_curves_write_expansion_csv(const aenl_curves_t *c, const char *source,
+                                              const char *channel, const char *path,
+                                              aenl_err_t *err);
 
 /** Parse "1,10,30" into opts->lags. AENL_E_ARG with a message on a bad list. */
 aenl_status_t aenl_curves_parse_lags(const char *s, aenl_curves_opts_t *opts, aenl_err_t *err);
