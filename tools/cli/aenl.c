@@ -93,6 +93,22 @@ int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo
     return 0;
 }
 
+int aenl_cli_positional(const char *cmd, const char *arg, const char **slot, const char *what)
+{
+    if (arg[0] == '-' && arg[1] != '\0')
+    {
+        aenl_cli_error(cmd, "unknown option %s (aenl %s --help)", arg, cmd);
+        return -1;
+    }
+    if (*slot != NULL)
+    {
+        aenl_cli_error(cmd, "one %s only (got '%s' and '%s')", what, *slot, arg);
+        return -1;
+    }
+    *slot = arg;
+    return 0;
+}
+
 const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i)
 {
     if (*i + 1 >= argc)

@@ -27,6 +27,12 @@ int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, doubl
 /** Parse a whole number in [lo, hi]; on failure print and return -1. */
 int aenl_cli_parse_long(const char *cmd, const char *opt, const char *s, long lo, long hi,
                         long *out);
+/**
+ * @brief An argument no option of `cmd` took: "-x" is an unknown option; otherwise it fills *slot
+ *        when that is still empty, and a second one is an error naming `what` ("data file").
+ * @return 0, or -1 after printing the error.
+ */
+int aenl_cli_positional(const char *cmd, const char *arg, const char **slot, const char *what);
 /** The value after option argv[*i] (advancing *i), or NULL after printing "needs a value". */
 const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
 

@@ -194,18 +194,8 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
         {
             a->modes_from_data = 1;
         }
-        else if (o[0] == '-' && o[1] != '\0')
+        else if (aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
         {
-            aenl_cli_error(k_cmd, "unknown option %s (aenl fit --help)", o);
-            return -1;
-        }
-        else if (a->data == NULL)
-        {
-            a->data = o;
-        }
-        else
-        {
-            aenl_cli_error(k_cmd, "one data file only (got '%s' and '%s')", a->data, o);
             return -1;
         }
     }

@@ -79,6 +79,21 @@ static int parse_grid(const char *s, aenl_curves_opts_t *o)
     return 0;
 }
 
+/* An empty temporary file /tmp/aenl_<stem>_XXXXXX for a figure's data; its name into buf[64]. */
+static aenl_status_t make_tmp(char buf[64], const char *stem, aenl_err_t *err)
+{
+    (void)snprintf(buf, 64, "/tmp/aenl_%s_XXXXXX", stem);
+    const int fd = mkstemp(buf);
+    if (fd < 0)
+    {
+        buf[0] = '\0';
+        aenl_err_set(err, "cannot create a temporary file in /tmp");
+        return AENL_E_IO;
+    }
+    (void)close(fd);
+    return AENL_OK;
+}
+
 /* The expansion CSV (to `path`, or a temporary file when only its figure is asked for) and its
  * figure; nothing is left behind on failure. */
 static aenl_status_t write_expansion(const aenl_curves_t *c, const char *data, const char *chan,
@@ -88,14 +103,10 @@ static aenl_status_t write_expansion(const aenl_curves_t *c, const char *data, c
     const char *csv = path;
     if (csv == NULL)
     {
-        (void)snprintf(tmp, sizeof(tmp), "/tmp/aenl_expansion_XXXXXX");
-        const int fd = mkstemp(tmp);
-        if (fd < 0)
+        if (make_tmp(tmp, "expansion", err) != AENL_OK)
         {
-            aenl_err_set(err, "cannot create a temporary file in /tmp");
             return AENL_E_IO;
         }
-        (void)close(fd);
         csv = tmp;
     }
     aenl_status_t st = aenl_curves_write_expansion_csv(c, data, chan, csv, err);
@@ -287,18 +298,8 @@ int aenl_cmd_moments(int argc, char **argv)
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (a[0] == '-' && a[1] != '\0')
+        else if (aenl_cli_positional(k_cmd, a, &data, "data file") != 0)
         {
-            aenl_cli_error(k_cmd, "unknown option %s (aenl moments --help)", a);
-            return AENL_EXIT_USAGE;
-        }
-        else if (data == NULL)
-        {
-            data = a;
-        }
-        else
-        {
-            aenl_cli_error(k_cmd, "one data file only (got '%s' and '%s')", data, a);
             return AENL_EXIT_USAGE;
         }
     }
@@ -358,17 +359,12 @@ int aenl_cmd_moments(int argc, char **argv)
     const char *csv_path = out;
     if (plot != NULL && (out == NULL || strcmp(out, "-") == 0))
     {
-        strcpy(tmp_csv, "/tmp/aenl_moments_XXXXXX");
-        const int fd = mkstemp(tmp_csv);
-        if (fd < 0)
+        st = make_tmp(tmp_csv, "moments", &err);
+        if (st == AENL_OK)
         {
-            aenl_cli_error(k_cmd, "cannot create a temporary file in /tmp");
-            aenl_curves_free(&c);
-            return AENL_EXIT_FAIL;
+            st = aenl_curves_write_csv(&c, dir, data, chan, tmp_csv, &err);
+            csv_path = tmp_csv;
         }
-        close(fd);
-        st = aenl_curves_write_csv(&c, dir, data, chan, tmp_csv, &err);
-        csv_path = tmp_csv;
     }
     if (st == AENL_OK && (out == NULL || strcmp(out, "-") == 0) && plot == NULL)
     {

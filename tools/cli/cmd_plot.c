@@ -138,22 +138,12 @@ int aenl_cmd_plot(int argc, char **argv)
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (a[0] == '-' && a[1] != '\0')
-        {
-            aenl_cli_error(k_cmd, "unknown option %s (aenl plot --help)", a);
-            return AENL_EXIT_USAGE;
-        }
-        else if (kind == NULL)
+        else if (kind == NULL && a[0] != '-')
         {
             kind = a;
         }
-        else if (in == NULL)
+        else if (aenl_cli_positional(k_cmd, a, &in, "input file") != 0)
         {
-            in = a;
-        }
-        else
-        {
-            aenl_cli_error(k_cmd, "unexpected argument '%s'", a);
             return AENL_EXIT_USAGE;
         }
     }

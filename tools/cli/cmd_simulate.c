@@ -70,18 +70,8 @@ int aenl_cmd_simulate(int argc, char **argv)
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (a[0] == '-' && a[1] != '\0')
+        else if (aenl_cli_positional(k_cmd, a, &ini, "MODEL.ini") != 0)
         {
-            aenl_cli_error(k_cmd, "unknown option '%s' (aenl simulate --help)", a);
-            return AENL_EXIT_USAGE;
-        }
-        else if (ini == NULL)
-        {
-            ini = a;
-        }
-        else
-        {
-            aenl_cli_error(k_cmd, "one MODEL.ini only ('%s' is extra)", a);
             return AENL_EXIT_USAGE;
         }
     }
