@@ -18,7 +18,7 @@
 
 #include "aenl/aenl_moments.h"
 
-#define RING_LEN     ((uint16_t)(AENL_MOMENTS_MAX_LAG + 2))
+#define RING_LEN     ((uint16_t)(2 * AENL_MOMENTS_MAX_LAG + 2))
 #define SCALE_LIMIT  AENL_R(1048576.0)          /* 2^20 */
 #define SCALE_SHRINK AENL_R(9.5367431640625e-7) /* 2^-20 */
 
@@ -99,7 +99,7 @@ static void cell_scale(aenl_moments_cell_t *c, aenl_real_t f, aenl_real_t f2)
 
 static uint32_t active_cells(const aenl_moments_t *m)
 {
-    return (uint32_t)m->cfg.n_lags * m->cfg.n_grid * m->n_dir;
+    return (uint32_t)aenl_moments_n_series(m) * m->cfg.n_grid * m->n_dir;
 }
 
 static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
@@ -155,11 +155,12 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
     {
         return AENL_E_ARG;
     }
-    if (cfg->direction_split > 1u)
+    if (cfg->direction_split > 1u || cfg->symmetric > 1u)
     {
         return AENL_E_ARG;
     }
-    const uint32_t cells = (uint32_t)cfg->n_lags * cfg->n_grid * (cfg->direction_split ? 2u : 1u);
+    const uint32_t cells = (uint32_t)cfg->n_lags * (cfg->symmetric ? 2u : 1u) * cfg->n_grid *
+                           (cfg->direction_split ? 2u : 1u);
     if (cells > AENL_MOMENTS_MAX_CELLS)
     {
         return AENL_E_DIM;
@@ -316,7 +317,10 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
      * responses X_{c+L}. All lags thus see one set of conditioning samples, so differences
      * between lags (aenl_moments_taylor) carry no bias from where the record starts or ends. */
     const uint16_t max_lag = m->max_lag;
-    if (m->n_hist <= max_lag + (m->n_dir == 2u ? 1u : 0u))
+    /* history before X_c: L_max for the backward series, one sample for the direction */
+    const uint16_t n_back = m->cfg.symmetric ? max_lag : 0u;
+    const uint16_t n_before = (n_back > 0u) ? n_back : (m->n_dir == 2u ? 1u : 0u);
+    if (m->n_hist <= max_lag + n_before)
     {
         return AENL_OK;
     }
@@ -359,6 +363,16 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
                 cell_update(&m->cell[((uint32_t)li * m->n_dir + dir) * n_grid + (uint32_t)k], w,
                             m->hist[pr]);
             }
+            if (n_back > 0u) /* backward series: X_{c-L}, index n_lags + li */
+            {
+                const uint16_t pb = ring_back(m->head, (uint16_t)(max_lag + m->cfg.lags[li]));
+                if (m->valid[pb])
+                {
+                    const uint32_t ls = (uint32_t)m->cfg.n_lags + li;
+                    cell_update(&m->cell[(ls * m->n_dir + dir) * n_grid + (uint32_t)k], w,
+                                m->hist[pb]);
+                }
+            }
         }
     }
     return AENL_OK;
@@ -367,7 +381,7 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
 aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, uint16_t node,
                                  aenl_dir_t dir, aenl_moments_point_t *out)
 {
-    if (m == NULL || out == NULL || lag_index >= m->cfg.n_lags || node >= m->cfg.n_grid)
+    if (m == NULL || out == NULL || lag_index >= aenl_moments_n_series(m) || node >= m->cfg.n_grid)
     {
         return AENL_E_ARG;
     }
@@ -441,86 +455,95 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
 aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
                                   uint16_t order, aenl_moments_taylor_t *out)
 {
+    return aenl_moments_taylor_ex(m, node, dir, order, NULL, out);
+}
+
+aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
+                                     uint16_t order, const aenl_real_t *nuisance,
+                                     aenl_moments_taylor_t *out)
+{
     enum
     {
-        NT = AENL_MOMENTS_TAYLOR_MAX_ORDER + 1
+        NT = AENL_MOMENTS_TAYLOR_MAX_ORDER + 2 /* polynomial + the nuisance column */
     };
     if (m == NULL || out == NULL || order < 2u || order > AENL_MOMENTS_TAYLOR_MAX_ORDER ||
-        order + 1u > m->cfg.n_lags || node >= m->cfg.n_grid)
+        order + 1u + (nuisance != NULL ? 1u : 0u) > aenl_moments_n_series(m) ||
+        node >= m->cfg.n_grid)
     {
         return AENL_E_ARG;
     }
-    const uint16_t nt = (uint16_t)(order + 1u);
-    const uint16_t n = m->cfg.n_lags;
-    /* Weighted design matrix [sqrt(w) t^k | sqrt(w) y], lags scaled to t = L / L_max in (0, 1],
-     * solved by modified Gram-Schmidt QR: no normal equations, whose squared condition number
-     * costs float32 every digit at order 4. */
-    aenl_real_t a[AENL_MOMENTS_MAX_LAGS][NT + 1];
+    const uint16_t nt = (uint16_t)(order + 1u + (nuisance != NULL ? 1u : 0u));
+    const uint16_t np = (uint16_t)(order + 1u); /* polynomial columns */
+    const uint16_t n = aenl_moments_n_series(m);
+    /* Weighted least squares on rows [sqrt(w) t^k | sqrt(w) y], lags scaled to t = L / L_max in
+     * [-1, 1], by a QR factorisation built one row at a time with Givens rotations: no normal
+     * equations (whose squared condition number costs float32 every digit at order 4) and a
+     * stack that does not grow with the number of lags. r holds [R | Q'b]. */
+    aenl_real_t r[NT][NT + 1], col2[NT], rss = AENL_R(0.0);
+    memset(r, 0, sizeof(r));
+    memset(col2, 0, sizeof(col2));
     const aenl_real_t inv_lmax = AENL_R(1.0) / (aenl_real_t)m->max_lag;
     int weighted = 1;
-    for (uint16_t li = 0; li < n; ++li)
+    for (uint16_t pass = 0; pass < 2u; ++pass) /* pass 0: are all se > 0? pass 1: rows */
     {
-        aenl_moments_point_t p;
-        const aenl_status_t st = aenl_moments_query(m, li, node, dir, &p);
-        if (st != AENL_OK)
+        for (uint16_t li = 0; li < n; ++li)
         {
-            return st;
+            aenl_moments_point_t p;
+            const aenl_status_t st = aenl_moments_query(m, li, node, dir, &p);
+            if (st != AENL_OK)
+            {
+                return st;
+            }
+            if (pass == 0u)
+            {
+                weighted = weighted && (p.se > AENL_R(0.0));
+                continue;
+            }
+            const aenl_real_t sw = weighted ? AENL_R(1.0) / p.se : AENL_R(1.0);
+            const aenl_real_t t = (aenl_real_t)aenl_moments_lag(m, li) * inv_lmax;
+            aenl_real_t row[NT + 1];
+            aenl_real_t pw = sw;
+            for (uint16_t k = 0; k < np; ++k)
+            {
+                row[k] = pw;
+                pw *= t;
+            }
+            if (nuisance != NULL)
+            {
+                row[np] = sw * nuisance[li % m->cfg.n_lags]; /* the same for L and -L */
+            }
+            row[nt] = p.mean * sw;
+            for (uint16_t j = 0; j < nt; ++j)
+            {
+                col2[j] += row[j] * row[j];
+            }
+            for (uint16_t j = 0; j < nt; ++j) /* rotate the row into R */
+            {
+                const aenl_real_t x = r[j][j], y = row[j];
+                if (!(aenl_fabs(y) > AENL_R(0.0)))
+                {
+                    continue;
+                }
+                const aenl_real_t hyp = aenl_sqrt(x * x + y * y);
+                const aenl_real_t cs = x / hyp, sn = y / hyp;
+                for (uint16_t k = j; k <= nt; ++k)
+                {
+                    const aenl_real_t rk = r[j][k], wk = row[k];
+                    r[j][k] = cs * rk + sn * wk;
+                    row[k] = cs * wk - sn * rk;
+                }
+            }
+            rss += row[nt] * row[nt]; /* what the columns cannot reach: the residual */
         }
-        weighted = weighted && (p.se > AENL_R(0.0));
-        a[li][nt] = p.mean;
-        a[li][0] = p.se; /* kept here until every lag is known to have a weight */
     }
-    for (uint16_t li = 0; li < n; ++li)
-    {
-        const aenl_real_t sw = weighted ? AENL_R(1.0) / a[li][0] : AENL_R(1.0);
-        const aenl_real_t t = (aenl_real_t)m->cfg.lags[li] * inv_lmax;
-        aenl_real_t pw = sw;
-        for (uint16_t k = 0; k < nt; ++k)
-        {
-            a[li][k] = pw;
-            pw *= t;
-        }
-        a[li][nt] *= sw;
-    }
-    aenl_real_t r[NT][NT];
-    memset(r, 0, sizeof(r));
-    aenl_real_t qtb[NT];
+    /* A pivot that lost all but rounding of its column's norm: the columns are dependent
+     * (e.g. too few distinct lags for the order and the nuisance column). */
+    const aenl_real_t rank_tol = AENL_USE_DOUBLE ? AENL_R(1e-9) : AENL_R(1e-4);
     for (uint16_t j = 0; j < nt; ++j)
     {
-        aenl_real_t norm2 = AENL_R(0.0);
-        for (uint16_t li = 0; li < n; ++li)
-        {
-            norm2 += a[li][j] * a[li][j];
-        }
-        const aenl_real_t norm = aenl_sqrt(norm2);
-        if (!(norm > AENL_R(0.0)) || !aenl_is_finite(norm))
+        if (!(aenl_fabs(r[j][j]) > rank_tol * aenl_sqrt(col2[j])) || !aenl_is_finite(r[j][j]))
         {
             return AENL_E_NUMERIC;
-        }
-        r[j][j] = norm;
-        for (uint16_t li = 0; li < n; ++li)
-        {
-            a[li][j] /= norm;
-        }
-        for (uint16_t k = (uint16_t)(j + 1u); k <= nt; ++k) /* k = nt: the right-hand side */
-        {
-            aenl_real_t dot = AENL_R(0.0);
-            for (uint16_t li = 0; li < n; ++li)
-            {
-                dot += a[li][j] * a[li][k];
-            }
-            for (uint16_t li = 0; li < n; ++li)
-            {
-                a[li][k] -= dot * a[li][j];
-            }
-            if (k < nt)
-            {
-                r[j][k] = dot;
-            }
-            else
-            {
-                qtb[j] = dot;
-            }
         }
     }
     /* Back substitution R c = Q'b, and R^-1 (upper triangular) for the coefficient variances:
@@ -529,7 +552,7 @@ aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_d
     memset(rinv, 0, sizeof(rinv));
     for (int i = (int)nt - 1; i >= 0; --i)
     {
-        aenl_real_t acc = qtb[i];
+        aenl_real_t acc = r[i][nt];
         for (uint16_t k = (uint16_t)(i + 1); k < nt; ++k)
         {
             acc -= r[i][k] * c[k];
@@ -568,5 +591,6 @@ aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_d
     out->se_position = weighted ? aenl_sqrt(var[0]) : AENL_R(0.0);
     out->se_velocity = weighted ? aenl_sqrt(var[1]) * s1 : AENL_R(0.0);
     out->se_accel = weighted ? AENL_R(2.0) * aenl_sqrt(var[2]) * s2 : AENL_R(0.0);
+    out->chi2 = (weighted && n > nt) ? rss / (aenl_real_t)(n - nt) : AENL_R(0.0);
     return AENL_OK;
 }

@@ -48,10 +48,13 @@ typedef struct
 /* Weight of the pair (x[c], x[c + lag]) for the reference: 0 when it is not in the estimate.
  * The estimator conditions every lag on the same samples c = 0 (1 with the split) .. n-1-max_lag,
  * and forms them at push c + max_lag, whose age sets the forgetting weight. */
+/* With the symmetric option the conditioning samples also need max_lag samples before them. */
+static int g_sym;
+
 static double pair_weight(const aenl_real_t *x, size_t n, size_t c, unsigned max_lag, double node,
                           double h, int dir, int split, double lambda)
 {
-    if (c + max_lag >= n || (split && c == 0))
+    if (c + max_lag >= n || (split && c == 0) || (g_sym && c < max_lag))
     {
         return 0.0;
     }
@@ -78,8 +81,8 @@ static double pair_weight(const aenl_real_t *x, size_t n, size_t c, unsigned max
 }
 
 /* Formula (10) and its variance analogue by direct summation over the pairs, two-pass. */
-static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, unsigned max_lag,
-                         double node, double h, int dir /* 0 all, 1 rising, 2 falling */, int split,
+static ref_point_t brute(const aenl_real_t *x, size_t n, long lag, unsigned max_lag, double node,
+                         double h, int dir /* 0 all, 1 rising, 2 falling */, int split,
                          double lambda)
 {
     ref_point_t r = {0.0, 0.0, 0.0, 0.0, 1};
@@ -90,7 +93,7 @@ static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, unsigned 
         if (w > 0.0)
         {
             sw += w;
-            swy += w * (double)x[c + lag];
+            swy += w * (double)x[(long)c + lag];
             sw2 += w * w;
         }
     }
@@ -103,7 +106,7 @@ static ref_point_t brute(const aenl_real_t *x, size_t n, unsigned lag, unsigned 
         for (size_t c = 0; c < n; ++c)
         {
             const double w = pair_weight(x, n, c, max_lag, node, h, dir, split, lambda);
-            const double e = (w > 0.0) ? (double)x[c + lag] - r.mean : 0.0;
+            const double e = (w > 0.0) ? (double)x[(long)c + lag] - r.mean : 0.0;
             s += w * e * e;
         }
         r.var = s / sw;
@@ -136,7 +139,8 @@ static void compare_all(const aenl_moments_t *m, const aenl_real_t *x, size_t n,
 {
     const double tol = AENL_TEST_REL_TOL;
     int n_checked = 0;
-    for (uint16_t li = 0; li < m->cfg.n_lags; ++li)
+    g_sym = m->cfg.symmetric;
+    for (uint16_t li = 0; li < aenl_moments_n_series(m); ++li)
     {
         for (int dir = 0; dir < (m->cfg.direction_split ? 3 : 1); ++dir)
         {
@@ -145,8 +149,8 @@ static void compare_all(const aenl_moments_t *m, const aenl_real_t *x, size_t n,
                 aenl_moments_point_t p;
                 const aenl_status_t st = aenl_moments_query(m, li, k, (aenl_dir_t)dir, &p);
                 const ref_point_t r =
-                    brute(x, n, m->cfg.lags[li], m->max_lag, (double)p.x, (double)m->cfg.bandwidth,
-                          dir, m->cfg.direction_split, lambda);
+                    brute(x, n, aenl_moments_lag(m, li), m->max_lag, (double)p.x,
+                          (double)m->cfg.bandwidth, dir, m->cfg.direction_split, lambda);
                 if (r.empty)
                 {
                     TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, st);
@@ -180,6 +184,31 @@ static void test_moments_matches_brute_force(void)
         TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, g_x[i]));
     }
     compare_all(&g_m, g_x, N_SIG, 1.0, 1.0);
+}
+
+/* Backward series: X_{c-L} given X_c, on the same conditioning samples as the forward ones. */
+static void test_moments_symmetric_matches_brute_force(void)
+{
+    make_signal(g_x, N_SIG, 4242u, 0.1);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-2.5), AENL_R(3.0), 24);
+    c.symmetric = 1;
+    c.n_lags = 3;
+    c.lags[0] = 2;
+    c.lags[1] = 5;
+    c.lags[2] = 9;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    TEST_ASSERT_EQUAL_UINT(6u, aenl_moments_n_series(&g_m));
+    TEST_ASSERT_EQUAL_INT(-5, aenl_moments_lag(&g_m, 4u));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_push(&g_m, g_x[i]));
+    }
+    compare_all(&g_m, g_x, N_SIG, 1.0, 1.0);
+    /* series 6 does not exist */
+    aenl_moments_point_t p;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_query(&g_m, 6u, 0u, AENL_DIR_ALL, &p));
+    c.symmetric = 2;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_init(&g_m, &c));
 }
 
 static void test_moments_no_split_matches_brute_force(void)
@@ -420,44 +449,57 @@ static void test_moments_far_outlier_is_harmless(void)
 }
 
 /* Independent weighted polynomial fit in double (Gauss-Jordan on the normal equations). */
-static void wls_double(const double *t, const double *y, const double *w, int n, int nt, double *c)
+/* Weighted least squares by Gauss-Jordan on the normal equations in double: the polynomial
+ * 1, t, .., t^(nt-1) in t, plus the column extra[] when it is not NULL (coefficient c[nt]). */
+static void wls_double_ex(const double *t, const double *extra, const double *y, const double *w,
+                          int n, int nt, double *c)
 {
-    double a[5][6];
+    double a[6][7];
     memset(a, 0, sizeof(a));
+    const int np = nt + (extra != NULL ? 1 : 0);
     for (int i = 0; i < n; ++i)
     {
-        double pw[5] = {1.0, 0, 0, 0, 0};
+        double pw[6] = {1.0, 0, 0, 0, 0, 0};
         for (int k = 1; k < nt; ++k)
         {
             pw[k] = pw[k - 1] * t[i];
         }
-        for (int r = 0; r < nt; ++r)
+        if (extra != NULL)
         {
-            for (int q = 0; q < nt; ++q)
+            pw[nt] = extra[i];
+        }
+        for (int r = 0; r < np; ++r)
+        {
+            for (int q = 0; q < np; ++q)
             {
                 a[r][q] += w[i] * pw[r] * pw[q];
             }
-            a[r][nt] += w[i] * pw[r] * y[i];
+            a[r][np] += w[i] * pw[r] * y[i];
         }
     }
-    for (int col = 0; col < nt; ++col)
+    for (int col = 0; col < np; ++col)
     {
-        for (int r = 0; r < nt; ++r)
+        for (int r = 0; r < np; ++r)
         {
             if (r != col)
             {
                 const double f = a[r][col] / a[col][col];
-                for (int q = col; q <= nt; ++q)
+                for (int q = col; q <= np; ++q)
                 {
                     a[r][q] -= f * a[col][q];
                 }
             }
         }
     }
-    for (int r = 0; r < nt; ++r)
+    for (int r = 0; r < np; ++r)
     {
-        c[r] = a[r][nt] / a[r][r];
+        c[r] = a[r][np] / a[r][r];
     }
+}
+
+static void wls_double(const double *t, const double *y, const double *w, int n, int nt, double *c)
+{
+    wls_double_ex(t, NULL, y, w, n, nt, c);
 }
 
 static void test_moments_taylor_matches_weighted_fit(void)
@@ -510,6 +552,61 @@ static void test_moments_taylor_matches_weighted_fit(void)
 /* A clean sinusoid of amplitude 1 and period 197.3 samples (incommensurate with the sampling, so
  * 40 cycles cover every phase): per direction the expansion is the phase portrait,
  * v = +-w sqrt(1 - p^2) and a = -w^2 p, with w = 2 pi / 197.3 (analytic). */
+/* Symmetric lags (negative backward series) with the nuisance column: the same weighted fit. */
+static void test_moments_taylor_ex_symmetric_matches_weighted_fit(void)
+{
+    make_signal(g_x, N_SIG, 99u, 0.0);
+    aenl_moments_cfg_t c = std_cfg(AENL_R(-2.0), AENL_R(2.0), 21);
+    static const uint16_t lags[3] = {1, 3, 7};
+    static const aenl_real_t rho[3] = {AENL_R(0.6), AENL_R(0.2), AENL_R(-0.05)};
+    c.n_lags = 3;
+    memcpy(c.lags, lags, sizeof(lags));
+    c.symmetric = 1;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
+    for (size_t i = 0; i < N_SIG; ++i)
+    {
+        aenl_moments_push(&g_m, g_x[i]);
+    }
+    int n_checked = 0;
+    for (uint16_t order = 2; order <= 3; ++order)
+    {
+        for (int dir = 0; dir < 3; ++dir)
+        {
+            for (uint16_t k = 5; k < 16; ++k)
+            {
+                double t[6], y[6], w[6], e[6], cf[6];
+                for (uint16_t li = 0; li < 6; ++li)
+                {
+                    aenl_moments_point_t p;
+                    TEST_ASSERT_EQUAL_INT(AENL_OK,
+                                          aenl_moments_query(&g_m, li, k, (aenl_dir_t)dir, &p));
+                    t[li] = (double)aenl_moments_lag(&g_m, li);
+                    e[li] = (double)rho[li % 3u];
+                    y[li] = (double)p.mean;
+                    w[li] = 1.0 / ((double)p.se * (double)p.se);
+                }
+                wls_double_ex(t, e, y, w, 6, order + 1, cf);
+                aenl_moments_taylor_t tp;
+                TEST_ASSERT_EQUAL_INT(
+                    AENL_OK, aenl_moments_taylor_ex(&g_m, k, (aenl_dir_t)dir, order, rho, &tp));
+                const double tol = AENL_USE_DOUBLE ? 1e-8 : 2e-3 * (double)(order * order);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(cf[0]) + 1.0), cf[0], (double)tp.position);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(cf[1]) + 0.1), cf[1], (double)tp.velocity);
+                TEST_ASSERT_DOUBLE_WITHIN(tol * (fabs(2.0 * cf[2]) + 0.01), 2.0 * cf[2],
+                                          (double)tp.accel);
+                n_checked++;
+            }
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(2 * 3 * 11, n_checked);
+    /* Order 4: the even columns 1, L^2, L^4 and the nuisance take 4 values on 3 distinct |L|, a
+     * singular fit that must be reported, not returned as garbage. Order 5 is out of range. */
+    aenl_moments_taylor_t tp;
+    TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC,
+                          aenl_moments_taylor_ex(&g_m, 8u, AENL_DIR_ALL, 4u, rho, &tp));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_moments_taylor_ex(&g_m, 8u, AENL_DIR_ALL, 5u, rho, &tp));
+}
+
 static void test_moments_taylor_sinusoid_phase_portrait(void)
 {
     const double w = 2.0 * 3.14159265358979323846 / 197.3;
@@ -697,6 +794,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_moments_matches_brute_force);
     RUN_TEST(test_moments_no_split_matches_brute_force);
+    RUN_TEST(test_moments_symmetric_matches_brute_force);
     RUN_TEST(test_moments_forgetting_matches_brute_force);
     RUN_TEST(test_moments_extreme_config_stays_finite);
     RUN_TEST(test_moments_overflow_is_numeric_not_nan);
@@ -709,6 +807,7 @@ int main(void)
     RUN_TEST(test_moments_reset_keeps_config);
     RUN_TEST(test_moments_far_outlier_is_harmless);
     RUN_TEST(test_moments_taylor_matches_weighted_fit);
+    RUN_TEST(test_moments_taylor_ex_symmetric_matches_weighted_fit);
     RUN_TEST(test_moments_taylor_sinusoid_phase_portrait);
     RUN_TEST(test_moments_taylor_rejects_bad_arguments);
 #if !AENL_USE_DOUBLE

@@ -16,5 +16,6 @@
 #include "aenl/aenl_filter.h"
 #include "aenl/aenl_moments.h"
 #include "aenl/aenl_skf.h"
+#include "aenl/aenl_classifier.h"
 
 #endif /* AENL_H */

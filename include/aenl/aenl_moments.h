@@ -58,6 +58,9 @@ typedef struct aenl_moments_cfg
     uint16_t lags[AENL_MOMENTS_MAX_LAGS]; /**< distinct, each 1 .. AENL_MOMENTS_MAX_LAG samples */
     aenl_real_t forgetting;  /**< lambda in [AENL_MOMENTS_MIN_FORGETTING, 1]; 1 = plain averages */
     uint8_t direction_split; /**< 0 or 1 */
+    uint8_t symmetric;       /**< 0 or 1: also pair each conditioning value X_c with X_{c-L}
+                                  (lag -L, lag index n_lags + i for lags[i]), so the lag expansion
+                                  is centred on the conditioning sample; needs L_max more history */
 } aenl_moments_cfg_t;
 
 /** One estimate at one (lag, node, direction). */
@@ -100,8 +103,8 @@ typedef struct aenl_moments
     uint32_t n_samples;     /**< finite samples accepted (saturating) */
     uint32_t n_missing;     /**< NaN/Inf samples received (saturating) */
     uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
-    aenl_real_t hist[AENL_MOMENTS_MAX_LAG + 2];       /**< sample history ring */
-    uint8_t valid[AENL_MOMENTS_MAX_LAG + 2];          /**< 0 marks a missing sample */
+    aenl_real_t hist[2 * AENL_MOMENTS_MAX_LAG + 2];   /**< sample history ring */
+    uint8_t valid[2 * AENL_MOMENTS_MAX_LAG + 2];      /**< 0 marks a missing sample */
     aenl_moments_cell_t cell[AENL_MOMENTS_MAX_CELLS]; /**< [lag][dir][node], active part only */
 } aenl_moments_t;
 
@@ -111,9 +114,9 @@ typedef struct aenl_moments
  * @param[in]  cfg  configuration; copied
  * @return AENL_OK; AENL_E_ARG for NULL, a non-finite or inverted grid, n_grid < 3, bandwidth <= 0,
  *         n_lags = 0, a zero or repeated lag, forgetting outside [AENL_MOMENTS_MIN_FORGETTING, 1],
- *         direction_split not 0/1;
+ *         direction_split or symmetric not 0/1;
  *         AENL_E_DIM for n_grid, n_lags or a lag above its compile-time maximum, or
- *         n_lags * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS.
+ *         n_lags * (1 + symmetric) * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS.
  *         On error *m is not written.
  * @note O(cells), no allocation.
  */
@@ -144,7 +147,8 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample);
 /**
  * @brief Read the estimate at one lag, node and direction.
  * @param[in]  m          an initialised estimator
- * @param[in]  lag_index  index into cfg.lags, < n_lags
+ * @param[in]  lag_index  index into cfg.lags, < n_lags; with cfg.symmetric, n_lags + i reads the
+ *                        backward series of lags[i] (aenl_moments_lag gives the signed lag)
  * @param[in]  node       grid node, < n_grid
  * @param[in]  dir        AENL_DIR_ALL, or RISING/FALLING when the split is on
  * @param[out] out        the estimate
@@ -182,13 +186,19 @@ typedef struct aenl_moments_taylor
     aenl_real_t se_position; /**< nominal standard errors of the three */
     aenl_real_t se_velocity;
     aenl_real_t se_accel;
+    aenl_real_t chi2; /**< reduced chi-square of the fit (residual sum of squares in units of the
+                           lags' se, per degree of freedom); 0 without residual degrees of freedom
+                           or weights. The lags' errors are strongly correlated (the same pairs,
+                           dominated by the spread of the velocity, which the fit absorbs), so
+                           se * sqrt(chi2), pooled over nodes, is the realistic error scale. */
 } aenl_moments_taylor_t;
 
 /**
  * @brief Fit m_L = c0 + c1 L + ... + c_order L^order over every configured lag at one node and
  *        direction (weighted by 1 / se_L^2, or unweighted when a lag's se is 0), and report
  *        position c0, velocity c1 and acceleration 2 c2.
- * @param[in] order  2 .. AENL_MOMENTS_TAYLOR_MAX_ORDER, and at most n_lags - 1 (the lags must
+ * @param[in] order  2 .. AENL_MOMENTS_TAYLOR_MAX_ORDER, and at most aenl_moments_n_series - 1
+ *                   (every series is used, backward ones with their negative lag; the lags must
  *                   span the curvature: small against the period, e.g. 1 .. T/8)
  * @return AENL_OK; AENL_E_ARG for NULL, an index or direction as in aenl_moments_query, or an
  *         order outside its range; AENL_E_EMPTY when a lag has no weight at the node;
@@ -197,6 +207,33 @@ typedef struct aenl_moments_taylor
  */
 aenl_status_t aenl_moments_taylor(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
                                   uint16_t order, aenl_moments_taylor_t *out);
+
+/**
+ * @brief aenl_moments_taylor with one more regressor: m_L = polynomial(L) + g * nuisance[L], with
+ *        nuisance[i] given per configured lag i (the same value for the backward series of a
+ *        symmetric estimator). For a record low-pass filtered before the estimator, the
+ *        measurement noise left in the pass band is correlated over a few samples, so
+ *        E(e_{n+L} | X_n = x) = rho(L) E(e_n | X_n = x) adds a term that is not polynomial in L;
+ *        with nuisance = rho (the filter's normalised noise autocorrelation) it is fitted and
+ *        removed instead of bending the expansion. NULL: exactly aenl_moments_taylor.
+ * @return as aenl_moments_taylor; the order is then at most aenl_moments_n_series - 2.
+ */
+aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aenl_dir_t dir,
+                                     uint16_t order, const aenl_real_t *nuisance,
+                                     aenl_moments_taylor_t *out);
+
+/** Lag series: n_lags, doubled when symmetric (indices n_lags .. 2 n_lags - 1 are -lags[i]). */
+static inline uint16_t aenl_moments_n_series(const aenl_moments_t *m)
+{
+    return (uint16_t)(m->cfg.n_lags * (m->cfg.symmetric ? 2u : 1u));
+}
+
+/** Signed lag of a series index (negative for the backward series of a symmetric estimator). */
+static inline int32_t aenl_moments_lag(const aenl_moments_t *m, uint16_t lag_index)
+{
+    return (lag_index < m->cfg.n_lags) ? (int32_t)m->cfg.lags[lag_index]
+                                       : -(int32_t)m->cfg.lags[lag_index - m->cfg.n_lags];
+}
 
 /** Position of a grid node (no range check beyond returning x_max past the end). */
 static inline aenl_real_t aenl_moments_node_x(const aenl_moments_t *m, uint16_t node)

@@ -6,3 +6,4 @@
 aenl_filter_t aenl_sizeof_filter;
 aenl_moments_t aenl_sizeof_moments;
 aenl_skf_t aenl_sizeof_skf;
+aenl_classifier_t aenl_sizeof_classifier;

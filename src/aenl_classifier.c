@@ -1,0 +1,1126 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_classifier.c
+ * @brief Incremental nonlinearity classifier (see aenl_classifier.h for the method).
+ *
+ * Coordinates: every fit runs on scaled points, u = (p - centre) / half-range in [-1, 1] and
+ * a / rms(a), so the normal equations are well scaled in float32 whatever the signal's units.
+ * Normal equations: a hinge (u - b)+ only touches the points above b, so with the points sorted
+ * by u and suffix sums
+ *     S_m = sum_{u > b} W u^m (m = 0..2),  V_m = sum_{u > b} W v u^m,  T_m = sum_{u > b} W a u^m
+ * (m = 0..1) every entry of a kinked law's normal equations costs O(1) per candidate b (plus a
+ * binary search for the first point above it):
+ *     sum W (u - b)+ = S1 - b S0,  sum W u (u - b)+ = S2 - b S1,
+ *     sum W (u - b)+^2 = S2 - 2b S1 + b^2 S0,  sum W (u - b1)+ (u - b2)+ over u > b2 (b1 < b2)
+ *     = S2 - (b1 + b2) S1 + b1 b2 S0,  sum W v (u - b)+ = V1 - b V0,  sum W a (u - b)+ = T1 - b T0.
+ * The two directions share every coefficient of a law (the restoring force does not depend on the
+ * direction for linear, polynomial and freeplay laws; a damping-like term c v carries what the
+ * direction changes for them), so their normal equations are summed; hysteresis adds what only it
+ * can explain: the kinks shift with the direction, and the rising points get their own offset.
+ */
+#include "aenl/aenl_classifier.h"
+
+#include <string.h>
+
+#include "aenl_linalg.h"
+
+/** Largest basis: 1, u, v, rising offset, hinge 1, hinge 2. */
+#define NB_MAX 6
+
+/**
+ * Degrees of freedom of a location searched over the candidates (a kink, a shift): more than one
+ * parameter, since the search picks the best of many fits. Three, as in adaptive regression
+ * splines (a knot costs 2-3 parameters).
+ */
+#define KINK_DF 3u
+
+/** Huber threshold of the robust loss, in noise standard deviations. */
+#define HUBER_C AENL_R(2.0)
+
+typedef aenl_cls_sums_t cls_sums_t;
+typedef aenl_cls_table_t cls_table_t;
+
+/** One set of points sorted by u. */
+typedef struct cls_set
+{
+    const aenl_cls_point_t *pt;
+    uint16_t n;
+} cls_set_t;
+
+/** A law fitted to one or two sets (the second: falling points). */
+typedef struct cls_spec
+{
+    uint8_t cubic;     /**< 1: cubic in u; else linear with n_k hinges */
+    uint8_t use_v;     /**< velocity regressor */
+    uint8_t dir_term;  /**< an own offset for set 0 (rising) */
+    uint8_t n_k;       /**< hinges, 0..2 */
+    aenl_real_t b[2];  /**< kinks, ascending */
+    aenl_real_t shift; /**< set 0 kinks at b + shift/2, set 1 at b - shift/2 */
+} cls_spec_t;
+
+/** Result of a kink search. */
+typedef struct cls_kinks
+{
+    aenl_real_t rss;
+    aenl_real_t b[2];
+    aenl_real_t curv[2]; /**< curvature of the RSS profile at each kink (0: unknown) */
+    aenl_real_t shift;
+    int ok;
+} cls_kinks_t;
+
+static const char *const k_class_names[AENL_CLASS_COUNT] = {"insufficient", "linear", "polynomial",
+                                                            "freeplay", "hysteresis"};
+
+const char *aenl_class_name(aenl_class_t cls)
+{
+    return ((unsigned)cls < AENL_CLASS_COUNT) ? k_class_names[cls] : "unknown";
+}
+
+void aenl_classifier_cfg_default(aenl_classifier_cfg_t *cfg)
+{
+    if (cfg == NULL)
+    {
+        return;
+    }
+    memset(cfg, 0, sizeof(*cfg));
+    cfg->taylor_order = 2u;
+    cfg->trim = AENL_R(0.03);
+    cfg->min_n_eff = AENL_R(20.0);
+    cfg->min_nodes = 8u;
+}
+
+aenl_status_t aenl_classifier_init(aenl_classifier_t *c, const aenl_classifier_cfg_t *cfg)
+{
+    if (c == NULL || cfg == NULL || cfg->taylor_order < 2u ||
+        cfg->taylor_order > AENL_MOMENTS_TAYLOR_MAX_ORDER || !aenl_is_finite(cfg->trim) ||
+        cfg->trim < AENL_R(0.0) || cfg->trim >= AENL_R(0.25) || !aenl_is_finite(cfg->min_n_eff) ||
+        cfg->min_n_eff < AENL_R(1.0) || cfg->min_nodes < 8u ||
+        cfg->min_nodes > AENL_CLASSIFIER_MAX_NODES || cfg->use_noise_acf > 1u)
+    {
+        return AENL_E_ARG;
+    }
+    memset(c, 0, sizeof(*c));
+    c->cfg = *cfg;
+    c->res.cls = AENL_CLASS_INSUFFICIENT;
+    return AENL_OK;
+}
+
+/* ---- point sets -------------------------------------------------------------------------- */
+
+/** Insertion sort by u (at most AENL_CLASSIFIER_MAX_NODES points, nearly sorted already). */
+static void sort_points(aenl_cls_point_t *pt, uint16_t n)
+{
+    for (uint16_t i = 1; i < n; ++i)
+    {
+        const aenl_cls_point_t key = pt[i];
+        uint16_t j = i;
+        while (j > 0u && pt[j - 1u].p > key.p)
+        {
+            pt[j] = pt[j - 1u];
+            --j;
+        }
+        pt[j] = key;
+    }
+}
+
+/** Index of the first point with u > b. */
+static uint16_t first_above(const cls_set_t *s, aenl_real_t b)
+{
+    uint16_t lo = 0u, hi = s->n;
+    while (lo < hi)
+    {
+        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        if (s->pt[mid].p > b)
+        {
+            hi = mid;
+        }
+        else
+        {
+            lo = (uint16_t)(mid + 1u);
+        }
+    }
+    return lo;
+}
+
+/** Suffix-sum table of a set, built once per set in O(n). */
+static void build_table(const cls_set_t *s, cls_table_t *t)
+{
+    memset(&t->row[s->n], 0, sizeof(t->row[0]));
+    t->wvv = t->wva = t->waa = AENL_R(0.0);
+    for (int k = (int)s->n - 1; k >= 0; --k)
+    {
+        const aenl_cls_point_t *q = &s->pt[k];
+        const cls_sums_t *nx = &t->row[k + 1];
+        cls_sums_t *r = &t->row[k];
+        const aenl_real_t w = q->w, wu = w * q->p;
+        r->s0 = nx->s0 + w;
+        r->s1 = nx->s1 + wu;
+        r->s2 = nx->s2 + wu * q->p;
+        r->v0 = nx->v0 + w * q->v;
+        r->v1 = nx->v1 + wu * q->v;
+        r->t0 = nx->t0 + w * q->a;
+        r->t1 = nx->t1 + wu * q->a;
+        t->wvv += w * q->v * q->v;
+        t->wva += w * q->v * q->a;
+        t->waa += w * q->a * q->a;
+    }
+}
+
+/* ---- one weighted least-squares fit ------------------------------------------------------ */
+
+static uint16_t spec_nb(const cls_spec_t *sp)
+{
+    return sp->cubic ? (uint16_t)(4u + sp->use_v)
+                     : (uint16_t)(2u + sp->use_v + sp->dir_term + sp->n_k);
+}
+
+/** Kinks of set d: b + shift/2 on set 0 (rising), b - shift/2 on set 1 (falling). */
+static void set_kinks(const cls_spec_t *sp, uint16_t d, aenl_real_t *bb)
+{
+    const aenl_real_t off = (d == 0u) ? AENL_R(0.5) * sp->shift : AENL_R(-0.5) * sp->shift;
+    bb[0] = sp->b[0] + off;
+    bb[1] = sp->b[1] + off;
+}
+
+/** Basis functions of the law at one point of set d, in coefficient order; returns their count. */
+static uint16_t basis(const cls_spec_t *sp, uint16_t d, const aenl_cls_point_t *q,
+                      const aenl_real_t *bb, aenl_real_t *phi)
+{
+    uint16_t k = 0u;
+    phi[k++] = AENL_R(1.0);
+    phi[k++] = q->p;
+    if (sp->cubic)
+    {
+        phi[k++] = q->p * q->p;
+        phi[k++] = q->p * q->p * q->p;
+    }
+    if (sp->use_v)
+    {
+        phi[k++] = q->v;
+    }
+    if (!sp->cubic)
+    {
+        if (sp->dir_term)
+        {
+            phi[k++] = (d == 0u) ? AENL_R(1.0) : AENL_R(0.0);
+        }
+        for (uint16_t j = 0; j < sp->n_k; ++j)
+        {
+            phi[k++] = (q->p > bb[j]) ? q->p - bb[j] : AENL_R(0.0);
+        }
+    }
+    return k;
+}
+
+/**
+ * Add the normal equations of set d (upper triangle of g, right-hand side r, sum of w a^2).
+ * Kinked laws read the suffix table: O(n_k log n); cubic laws sum over the points: O(n).
+ */
+static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_t *sp, uint16_t d,
+                       aenl_real_t g[NB_MAX][NB_MAX], aenl_real_t *r, aenl_real_t *waa)
+{
+    aenl_real_t bb[2];
+    set_kinks(sp, d, bb);
+    *waa += t->waa;
+    if (sp->cubic)
+    {
+        for (uint16_t i = 0; i < s->n; ++i)
+        {
+            const aenl_cls_point_t *q = &s->pt[i];
+            aenl_real_t phi[NB_MAX];
+            const uint16_t nb = basis(sp, d, q, bb, phi);
+            for (uint16_t a = 0; a < nb; ++a)
+            {
+                for (uint16_t b = a; b < nb; ++b)
+                {
+                    g[a][b] += q->w * phi[a] * phi[b];
+                }
+                r[a] += q->w * phi[a] * q->a;
+            }
+        }
+        return;
+    }
+    const cls_sums_t *tot = &t->row[0];
+    const uint16_t iv = 2u, idr = (uint16_t)(2u + sp->use_v);
+    const uint16_t h0 = (uint16_t)(2u + sp->use_v + sp->dir_term);
+    const int own = sp->dir_term && d == 0u;
+    g[0][0] += tot->s0;
+    g[0][1] += tot->s1;
+    g[1][1] += tot->s2;
+    r[0] += tot->t0;
+    r[1] += tot->t1;
+    if (sp->use_v)
+    {
+        g[0][iv] += tot->v0;
+        g[1][iv] += tot->v1;
+        g[iv][iv] += t->wvv;
+        r[iv] += t->wva;
+    }
+    if (own)
+    {
+        g[0][idr] += tot->s0;
+        g[1][idr] += tot->s1;
+        if (sp->use_v)
+        {
+            g[iv][idr] += tot->v0;
+        }
+        g[idr][idr] += tot->s0;
+        r[idr] += tot->t0;
+    }
+    for (uint16_t j = 0; j < sp->n_k; ++j)
+    {
+        const cls_sums_t *q = &t->row[first_above(s, bb[j])];
+        const aenl_real_t bj = bb[j];
+        const uint16_t hj = (uint16_t)(h0 + j);
+        const aenl_real_t sh = q->s1 - bj * q->s0; /* sum w (u - b)+ */
+        g[0][hj] += sh;
+        g[1][hj] += q->s2 - bj * q->s1;
+        if (sp->use_v)
+        {
+            g[iv][hj] += q->v1 - bj * q->v0;
+        }
+        if (own)
+        {
+            g[idr][hj] += sh;
+        }
+        g[hj][hj] += q->s2 - AENL_R(2.0) * bj * q->s1 + bj * bj * q->s0;
+        r[hj] += q->t1 - bj * q->t0;
+        for (uint16_t i = 0; i < j; ++i) /* bb[i] < bb[j]: the product lives above bb[j] */
+        {
+            g[h0 + i][hj] += q->s2 - (bb[i] + bj) * q->s1 + bb[i] * bj * q->s0;
+        }
+    }
+}
+
+/**
+ * Weighted least squares of a law over n_sets sets (shared coefficients). Returns the residual
+ * sum of squares (floored at a tiny fraction of sum w a^2), or -1 when the normal equations are
+ * singular. coef (NB_MAX) and res (standardised residuals sqrt(w) (a - fit), set after set) may
+ * be NULL.
+ */
+static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                       const cls_spec_t *sp, aenl_real_t *coef, aenl_real_t *res)
+{
+    aenl_real_t g[NB_MAX][NB_MAX], r[NB_MAX], c[NB_MAX], waa = AENL_R(0.0);
+    memset(g, 0, sizeof(g));
+    memset(r, 0, sizeof(r));
+    const uint16_t nb = spec_nb(sp);
+    for (uint16_t d = 0; d < n_sets; ++d)
+    {
+        accumulate(&s[d], &t[d], sp, d, g, r, &waa);
+    }
+    for (uint16_t a = 0; a < nb; ++a)
+    {
+        for (uint16_t b = 0; b < a; ++b)
+        {
+            g[a][b] = g[b][a];
+        }
+    }
+    memcpy(c, r, sizeof(c));
+    if (aenl_la_chol(&g[0][0], NB_MAX, nb) != AENL_OK)
+    {
+        return AENL_R(-1.0);
+    }
+    aenl_la_chol_solve(&g[0][0], NB_MAX, nb, c, 1u, 1u);
+    aenl_real_t explained = AENL_R(0.0);
+    for (uint16_t a = 0; a < nb; ++a)
+    {
+        explained += c[a] * r[a];
+    }
+    const aenl_real_t floor_rss = waa * AENL_R(1e-9);
+    aenl_real_t rss = waa - explained;
+    rss = (aenl_is_finite(rss) && rss > floor_rss) ? rss : floor_rss;
+    if (coef != NULL)
+    {
+        memcpy(coef, c, sizeof(c));
+    }
+    if (res != NULL)
+    {
+        uint16_t k = 0u;
+        for (uint16_t d = 0; d < n_sets; ++d)
+        {
+            aenl_real_t bb[2];
+            set_kinks(sp, d, bb);
+            for (uint16_t i = 0; i < s[d].n; ++i)
+            {
+                aenl_real_t phi[NB_MAX], f = AENL_R(0.0);
+                const aenl_cls_point_t *q = &s[d].pt[i];
+                const uint16_t m = basis(sp, d, q, bb, phi);
+                for (uint16_t a = 0; a < m; ++a)
+                {
+                    f += c[a] * phi[a];
+                }
+                res[k++] = aenl_sqrt(q->w) * (q->a - f);
+            }
+        }
+    }
+    return rss;
+}
+
+/* ---- kink search ------------------------------------------------------------------------- */
+
+/**
+ * Refine kink j of the best fit by a parabola through the RSS at the candidate and its two
+ * neighbours; keep the vertex when it fits better, and the profile's curvature for the standard
+ * error.
+ */
+static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                        const cls_spec_t *best, const aenl_real_t *cand, uint16_t n_cand,
+                        uint16_t ci, uint16_t j, cls_kinks_t *k)
+{
+    k->curv[j] = AENL_R(0.0);
+    if (ci == 0u || ci + 1u >= n_cand)
+    {
+        return;
+    }
+    cls_spec_t sp = *best;
+    const aenl_real_t x0 = cand[ci - 1u], x1 = cand[ci], x2 = cand[ci + 1u];
+    aenl_real_t rr[2];
+    const aenl_real_t xs[2] = {x0, x2};
+    for (uint16_t e = 0; e < 2u; ++e)
+    {
+        sp.b[j] = xs[e];
+        rr[e] = (sp.n_k == 2u && !(sp.b[0] < sp.b[1])) ? AENL_R(-1.0)
+                                                       : fit(s, t, n_sets, &sp, NULL, NULL);
+        if (rr[e] < AENL_R(0.0))
+        {
+            return;
+        }
+    }
+    const aenl_real_t r1 = k->rss;
+    const aenl_real_t d01 = (r1 - rr[0]) / (x1 - x0), d12 = (rr[1] - r1) / (x2 - x1);
+    const aenl_real_t c2 = (d12 - d01) / (x2 - x0);
+    if (!(c2 > AENL_R(0.0)) || !aenl_is_finite(c2))
+    {
+        return;
+    }
+    k->curv[j] = AENL_R(2.0) * c2;
+    /* vertex of rr0 + d01 (x - x0) + c2 (x - x0)(x - x1) */
+    aenl_real_t v = AENL_R(0.5) * (x0 + x1) - d01 / (AENL_R(2.0) * c2);
+    v = (v < x0) ? x0 : ((v > x2) ? x2 : v);
+    sp.b[j] = v;
+    if (sp.n_k == 2u && !(sp.b[0] < sp.b[1]))
+    {
+        return;
+    }
+    const aenl_real_t rv = fit(s, t, n_sets, &sp, NULL, NULL);
+    if (rv >= AENL_R(0.0) && rv <= k->rss)
+    {
+        k->rss = rv;
+        k->b[j] = v;
+    }
+}
+
+/**
+ * Best kinks (base->n_k, 1 or 2) at the candidate positions cand[] (ascending), and, with
+ * n_shift > 0, the best shift of the kinks between the directions among 0, 1, .., n_shift steps
+ * of the mean candidate spacing. Cost: O(n_cand^n_k (n_shift + 1)) fits of O(n_sets log n) each.
+ */
+static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                   const cls_spec_t *base, const aenl_real_t *cand, uint16_t n_cand,
+                   uint16_t n_shift, cls_kinks_t *k)
+{
+    memset(k, 0, sizeof(*k));
+    k->rss = AENL_REAL_MAX;
+    if (n_cand < 6u)
+    {
+        return;
+    }
+    cls_spec_t sp = *base;
+    const aenl_real_t du = (cand[n_cand - 1u] - cand[0]) / (aenl_real_t)(n_cand - 1u);
+    uint16_t bi = 0u, bj = 0u;
+    for (uint16_t js = 0; js <= n_shift; ++js)
+    {
+        sp.shift = (aenl_real_t)js * du;
+        for (uint16_t i = 1u; i + 2u < n_cand; ++i)
+        {
+            sp.b[0] = cand[i];
+            const uint16_t j_lo = (sp.n_k == 2u) ? (uint16_t)(i + 2u) : i;
+            const uint16_t j_hi = (sp.n_k == 2u) ? (uint16_t)(n_cand - 2u) : (uint16_t)(i + 1u);
+            for (uint16_t j = j_lo; j < j_hi; ++j)
+            {
+                sp.b[1] = cand[j];
+                const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
+                if (rss >= AENL_R(0.0) && rss < k->rss)
+                {
+                    k->rss = rss;
+                    k->b[0] = sp.b[0];
+                    k->b[1] = sp.b[1];
+                    k->shift = sp.shift;
+                    bi = i;
+                    bj = j;
+                    k->ok = 1;
+                }
+            }
+        }
+    }
+    if (!k->ok)
+    {
+        return;
+    }
+    cls_spec_t best = *base;
+    best.b[0] = k->b[0];
+    best.b[1] = k->b[1];
+    best.shift = k->shift;
+    refine_kink(s, t, n_sets, &best, cand, n_cand, bi, 0u, k);
+    if (base->n_k == 2u)
+    {
+        best.b[0] = k->b[0];
+        refine_kink(s, t, n_sets, &best, cand, n_cand, bj, 1u, k);
+    }
+}
+
+/* ---- evidence ---------------------------------------------------------------------------- */
+
+/** Median of the squares of res[0..n) (reorders res). Quickselect, O(n) expected. */
+static aenl_real_t median_sq(aenl_real_t *res, uint16_t n)
+{
+    for (uint16_t i = 0; i < n; ++i)
+    {
+        res[i] *= res[i];
+    }
+    uint16_t lo = 0u, hi = (uint16_t)(n - 1u);
+    const uint16_t k = (uint16_t)(n / 2u);
+    while (lo < hi)
+    {
+        const aenl_real_t pivot = res[(lo + hi) / 2u];
+        uint16_t i = lo, j = hi;
+        while (i <= j)
+        {
+            while (res[i] < pivot)
+            {
+                ++i;
+            }
+            while (res[j] > pivot)
+            {
+                --j;
+            }
+            if (i <= j)
+            {
+                const aenl_real_t t = res[i];
+                res[i] = res[j];
+                res[j] = t;
+                ++i;
+                if (j == 0u)
+                {
+                    break;
+                }
+                --j;
+            }
+        }
+        if (k <= j)
+        {
+            hi = j;
+        }
+        else if (k >= i)
+        {
+            lo = i;
+        }
+        else
+        {
+            break;
+        }
+    }
+    return res[k];
+}
+
+/**
+ * Scale of the standardised residuals: one nominal standard error of the lag expansion, or more
+ * when the best-fitting model's residuals say the nominal errors are optimistic (median of a
+ * chi-square with one degree of freedom: 0.4549). Never less: estimates at neighbouring nodes share
+ * trajectories, so their residuals are smooth and their scatter understates the error. The weights
+ * were divided by wmax, so one nominal standard error is 1 / sqrt(wmax).
+ */
+static aenl_real_t noise_scale(aenl_real_t *res, uint16_t n, aenl_real_t wmax)
+{
+    /* the weights were divided by wmax: one nominal standard error is 1 / sqrt(wmax) */
+    const aenl_real_t nominal = AENL_R(1.0) / aenl_sqrt(wmax);
+    const aenl_real_t s = aenl_sqrt(median_sq(res, n) / AENL_R(0.4549));
+    return (s > nominal) ? s : nominal;
+}
+
+/** Huber loss of standardised residuals at 1/inv_sigma: z^2 inside +-HUBER_C, linear beyond. */
+static aenl_real_t huber_sum(const aenl_real_t *res, uint16_t n, aenl_real_t inv_sigma)
+{
+    aenl_real_t sum = AENL_R(0.0);
+    for (uint16_t i = 0; i < n; ++i)
+    {
+        const aenl_real_t z = aenl_fabs(res[i] * inv_sigma);
+        sum += (z <= HUBER_C) ? z * z : AENL_R(2.0) * HUBER_C * z - HUBER_C * HUBER_C;
+    }
+    return sum;
+}
+
+/**
+ * Robust information criterion of a law: frac * sum huber(res / sigma) + k ln(n_ind). The loss
+ * is the chi-square of the fit for residuals within HUBER_C sigma (a few misfitting nodes cannot
+ * decide), counted per independent point.
+ */
+static aenl_real_t criterion(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                             const cls_spec_t *sp, aenl_real_t sigma, aenl_real_t frac,
+                             aenl_real_t n_ind, uint16_t k, aenl_real_t *scratch)
+{
+    if (fit(s, t, n_sets, sp, NULL, scratch) < AENL_R(0.0))
+    {
+        return AENL_REAL_MAX;
+    }
+    uint16_t n = 0u;
+    for (uint16_t d = 0; d < n_sets; ++d)
+    {
+        n = (uint16_t)(n + s[d].n);
+    }
+    return frac * huber_sum(scratch, n, AENL_R(1.0) / sigma) + (aenl_real_t)k * aenl_log(n_ind);
+}
+
+/**
+ * Standard error of a kink from the curvature of the RSS profile: RSS(b) - RSS* = sigma^2 / frac
+ * at one standard error (frac: independent share of the points). fallback when unknown.
+ */
+static aenl_real_t kink_se(aenl_real_t curv, aenl_real_t sigma, aenl_real_t frac,
+                           aenl_real_t fallback)
+{
+    if (!(curv > AENL_R(0.0)))
+    {
+        return fallback;
+    }
+    const aenl_real_t se = aenl_sqrt(AENL_R(2.0) * sigma * sigma / (frac * curv));
+    return (aenl_is_finite(se) && se < AENL_R(4.0) * fallback) ? se : fallback;
+}
+
+/**
+ * Gather the usable nodes of one direction into pt[], scaled: p -> (p - centre) * inv_half, a and
+ * v times inv_ascale, weight 1 / se_a^2 (scaled).
+ */
+static uint16_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t dir,
+                       aenl_real_t centre, aenl_real_t inv_half, aenl_real_t inv_ascale,
+                       const uint8_t *interior, aenl_cls_point_t *pt)
+{
+    uint16_t n = 0u;
+    for (uint16_t k = 0; k < m->cfg.n_grid; ++k)
+    {
+        if (!interior[k])
+        {
+            continue;
+        }
+        aenl_moments_point_t q;
+        if (aenl_moments_query(m, 0u, k, dir, &q) != AENL_OK || q.n_eff < c->cfg.min_n_eff)
+        {
+            continue;
+        }
+        aenl_moments_taylor_t tx;
+        if (aenl_moments_taylor_ex(m, k, dir, c->cfg.taylor_order,
+                                   c->cfg.use_noise_acf ? c->cfg.noise_acf : NULL,
+                                   &tx) != AENL_OK ||
+            !(tx.se_accel > AENL_R(0.0)) || !aenl_is_finite(tx.se_accel))
+        {
+            continue;
+        }
+        aenl_cls_point_t *o = &pt[n++];
+        o->p = (tx.position - centre) * inv_half;
+        o->a = tx.accel * inv_ascale;
+        o->v = tx.velocity * inv_ascale;
+        const aenl_real_t se = tx.se_accel * inv_ascale;
+        o->w = AENL_R(1.0) / (se * se);
+    }
+    return n;
+}
+
+/** Normalise the weights to a maximum of 1 (keeps every sum far from overflow in float32); returns
+ * the divisor. */
+static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint16_t n)
+{
+    aenl_real_t wmax = AENL_R(0.0);
+    for (uint16_t k = 0; k < n; ++k)
+    {
+        wmax = (pt[k].w > wmax) ? pt[k].w : wmax;
+    }
+    for (uint16_t k = 0; k < n; ++k)
+    {
+        pt[k].w /= wmax;
+    }
+    return wmax;
+}
+
+/** Candidate kink positions: the sorted u of the points (duplicates dropped). */
+static uint16_t candidates(const aenl_cls_point_t *pt, uint16_t n, aenl_real_t *cand)
+{
+    uint16_t nc = 0u;
+    for (uint16_t k = 0; k < n; ++k)
+    {
+        if (nc == 0u || pt[k].p > cand[nc - 1u])
+        {
+            cand[nc++] = pt[k].p;
+        }
+    }
+    return nc;
+}
+
+/** Merge ascending kink lists into distinct switching points (closer than 2 combined se). */
+static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_t n,
+                            aenl_real_t *out, aenl_real_t *out_se)
+{
+    aenl_real_t v[AENL_CLASSIFIER_MAX_SWITCH], e[AENL_CLASSIFIER_MAX_SWITCH];
+    uint16_t m = 0u;
+    for (uint16_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
+    {
+        v[m] = b[i];
+        e[m] = se[i];
+        ++m;
+    }
+    for (uint16_t i = 1; i < m; ++i) /* sort by value */
+    {
+        uint16_t j = i;
+        while (j > 0u && v[j - 1u] > v[j])
+        {
+            const aenl_real_t tv = v[j], te = e[j];
+            v[j] = v[j - 1u];
+            e[j] = e[j - 1u];
+            v[j - 1u] = tv;
+            e[j - 1u] = te;
+            --j;
+        }
+    }
+    uint8_t k = 0u;
+    for (uint16_t i = 0; i < m; ++i)
+    {
+        if (k > 0u)
+        {
+            const aenl_real_t tol =
+                AENL_R(2.0) * aenl_sqrt(e[i] * e[i] + out_se[k - 1u] * out_se[k - 1u]);
+            if (v[i] - out[k - 1u] <= tol)
+            {
+                /* inverse-variance mean of the two estimates of one switching point */
+                const aenl_real_t w1 = AENL_R(1.0) / (out_se[k - 1u] * out_se[k - 1u]);
+                const aenl_real_t w2 = AENL_R(1.0) / (e[i] * e[i]);
+                out[k - 1u] = (w1 * out[k - 1u] + w2 * v[i]) / (w1 + w2);
+                out_se[k - 1u] = aenl_sqrt(AENL_R(1.0) / (w1 + w2));
+                continue;
+            }
+        }
+        out[k] = v[i];
+        out_se[k] = e[i];
+        ++k;
+    }
+    return k;
+}
+
+/** Root mean square of a (the acceleration scale). */
+static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint16_t n)
+{
+    aenl_real_t s = AENL_R(0.0);
+    for (uint16_t k = 0; k < n; ++k)
+    {
+        s += pt[k].a * pt[k].a;
+    }
+    return aenl_sqrt(s / (aenl_real_t)n);
+}
+
+/** Divide a and v by the acceleration scale, multiply w by its square. */
+static void rescale(aenl_cls_point_t *pt, uint16_t n, aenl_real_t inv_ascale)
+{
+    for (uint16_t k = 0; k < n; ++k)
+    {
+        pt[k].a *= inv_ascale;
+        pt[k].v *= inv_ascale;
+        pt[k].w /= inv_ascale * inv_ascale;
+    }
+}
+
+/** Posterior weights exp(-B/2) of n criterion values, normalised. */
+static void posterior(const aenl_real_t *b, uint16_t n, aenl_real_t *p)
+{
+    aenl_real_t bmin = b[0], sum = AENL_R(0.0);
+    for (uint16_t i = 1; i < n; ++i)
+    {
+        bmin = (b[i] < bmin) ? b[i] : bmin;
+    }
+    for (uint16_t i = 0; i < n; ++i)
+    {
+        p[i] = aenl_exp(AENL_R(-0.5) * (b[i] - bmin));
+        sum += p[i];
+    }
+    for (uint16_t i = 0; i < n; ++i)
+    {
+        p[i] /= sum;
+    }
+}
+
+/**
+ * Interior nodes: inside the central (1 - 2 trim) of the lag-0 conditioning weight, and where the
+ * signal dominates the conditioning value: the noise-free position p(x) rises with x at a rate of
+ * at least one half (the reliability ratio of errors in variables; towards the edges of a bounded
+ * oscillation p(x) flattens, the measured extremes being mostly noise). The longest run of such
+ * nodes is kept.
+ */
+static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aenl_real_t *x_lo,
+                              aenl_real_t *x_hi)
+{
+    const uint16_t ng = m->cfg.n_grid;
+    aenl_real_t total = AENL_R(0.0);
+    for (uint16_t k = 0; k < ng; ++k)
+    {
+        aenl_moments_point_t q;
+        const aenl_real_t w =
+            (aenl_moments_query(m, 0u, k, AENL_DIR_ALL, &q) == AENL_OK) ? q.weight : AENL_R(0.0);
+        c->cand[k] = w; /* borrowed as scratch until the kink search */
+        total += w;
+        aenl_moments_taylor_t tx;
+        c->pt[0][k].p = AENL_R(0.0); /* scratch: the position, valid flag in w */
+        c->pt[0][k].w = AENL_R(0.0);
+        if (w > AENL_R(0.0) &&
+            aenl_moments_taylor_ex(m, k, AENL_DIR_ALL, c->cfg.taylor_order,
+                                   c->cfg.use_noise_acf ? c->cfg.noise_acf : NULL, &tx) == AENL_OK)
+        {
+            c->pt[0][k].p = tx.position;
+            c->pt[0][k].w = AENL_R(1.0);
+        }
+    }
+    aenl_real_t cum = AENL_R(0.0);
+    for (uint16_t k = 0; k < ng; ++k)
+    {
+        const aenl_real_t w = c->cand[k];
+        const aenl_real_t mid = cum + AENL_R(0.5) * w;
+        cum += w;
+        int in = (w > AENL_R(0.0)) && mid >= c->cfg.trim * total &&
+                 mid <= (AENL_R(1.0) - c->cfg.trim) * total;
+        if (in)
+        {
+            const uint16_t kl = (k > 0u) ? (uint16_t)(k - 1u) : k;
+            const uint16_t kr = (k + 1u < ng) ? (uint16_t)(k + 1u) : k;
+            in = kr > kl && c->pt[0][kl].w > AENL_R(0.0) && c->pt[0][kr].w > AENL_R(0.0) &&
+                 (c->pt[0][kr].p - c->pt[0][kl].p) >= AENL_R(0.5) * (aenl_real_t)(kr - kl) * m->dx;
+        }
+        c->interior[k] = (uint8_t)in;
+    }
+    /* keep the longest run */
+    uint16_t best_start = 0u, best_len = 0u;
+    for (uint16_t k = 0; k < ng;)
+    {
+        if (!c->interior[k])
+        {
+            ++k;
+            continue;
+        }
+        uint16_t e = k;
+        while (e < ng && c->interior[e])
+        {
+            ++e;
+        }
+        if ((uint16_t)(e - k) > best_len)
+        {
+            best_len = (uint16_t)(e - k);
+            best_start = k;
+        }
+        k = e;
+    }
+    for (uint16_t k = 0; k < ng; ++k)
+    {
+        c->interior[k] = (uint8_t)(k >= best_start && k < best_start + best_len);
+    }
+    *x_lo = aenl_moments_node_x(m, best_start);
+    *x_hi = aenl_moments_node_x(m, (uint16_t)(best_start + (best_len > 0u ? best_len - 1u : 0u)));
+    return best_len;
+}
+
+/** The class decision from posterior weights over the laws, the switching points and their se. */
+aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t *m)
+{
+    if (c == NULL || m == NULL ||
+        c->cfg.taylor_order + 1u + c->cfg.use_noise_acf > aenl_moments_n_series(m))
+    {
+        return AENL_E_ARG;
+    }
+    if (m->cfg.n_grid > AENL_CLASSIFIER_MAX_NODES)
+    {
+        return AENL_E_DIM;
+    }
+    aenl_classifier_result_t r;
+    memset(&r, 0, sizeof(r));
+    r.cls = AENL_CLASS_INSUFFICIENT;
+    r.n_updates = (c->res.n_updates < UINT32_MAX) ? c->res.n_updates + 1u : UINT32_MAX;
+
+    aenl_real_t x_lo = AENL_R(0.0), x_hi = AENL_R(0.0);
+    const uint16_t n_in = mark_interior(c, m, &x_lo, &x_hi);
+    /* independent share of the nodes: kernels one bandwidth apart barely overlap */
+    const aenl_real_t frac = (m->dx < m->cfg.bandwidth) ? m->dx / m->cfg.bandwidth : AENL_R(1.0);
+    const aenl_real_t frac_d = frac;
+    uint16_t n = 0u;
+    aenl_real_t centre = AENL_R(0.0), half = AENL_R(1.0);
+    if (n_in >= c->cfg.min_nodes && x_hi > x_lo)
+    {
+        centre = AENL_R(0.5) * (x_lo + x_hi);
+        half = AENL_R(0.5) * (x_hi - x_lo);
+        n = gather(c, m, AENL_DIR_ALL, centre, AENL_R(1.0) / half, AENL_R(1.0), c->interior,
+                   c->pt[0]);
+    }
+    const aenl_real_t n_ind = (aenl_real_t)n * frac;
+    aenl_real_t ascale = (n > 0u) ? accel_rms(c->pt[0], n) : AENL_R(0.0);
+    r.n_nodes = n;
+    if (n < c->cfg.min_nodes || n_ind < AENL_R(8.0) || !(ascale > AENL_R(0.0)))
+    {
+        r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
+        c->res = r;
+        return AENL_OK;
+    }
+    rescale(c->pt[0], n, AENL_R(1.0) / ascale);
+    sort_points(c->pt[0], n);
+    const aenl_real_t wmax_all = normalise_weights(c->pt[0], n);
+
+    /* ---- all pairs: the restoring-force curve a(p) ---- */
+    const cls_set_t all = {c->pt[0], n};
+    build_table(&all, &c->tab[0]);
+    const uint16_t nc = candidates(c->pt[0], n, c->cand);
+    aenl_real_t *scratch = c->cand + nc; /* residuals, after the candidates */
+    const cls_spec_t s_lin = {0u, 0u, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)};
+    cls_spec_t s_poly = s_lin, s_k1 = s_lin, s_k2 = s_lin;
+    s_poly.cubic = 1u;
+    s_k1.n_k = 1u;
+    s_k2.n_k = 2u;
+    cls_kinks_t k1, k2;
+    search(&all, &c->tab[0], 1u, &s_k1, c->cand, nc, 0u, &k1);
+    search(&all, &c->tab[0], 1u, &s_k2, c->cand, nc, 0u, &k2);
+    s_k1.b[0] = k1.b[0];
+    s_k2.b[0] = k2.b[0];
+    s_k2.b[1] = k2.b[1];
+    aenl_real_t coef[NB_MAX] = {AENL_R(0.0)};
+    const aenl_real_t rss_lin = fit(&all, &c->tab[0], 1u, &s_lin, NULL, NULL);
+    const aenl_real_t rss_poly = fit(&all, &c->tab[0], 1u, &s_poly, coef, NULL);
+    const aenl_real_t c3 = coef[3];
+    if (rss_lin < AENL_R(0.0))
+    {
+        r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
+        c->res = r; /* degenerate points: insufficient */
+        return AENL_OK;
+    }
+    /* noise scale from the best-fitting law */
+    const cls_spec_t *ref = &s_poly;
+    aenl_real_t ref_rss = (rss_poly >= AENL_R(0.0)) ? rss_poly : AENL_REAL_MAX;
+    if (k1.ok && k1.rss < ref_rss)
+    {
+        ref = &s_k1;
+        ref_rss = k1.rss;
+    }
+    if (k2.ok && k2.rss < ref_rss)
+    {
+        ref = &s_k2;
+        ref_rss = k2.rss;
+    }
+    if (ref_rss >= AENL_REAL_MAX)
+    {
+        ref = &s_lin;
+    }
+    (void)fit(&all, &c->tab[0], 1u, ref, NULL, scratch);
+    const aenl_real_t sigma = noise_scale(scratch, n, wmax_all);
+    aenl_real_t b[AENL_CLS_N_MODELS];
+    b[AENL_CLS_MODEL_LINEAR] =
+        criterion(&all, &c->tab[0], 1u, &s_lin, sigma, frac, n_ind, 2u, scratch);
+    b[AENL_CLS_MODEL_POLY] = (rss_poly >= AENL_R(0.0)) ? criterion(&all, &c->tab[0], 1u, &s_poly,
+                                                                   sigma, frac, n_ind, 4u, scratch)
+                                                       : AENL_REAL_MAX;
+    b[AENL_CLS_MODEL_KINK1] =
+        k1.ok ? criterion(&all, &c->tab[0], 1u, &s_k1, sigma, frac, n_ind, 3u + KINK_DF, scratch)
+              : AENL_REAL_MAX;
+    b[AENL_CLS_MODEL_KINK2] = k2.ok ? criterion(&all, &c->tab[0], 1u, &s_k2, sigma, frac, n_ind,
+                                                4u + 2u * KINK_DF, scratch)
+                                    : AENL_REAL_MAX;
+    aenl_real_t pm[AENL_CLS_N_MODELS];
+    posterior(b, AENL_CLS_N_MODELS, pm);
+    for (uint16_t i = 0; i < AENL_CLS_N_MODELS; ++i)
+    {
+        r.bic[i] = (b[i] < AENL_REAL_MAX) ? b[i] - b[AENL_CLS_MODEL_LINEAR] : AENL_REAL_MAX;
+    }
+    r.hardening = (int8_t)((c3 < AENL_R(0.0)) ? 1 : -1);
+    if (k2.ok && fit(&all, &c->tab[0], 1u, &s_k2, coef, NULL) >= AENL_R(0.0))
+    {
+        const aenl_real_t to_phys = ascale / half;
+        r.slope[0] = -coef[1] * to_phys;
+        r.slope[1] = -(coef[1] + coef[2]) * to_phys;
+        r.slope[2] = -(coef[1] + coef[2] + coef[3]) * to_phys;
+    }
+    const aenl_real_t fallback = AENL_R(2.0) / (aenl_real_t)n;
+    const aenl_real_t se_k1 = kink_se(k1.curv[0], sigma, frac, fallback);
+    const aenl_real_t se_k2[2] = {kink_se(k2.curv[0], sigma, frac, fallback),
+                                  kink_se(k2.curv[1], sigma, frac, fallback)};
+
+    /* ---- direction split: the same laws with shared coefficients, and hysteresis ---- */
+    enum
+    {
+        D_LIN = 0,
+        D_POLY,
+        D_FP1,
+        D_FP2,
+        D_HYST,
+        D_N
+    };
+    aenl_real_t bd[D_N];
+    cls_kinks_t t1, t2, hy;
+    aenl_real_t se_t1 = fallback, se_t2[2] = {fallback, fallback}, se_hy[2] = {fallback, fallback};
+    int dir_ok = 0;
+    aenl_real_t nd_ind = AENL_R(0.0);
+    if (m->cfg.direction_split)
+    {
+        uint16_t nd[2];
+        nd[0] = gather(c, m, AENL_DIR_RISING, centre, AENL_R(1.0) / half, AENL_R(1.0) / ascale,
+                       c->interior, c->pt[1]);
+        nd[1] = gather(c, m, AENL_DIR_FALLING, centre, AENL_R(1.0) / half, AENL_R(1.0) / ascale,
+                       c->interior, c->pt[2]);
+        nd_ind = (aenl_real_t)(nd[0] + nd[1]) * frac;
+        if (nd[0] >= c->cfg.min_nodes && nd[1] >= c->cfg.min_nodes && nd_ind > AENL_R(16.0))
+        {
+            aenl_real_t wmax = AENL_R(0.0);
+            for (uint16_t d = 0; d < 2u; ++d)
+            {
+                sort_points(c->pt[1 + d], nd[d]);
+                for (uint16_t i = 0; i < nd[d]; ++i)
+                {
+                    wmax = (c->pt[1 + d][i].w > wmax) ? c->pt[1 + d][i].w : wmax;
+                }
+            }
+            for (uint16_t d = 0; d < 2u; ++d)
+            {
+                for (uint16_t i = 0; i < nd[d]; ++i)
+                {
+                    c->pt[1 + d][i].w /= wmax;
+                }
+            }
+            const cls_set_t sets[2] = {{c->pt[1], nd[0]}, {c->pt[2], nd[1]}};
+            build_table(&sets[0], &c->tab[0]);
+            build_table(&sets[1], &c->tab[1]);
+            cls_spec_t d_lin = s_lin;
+            d_lin.use_v = 1u;
+            cls_spec_t d_poly = d_lin, d_fp1 = d_lin, d_fp2 = d_lin, d_hy = d_lin;
+            d_poly.cubic = 1u;
+            d_fp1.n_k = 1u;
+            d_fp2.n_k = 2u;
+            d_hy.n_k = 2u;
+            d_hy.dir_term = 1u;
+            search(sets, c->tab, 2u, &d_fp1, c->cand, nc, 0u, &t1);
+            search(sets, c->tab, 2u, &d_fp2, c->cand, nc, 0u, &t2);
+            search(sets, c->tab, 2u, &d_hy, c->cand, nc, (uint16_t)(nc / 3u), &hy);
+            d_fp1.b[0] = t1.b[0];
+            d_fp2.b[0] = t2.b[0];
+            d_fp2.b[1] = t2.b[1];
+            d_hy.b[0] = hy.b[0];
+            d_hy.b[1] = hy.b[1];
+            d_hy.shift = hy.shift;
+            const cls_kinks_t *kk[3] = {&t1, &t2, &hy};
+            const cls_spec_t *dref = &d_poly;
+            aenl_real_t dref_rss = fit(sets, c->tab, 2u, &d_poly, NULL, NULL);
+            dref_rss = (dref_rss >= AENL_R(0.0)) ? dref_rss : AENL_REAL_MAX;
+            const cls_spec_t *dsp[3] = {&d_fp1, &d_fp2, &d_hy};
+            for (uint16_t i = 0; i < 3u; ++i)
+            {
+                if (kk[i]->ok && kk[i]->rss < dref_rss)
+                {
+                    dref = dsp[i];
+                    dref_rss = kk[i]->rss;
+                }
+            }
+            if (dref_rss >= AENL_REAL_MAX)
+            {
+                dref = &d_lin;
+            }
+            if (fit(sets, c->tab, 2u, dref, NULL, scratch) >= AENL_R(0.0))
+            {
+                dir_ok = 1;
+                const aenl_real_t sig_d = noise_scale(scratch, (uint16_t)(nd[0] + nd[1]), wmax);
+                bd[D_LIN] = criterion(sets, c->tab, 2u, &d_lin, sig_d, frac_d, nd_ind, 3u, scratch);
+                bd[D_POLY] =
+                    criterion(sets, c->tab, 2u, &d_poly, sig_d, frac_d, nd_ind, 5u, scratch);
+                bd[D_FP1] = t1.ok ? criterion(sets, c->tab, 2u, &d_fp1, sig_d, frac_d, nd_ind,
+                                              4u + KINK_DF, scratch)
+                                  : AENL_REAL_MAX;
+                bd[D_FP2] = t2.ok ? criterion(sets, c->tab, 2u, &d_fp2, sig_d, frac_d, nd_ind,
+                                              5u + 2u * KINK_DF, scratch)
+                                  : AENL_REAL_MAX;
+                bd[D_HYST] = hy.ok ? criterion(sets, c->tab, 2u, &d_hy, sig_d, frac_d, nd_ind,
+                                               6u + 3u * KINK_DF, scratch)
+                                   : AENL_REAL_MAX;
+                aenl_real_t cp[NB_MAX];
+                if (fit(sets, c->tab, 2u, &d_poly, cp, NULL) >= AENL_R(0.0))
+                {
+                    r.hardening = (int8_t)((cp[3] < AENL_R(0.0)) ? 1 : -1);
+                }
+                const aenl_real_t fb = AENL_R(2.0) / (aenl_real_t)nc;
+                se_t1 = kink_se(t1.curv[0], sig_d, frac_d, fb);
+                for (uint16_t j = 0; j < 2u; ++j)
+                {
+                    se_t2[j] = kink_se(t2.curv[j], sig_d, frac_d, fb);
+                    se_hy[j] = kink_se(hy.curv[j], sig_d, frac_d, fb);
+                }
+            }
+        }
+    }
+
+    /* ---- decision ---- */
+    aenl_real_t best_nl = AENL_REAL_MAX;
+    int use_two = 0;
+    if (dir_ok)
+    {
+        aenl_real_t pd[D_N];
+        posterior(bd, D_N, pd);
+        r.prob[AENL_CLASS_LINEAR] = pd[D_LIN];
+        r.prob[AENL_CLASS_POLYNOMIAL] = pd[D_POLY];
+        r.prob[AENL_CLASS_FREEPLAY] = pd[D_FP1] + pd[D_FP2];
+        r.prob[AENL_CLASS_HYSTERESIS] = pd[D_HYST];
+        r.bic_hysteresis = (bd[D_HYST] < AENL_REAL_MAX && bd[D_FP2] < AENL_REAL_MAX)
+                               ? bd[D_HYST] - bd[D_FP2]
+                               : AENL_R(0.0);
+        for (uint16_t i = D_POLY; i < D_N; ++i)
+        {
+            best_nl = (bd[i] < best_nl) ? bd[i] : best_nl;
+        }
+        r.evidence = (bd[D_LIN] - best_nl) / nd_ind;
+        use_two = pd[D_FP2] >= pd[D_FP1];
+    }
+    else
+    {
+        r.prob[AENL_CLASS_LINEAR] = pm[AENL_CLS_MODEL_LINEAR];
+        r.prob[AENL_CLASS_POLYNOMIAL] = pm[AENL_CLS_MODEL_POLY];
+        r.prob[AENL_CLASS_FREEPLAY] = pm[AENL_CLS_MODEL_KINK1] + pm[AENL_CLS_MODEL_KINK2];
+        for (uint16_t i = AENL_CLS_MODEL_POLY; i < AENL_CLS_N_MODELS; ++i)
+        {
+            best_nl = (b[i] < best_nl) ? b[i] : best_nl;
+        }
+        r.evidence = (b[AENL_CLS_MODEL_LINEAR] - best_nl) / n_ind;
+        use_two = pm[AENL_CLS_MODEL_KINK2] >= pm[AENL_CLS_MODEL_KINK1];
+    }
+    r.cls = AENL_CLASS_LINEAR;
+    for (uint16_t i = AENL_CLASS_POLYNOMIAL; i < AENL_CLASS_COUNT; ++i)
+    {
+        if (r.prob[i] > r.prob[r.cls])
+        {
+            r.cls = (aenl_class_t)i;
+        }
+    }
+    r.confidence = r.prob[r.cls];
+
+    /* ---- switching points, input units ---- */
+    if (r.cls == AENL_CLASS_FREEPLAY)
+    {
+        const aenl_real_t *kb = dir_ok ? (use_two ? t2.b : t1.b) : (use_two ? k2.b : k1.b);
+        const aenl_real_t se1[2] = {dir_ok ? se_t1 : se_k1, AENL_R(0.0)};
+        const aenl_real_t *ks = use_two ? (dir_ok ? se_t2 : se_k2) : se1;
+        r.n_switch = use_two ? 2u : 1u;
+        for (uint16_t j = 0; j < r.n_switch; ++j)
+        {
+            r.switch_points[j] = centre + kb[j] * half;
+            r.switch_std[j] = ks[j] * half;
+        }
+    }
+    else if (r.cls == AENL_CLASS_HYSTERESIS)
+    {
+        aenl_real_t pb[4], ps[4];
+        for (uint16_t j = 0; j < 2u; ++j)
+        {
+            pb[j] = centre + (hy.b[j] + AENL_R(0.5) * hy.shift) * half;
+            pb[2u + j] = centre + (hy.b[j] - AENL_R(0.5) * hy.shift) * half;
+            ps[j] = se_hy[j] * half;
+            ps[2u + j] = se_hy[j] * half;
+        }
+        r.n_switch = merge_points(pb, ps, 4u, r.switch_points, r.switch_std);
+    }
+    r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
+    c->res = r;
+    return AENL_OK;
+}
