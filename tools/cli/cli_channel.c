@@ -12,15 +12,7 @@
 
 int aenl_cli_is_time_column(const char *name)
 {
-    static const char *const k_time[] = {"t", "t_s", "time", "time_s", "tau"};
-    for (size_t i = 0; i < sizeof(k_time) / sizeof(k_time[0]); ++i)
-    {
-        if (strcmp(name, k_time[i]) == 0)
-        {
-            return 1;
-        }
-    }
-    return 0;
+    return aenl_csv_is_time_name(name);
 }
 
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,

@@ -901,3 +901,16 @@ void aenl_csv_writer_abort(aenl_csv_writer_t *w)
         aenl_outfile_abort(&w->out);
     }
 }
+
+int aenl_csv_is_time_name(const char *name)
+{
+    static const char *const k_time[] = {"t", "t_s", "time", "time_s", "tau"};
+    for (size_t i = 0; i < sizeof(k_time) / sizeof(k_time[0]); ++i)
+    {
+        if (strcmp(name, k_time[i]) == 0)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}

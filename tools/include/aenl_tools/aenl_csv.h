@@ -36,6 +36,8 @@ unsigned long aenl_csv_line(const aenl_csv_t *csv);
 /** The path as given to aenl_csv_open. */
 const char *aenl_csv_path(const aenl_csv_t *csv);
 void aenl_csv_close(aenl_csv_t *csv);
+/** 1 for the names a time column goes by: t, t_s, time, time_s, tau. */
+int aenl_csv_is_time_name(const char *name);
 
 /* ---- whole table in memory --------------------------------------------------------------- */
 

@@ -1,0 +1,125 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_identify.h
+ * @brief Host pipeline of `aenl identify`: per channel, two streaming passes over a record and the
+ *        core classifier (aenl_classifier.h) on the resulting moments.
+ *
+ * Pass 1 (streaming, O(1) memory per channel): count, range, mean and variance, the dominant
+ * period from mean crossings with hysteresis, the white-noise level from the variance of
+ * differences, and a bounded block of samples (at most opts.cv_max) for the bandwidth.
+ * Then per channel: low-pass pre-filter at 8 / period (aenl_filter) unless turned off, lags
+ * geometric from 1 to period / 8, bandwidth by leave-one-out cross-validation on the block unless
+ * given, grid spacing = bandwidth over the range of the filtered signal.
+ * Pass 2 (streaming): filter and push every sample into the channel's moments (direction split on)
+ * and into a display estimator with the paper's lags 1, 10, 30; the classifier reads the former.
+ * Memory does not grow with the record's length.
+ * The verdict names the channel whose nonlinear evidence (BIC gain of the best nonlinear model
+ * over the linear one, per independent point) is the largest; linear when every channel is linear.
+ */
+#ifndef AENL_TOOLS_IDENTIFY_H
+#define AENL_TOOLS_IDENTIFY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aenl/aenl.h"
+#include "aenl_tools/aenl_io.h"
+
+/** A record read twice, one row at a time (a CSV file or arrays in memory). */
+typedef struct aenl_identify_source
+{
+    size_t n_cols;            /**< channels (the time column excluded) */
+    const char *const *names; /**< n_cols channel names */
+    void *ctx;
+    /** Start (or restart) reading; AENL_OK or an error with err set. */
+    aenl_status_t (*open)(void *ctx, aenl_err_t *err);
+    /** Next row into row[n_cols]: 1 a row, 0 end, -1 error (err set). */
+    int (*next)(void *ctx, double *row, aenl_err_t *err);
+    void (*close)(void *ctx);
+} aenl_identify_source_t;
+
+/** Source over columns in memory (no copy; the arrays must outlive the source). */
+typedef struct aenl_identify_arrays
+{
+    const double *const *cols;
+    size_t n_cols, n_rows, row;
+} aenl_identify_arrays_t;
+
+/** Source over a CSV file: every column but the first (time). */
+typedef struct aenl_identify_csv
+{
+    const char *path;
+    void *csv;     /**< aenl_csv_t while open */
+    size_t n_cols; /**< channels */
+    char **names;  /**< n_cols channel names */
+    size_t *col;   /**< file column of each channel */
+    double *row;   /**< one file row */
+} aenl_identify_csv_t;
+
+/** Options. */
+typedef struct aenl_identify_opts
+{
+    double bandwidth; /**< > 0: given (channel units, every channel); 0: cross-validation */
+    int prefilter;    /**< 1 (default): low-pass at 8 / period; 0 off */
+    size_t cv_max;    /**< samples of the bandwidth block (default 20000) */
+    long channel;     /**< -1 all channels (default), else the index of the only one read */
+} aenl_identify_opts_t;
+
+/** Paper-style display curves of one channel: lags 1, 10, 30 (clipped to the record). */
+#define AENL_IDENTIFY_DISPLAY_LAGS 3
+
+/** Result for one channel. */
+typedef struct aenl_identify_channel
+{
+    const char *name;
+    aenl_classifier_result_t res; /**< class, switching points, confidence, evidence */
+    double evidence;     /**< (BIC linear - min BIC nonlinear) / independent points; <= 0 linear */
+    double bandwidth;    /**< kernel half-width used, channel units */
+    int bw_method;       /**< AENL_BW_CV, AENL_BW_RULE or -1 given */
+    double period;       /**< dominant period, samples (0 when none was found) */
+    double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
+    double noise_std;    /**< white-noise level estimated from differences, channel units */
+    double x_min, x_max; /**< grid ends */
+    uint16_t n_grid, n_lags;
+    uint16_t lags[AENL_MOMENTS_MAX_LAGS];
+    size_t n_samples, n_missing;
+    /** Display curves [dir 0 all, 1 rising, 2 falling][lag][node]; NaN where empty. */
+    uint16_t display_lags[AENL_IDENTIFY_DISPLAY_LAGS];
+    uint16_t n_display;
+    double *x;                /**< n_grid nodes */
+    double *mean, *var;       /**< [3][n_display][n_grid] */
+    double *position, *accel; /**< restoring-force points [3][n_grid] (lag expansion) */
+} aenl_identify_channel_t;
+
+/** Result of one record. */
+typedef struct aenl_identify_result
+{
+    size_t n_channels;
+    aenl_identify_channel_t *ch;
+    long verdict; /**< index of the channel named, -1 none (all linear or insufficient) */
+    aenl_class_t verdict_class;
+} aenl_identify_result_t;
+
+void aenl_identify_opts_default(aenl_identify_opts_t *o);
+
+/** Sources. aenl_identify_csv_source opens the file once to read the header (err set, E_IO/E_ARG
+ *  on failure); release with aenl_identify_csv_free. */
+void aenl_identify_arrays_source(aenl_identify_source_t *src, aenl_identify_arrays_t *ctx,
+                                 const double *const *cols, const char *const *names, size_t n_cols,
+                                 size_t n_rows);
+aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identify_csv_t *ctx,
+                                       const char *path, aenl_err_t *err);
+void aenl_identify_csv_free(aenl_identify_csv_t *ctx);
+
+/**
+ * @brief Identify every channel (or opts->channel) of a record.
+ * @return AENL_OK; AENL_E_ARG with a message for an unusable channel (no finite sample, constant,
+ *         too short for the lags); errors of the source; AENL_E_IO out of memory. On error *out
+ *         holds nothing to free.
+ */
+aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
+                                aenl_identify_result_t *out, aenl_err_t *err);
+
+void aenl_identify_free(aenl_identify_result_t *r);
+
+#endif /* AENL_TOOLS_IDENTIFY_H */

@@ -1,0 +1,848 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_identify.c
+ * @brief The identify pipeline (see aenl_identify.h).
+ */
+#include "aenl_tools/aenl_identify.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_csv.h"
+
+/** Classification lags at most (geometric from 1 to period / 8). */
+#define ID_MAX_LAGS 8
+/** Butterworth order of the pre-filter. */
+#define ID_FILTER_ORDER 4
+/** Pre-filter cutoff in cycles of the dominant period: 8 / period (harmonics up to the 7th). */
+#define ID_CUTOFF_CYCLES 8.0
+/** Grid nodes at most (one per bandwidth). */
+#define ID_MAX_GRID 120
+/** Longest lag: period / ID_LAG_DIV (the expansion must stay local in time). */
+#define ID_LAG_DIV 8.0
+/** Order of the lag expansion: cubic in the lag (position, velocity, acceleration, jerk). */
+#define ID_TAYLOR_ORDER 3u
+/** Grid nodes at least. */
+#define ID_MIN_GRID 60
+
+/* ---- sources ----------------------------------------------------------------------------- */
+
+static aenl_status_t arrays_open(void *ctx, aenl_err_t *err)
+{
+    (void)err;
+    ((aenl_identify_arrays_t *)ctx)->row = 0;
+    return AENL_OK;
+}
+
+static int arrays_next(void *ctx, double *row, aenl_err_t *err)
+{
+    (void)err;
+    aenl_identify_arrays_t *a = ctx;
+    if (a->row >= a->n_rows)
+    {
+        return 0;
+    }
+    for (size_t c = 0; c < a->n_cols; ++c)
+    {
+        row[c] = a->cols[c][a->row];
+    }
+    a->row++;
+    return 1;
+}
+
+static void arrays_close(void *ctx)
+{
+    (void)ctx;
+}
+
+void aenl_identify_arrays_source(aenl_identify_source_t *src, aenl_identify_arrays_t *ctx,
+                                 const double *const *cols, const char *const *names, size_t n_cols,
+                                 size_t n_rows)
+{
+    memset(src, 0, sizeof(*src));
+    ctx->cols = cols;
+    ctx->n_cols = n_cols;
+    ctx->n_rows = n_rows;
+    ctx->row = 0;
+    src->n_cols = n_cols;
+    src->names = names;
+    src->ctx = ctx;
+    src->open = arrays_open;
+    src->next = arrays_next;
+    src->close = arrays_close;
+}
+
+/* CSV: the channels are the columns that are not a time column (aenl_csv_is_time_name). */
+
+static aenl_status_t csv_src_open(void *ctx, aenl_err_t *err)
+{
+    aenl_identify_csv_t *c = ctx;
+    aenl_csv_t *csv = NULL;
+    const aenl_status_t st = aenl_csv_open(&csv, c->path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    c->csv = csv;
+    return AENL_OK;
+}
+
+static int csv_src_next(void *ctx, double *row, aenl_err_t *err)
+{
+    aenl_identify_csv_t *c = ctx;
+    const int r = aenl_csv_next(c->csv, c->row, err);
+    if (r <= 0)
+    {
+        return r < 0 ? -1 : 0;
+    }
+    for (size_t k = 0; k < c->n_cols; ++k)
+    {
+        row[k] = c->row[c->col[k]];
+    }
+    return 1;
+}
+
+static void csv_src_close(void *ctx)
+{
+    aenl_identify_csv_t *c = ctx;
+    aenl_csv_close(c->csv);
+    c->csv = NULL;
+}
+
+void aenl_identify_csv_free(aenl_identify_csv_t *ctx)
+{
+    if (ctx == NULL)
+    {
+        return;
+    }
+    if (ctx->csv != NULL)
+    {
+        aenl_csv_close(ctx->csv);
+    }
+    if (ctx->names != NULL)
+    {
+        for (size_t k = 0; k < ctx->n_cols; ++k)
+        {
+            free(ctx->names[k]);
+        }
+        free(ctx->names);
+    }
+    free(ctx->col);
+    free(ctx->row);
+    memset(ctx, 0, sizeof(*ctx));
+}
+
+aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identify_csv_t *ctx,
+                                       const char *path, aenl_err_t *err)
+{
+    memset(src, 0, sizeof(*src));
+    memset(ctx, 0, sizeof(*ctx));
+    aenl_csv_t *csv = NULL;
+    aenl_status_t st = aenl_csv_open(&csv, path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const size_t n_file = aenl_csv_n_cols(csv);
+    size_t n_ch = 0;
+    for (size_t k = 0; k < n_file; ++k)
+    {
+        n_ch += !aenl_csv_is_time_name(aenl_csv_col_name(csv, k));
+    }
+    if (n_ch == 0)
+    {
+        aenl_err_set(err, "%s: no data column (only time)", path);
+        aenl_csv_close(csv);
+        return AENL_E_ARG;
+    }
+    ctx->path = path;
+    ctx->n_cols = n_ch;
+    ctx->names = calloc(n_ch, sizeof(char *));
+    ctx->col = calloc(n_ch, sizeof(size_t));
+    ctx->row = calloc(n_file + 1, sizeof(double));
+    if (ctx->names == NULL || ctx->col == NULL || ctx->row == NULL)
+    {
+        aenl_csv_close(csv);
+        aenl_identify_csv_free(ctx);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    st = AENL_OK;
+    for (size_t k = 0, j = 0; k < n_file; ++k)
+    {
+        const char *name = aenl_csv_col_name(csv, k);
+        if (aenl_csv_is_time_name(name))
+        {
+            continue;
+        }
+        ctx->col[j] = k;
+        ctx->names[j] = malloc(strlen(name) + 1);
+        if (ctx->names[j] == NULL)
+        {
+            st = AENL_E_IO;
+            break;
+        }
+        memcpy(ctx->names[j], name, strlen(name) + 1);
+        j++;
+    }
+    aenl_csv_close(csv);
+    if (st != AENL_OK)
+    {
+        aenl_identify_csv_free(ctx);
+        aenl_err_set(err, "out of memory");
+        return st;
+    }
+    src->n_cols = n_ch;
+    src->names = (const char *const *)ctx->names;
+    src->ctx = ctx;
+    src->open = csv_src_open;
+    src->next = csv_src_next;
+    src->close = csv_src_close;
+    return AENL_OK;
+}
+
+/* ---- options ----------------------------------------------------------------------------- */
+
+void aenl_identify_opts_default(aenl_identify_opts_t *o)
+{
+    memset(o, 0, sizeof(*o));
+    o->bandwidth = 0.0;
+    o->prefilter = 1;
+    o->cv_max = 20000;
+    o->channel = -1;
+}
+
+/* ---- per-channel work -------------------------------------------------------------------- */
+
+typedef struct id_chan
+{
+    /* pass 1 */
+    size_t n, n_missing, n_block;
+    double mean, m2, lo, hi;
+    double *block; /**< the first cv_max samples (NaN kept) */
+    /* set-up */
+    double cutoff;
+    size_t settle;
+    aenl_filter_t filter;
+    aenl_moments_t *mom, *disp;
+    size_t pushed;
+} id_chan_t;
+
+/**
+ * Dominant period from the autocorrelation of the block: white measurement noise only touches
+ * lag 0, so the first maximum after the first zero crossing is the period even at SNR 2. 0 when
+ * the autocorrelation never turns (no oscillation in the block).
+ */
+static double acf_period(const double *x, size_t n, double mean)
+{
+    const size_t max_lag = n / 3u;
+    double r0 = 0.0;
+    size_t n0 = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            r0 += (x[i] - mean) * (x[i] - mean);
+            n0++;
+        }
+    }
+    if (n0 < 16u || !(r0 > 0.0))
+    {
+        return 0.0;
+    }
+    r0 /= (double)n0;
+    double prev2 = 1.0, prev = 1.0;
+    int crossed = 0;
+    for (size_t lag = 1; lag <= max_lag; ++lag)
+    {
+        double s = 0.0;
+        size_t k = 0;
+        for (size_t i = 0; i + lag < n; ++i)
+        {
+            if (isfinite(x[i]) && isfinite(x[i + lag]))
+            {
+                s += (x[i] - mean) * (x[i + lag] - mean);
+                k++;
+            }
+        }
+        const double r = k > 0 ? s / (double)k / r0 : 0.0;
+        if (r < 0.0)
+        {
+            crossed = 1;
+        }
+        else if (crossed && lag >= 3u && prev >= prev2 && prev > r && prev > 0.0)
+        {
+            /* parabola through lags - 2, - 1, lag around the peak at lag - 1 */
+            const double den = prev2 - 2.0 * prev + r;
+            const double off = den < 0.0 ? 0.5 * (prev2 - r) / den : 0.0;
+            return (double)(lag - 1u) + (fabs(off) < 1.0 ? off : 0.0);
+        }
+        prev2 = prev;
+        prev = r;
+    }
+    return 0.0;
+}
+
+/**
+ * Geometric lags 2 .. top (distinct integers, at most ID_MAX_LAGS, at least 3). Lag 1 is left out:
+ * the direction split compares X_c with X_{c-1}, and the backward series of lag 1 would read the
+ * very sample that decided the direction (its noise is biased by the decision).
+ */
+static uint16_t make_lags(double top, uint16_t *lags)
+{
+    if (top < 4.0)
+    {
+        top = 4.0;
+    }
+    if (top > (double)AENL_MOMENTS_MAX_LAG)
+    {
+        top = (double)AENL_MOMENTS_MAX_LAG;
+    }
+    uint16_t n = 0;
+    for (int k = 0; k < ID_MAX_LAGS; ++k)
+    {
+        const double v = 2.0 * pow(top / 2.0, (double)k / (ID_MAX_LAGS - 1));
+        const uint16_t l = (uint16_t)lround(v);
+        if (n == 0u || l > lags[n - 1u])
+        {
+            lags[n++] = l;
+        }
+    }
+    return n;
+}
+
+/** Differences estimate of white noise: min over k of Var(diff^k x) / C(2k, k). */
+static double noise_level(const double *x, size_t n)
+{
+    static const double k_binom[5] = {1.0, 2.0, 6.0, 20.0, 70.0};
+    double best = INFINITY;
+    for (int k = 1; k <= 4; ++k)
+    {
+        double s = 0.0, s2 = 0.0;
+        size_t m = 0;
+        for (size_t i = (size_t)k; i < n; ++i)
+        {
+            double d = 0.0, c = 1.0;
+            int ok = 1;
+            for (int j = 0; j <= k; ++j) /* sum_j (-1)^j C(k, j) x[i - j] */
+            {
+                const double v = x[i - (size_t)j];
+                ok = ok && isfinite(v);
+                d += ((j % 2) ? -c : c) * v;
+                c = c * (double)(k - j) / (double)(j + 1);
+            }
+            if (ok)
+            {
+                s += d;
+                s2 += d * d;
+                m++;
+            }
+        }
+        if (m > 1u)
+        {
+            const double var = (s2 - s * s / (double)m) / (double)(m - 1u);
+            const double v = var / k_binom[k];
+            best = v < best ? v : best;
+        }
+    }
+    return isfinite(best) ? sqrt(best) : 0.0;
+}
+
+static void chan_free(id_chan_t *c)
+{
+    free(c->block);
+    free(c->mom);
+    free(c->disp);
+    memset(c, 0, sizeof(*c));
+}
+
+void aenl_identify_free(aenl_identify_result_t *r)
+{
+    if (r == NULL)
+    {
+        return;
+    }
+    for (size_t k = 0; k < r->n_channels && r->ch != NULL; ++k)
+    {
+        aenl_identify_channel_t *c = &r->ch[k];
+        free(c->x);
+        free(c->mean);
+        free(c->var);
+        free(c->position);
+        free(c->accel);
+    }
+    free(r->ch);
+    memset(r, 0, sizeof(*r));
+}
+
+/** Pass over the source calling fn(ctx, row) for every row. */
+typedef aenl_status_t (*row_fn_t)(void *ctx, const double *row, aenl_err_t *err);
+
+static aenl_status_t for_rows(const aenl_identify_source_t *src, double *row, row_fn_t fn,
+                              void *ctx, aenl_err_t *err)
+{
+    aenl_status_t st = src->open(src->ctx, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    for (;;)
+    {
+        const int r = src->next(src->ctx, row, err);
+        if (r < 0)
+        {
+            st = AENL_E_ARG;
+            break;
+        }
+        if (r == 0)
+        {
+            break;
+        }
+        st = fn(ctx, row, err);
+        if (st != AENL_OK)
+        {
+            break;
+        }
+    }
+    src->close(src->ctx);
+    return st;
+}
+
+typedef struct id_run
+{
+    const aenl_identify_source_t *src;
+    const aenl_identify_opts_t *opts;
+    size_t n_ch;
+    size_t *col; /**< source column of each analysed channel */
+    id_chan_t *ch;
+} id_run_t;
+
+static aenl_status_t pass1_row(void *ctx, const double *row, aenl_err_t *err)
+{
+    id_run_t *run = ctx;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        id_chan_t *c = &run->ch[k];
+        const double x = row[run->col[k]];
+        if (c->n_block < run->opts->cv_max)
+        {
+            c->block[c->n_block++] = x;
+        }
+        if (!isfinite(x))
+        {
+            c->n_missing++;
+            continue;
+        }
+        if (fabs(x) > 1e120)
+        {
+            aenl_err_set(err, "channel %s: value %g is beyond any physical range",
+                         run->src->names[run->col[k]], x);
+            return AENL_E_ARG;
+        }
+        c->n++;
+        const double d = x - c->mean;
+        c->mean += d / (double)c->n;
+        c->m2 += d * (x - c->mean);
+        c->lo = (c->n == 1u || x < c->lo) ? x : c->lo;
+        c->hi = (c->n == 1u || x > c->hi) ? x : c->hi;
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t pass2_row(void *ctx, const double *row, aenl_err_t *err)
+{
+    (void)err;
+    id_run_t *run = ctx;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        id_chan_t *c = &run->ch[k];
+        double y = row[run->col[k]];
+        if (c->cutoff > 0.0)
+        {
+            (void)aenl_filter_push(&c->filter, y, &y); /* NaN passes as a gap */
+            if (c->pushed < c->settle)
+            {
+                y = (double)NAN; /* the filter's start-up transient is not data */
+            }
+        }
+        c->pushed++;
+        (void)aenl_moments_push(c->mom, y); /* NaN: a missing sample, alignment kept */
+        (void)aenl_moments_push(c->disp, y);
+    }
+    return AENL_OK;
+}
+
+/**
+ * Set up one channel after pass 1: period, pre-filter, lags, range, bandwidth, grid, moments.
+ */
+static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_identify_opts_t *opts,
+                                aenl_identify_channel_t *out, aenl_err_t *err)
+{
+    if (c->n < 2u)
+    {
+        aenl_err_set(err, "channel %s: no finite samples", name);
+        return AENL_E_ARG;
+    }
+    const double sd = sqrt(c->m2 / (double)(c->n - 1u));
+    if (!(sd > 0.0) || !(c->hi > c->lo))
+    {
+        aenl_err_set(err, "channel %s: constant signal (%g): nothing to identify", name, c->lo);
+        return AENL_E_ARG;
+    }
+    out->name = name;
+    out->n_samples = c->n;
+    out->n_missing = c->n_missing;
+    out->noise_std = noise_level(c->block, c->n_block);
+    out->period = acf_period(c->block, c->n_block, c->mean);
+    out->bw_method = -1;
+    /* pre-filter */
+    c->cutoff = 0.0;
+    if (opts->prefilter && out->period > 0.0)
+    {
+        const double fc = ID_CUTOFF_CYCLES / out->period;
+        if (fc < 0.4)
+        {
+            c->cutoff = fc;
+        }
+    }
+    if (c->cutoff > 0.0)
+    {
+        aenl_filter_cfg_t fcfg = {(aenl_real_t)c->cutoff, ID_FILTER_ORDER};
+        if (aenl_filter_init(&c->filter, &fcfg) != AENL_OK)
+        {
+            aenl_err_set(err, "channel %s: pre-filter design failed (cutoff %g)", name, c->cutoff);
+            return AENL_E_NUMERIC;
+        }
+        c->settle = (size_t)ceil(4.0 / c->cutoff);
+    }
+    out->prefilter = c->cutoff;
+    /* lags */
+    out->n_lags = make_lags(out->period > 0.0 ? out->period / ID_LAG_DIV : 16.0, out->lags);
+    const size_t need = (size_t)out->lags[out->n_lags - 1u] + c->settle + 64u;
+    if (c->n < need)
+    {
+        aenl_err_set(err,
+                     "channel %s: %zu finite samples are too few (at least %zu for lags up to %u)",
+                     name, c->n, need, (unsigned)out->lags[out->n_lags - 1u]);
+        return AENL_E_ARG;
+    }
+    /* the block, filtered as pass 2 will, gives the range and the bandwidth */
+    double *y = malloc((c->n_block > 0 ? c->n_block : 1u) * sizeof(double));
+    if (y == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    aenl_filter_t f = c->filter;
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < c->n_block; ++i)
+    {
+        double v = c->block[i];
+        if (c->cutoff > 0.0)
+        {
+            (void)aenl_filter_push(&f, v, &v);
+            v = (i < c->settle) ? (double)NAN : v;
+        }
+        y[i] = v;
+        if (isfinite(v))
+        {
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
+    }
+    if (!(hi > lo))
+    {
+        free(y);
+        aenl_err_set(err, "channel %s: constant signal after the pre-filter's start-up", name);
+        return AENL_E_ARG;
+    }
+    const double range = hi - lo;
+    double h = opts->bandwidth;
+    if (h > 0.0)
+    {
+        out->bw_method = -1;
+    }
+    else
+    {
+        aenl_bw_result_t bw;
+        const aenl_status_t st =
+            aenl_bw_select(y, c->n_block, out->lags, out->n_lags, NULL, &bw, err);
+        if (st != AENL_OK)
+        {
+            free(y);
+            return st;
+        }
+        h = bw.h;
+        out->bw_method = bw.method;
+        /* one node per bandwidth, ID_MIN_GRID .. ID_MAX_GRID nodes */
+        h = h < range / (ID_MAX_GRID - 2) ? range / (ID_MAX_GRID - 2) : h;
+        h = h > range / (ID_MIN_GRID - 2) ? range / (ID_MIN_GRID - 2) : h;
+    }
+    free(y);
+    out->bandwidth = h;
+    /* grid: the block's filtered range plus one bandwidth each side, spacing h */
+    double n_nodes = floor(range / h) + 3.0;
+    if (n_nodes > (double)AENL_CLASSIFIER_MAX_NODES)
+    {
+        n_nodes = (double)AENL_CLASSIFIER_MAX_NODES;
+    }
+    out->n_grid = (uint16_t)n_nodes;
+    out->x_min = lo - h;
+    out->x_max = hi + h;
+    aenl_moments_cfg_t mc;
+    memset(&mc, 0, sizeof(mc));
+    mc.x_min = out->x_min;
+    mc.x_max = out->x_max;
+    mc.n_grid = out->n_grid;
+    mc.bandwidth = h;
+    mc.n_lags = out->n_lags;
+    memcpy(mc.lags, out->lags, sizeof(mc.lags));
+    mc.forgetting = 1.0;
+    mc.direction_split = 1;
+    mc.symmetric = 1;
+    c->mom = malloc(sizeof(*c->mom));
+    c->disp = malloc(sizeof(*c->disp));
+    if (c->mom == NULL || c->disp == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    if (aenl_moments_init(c->mom, &mc) != AENL_OK)
+    {
+        aenl_err_set(err, "channel %s: moments configuration rejected (grid %u, h %g)", name,
+                     (unsigned)mc.n_grid, h);
+        return AENL_E_ARG;
+    }
+    static const uint16_t k_disp[AENL_IDENTIFY_DISPLAY_LAGS] = {1, 10, 30};
+    out->n_display = 0;
+    for (int k = 0; k < AENL_IDENTIFY_DISPLAY_LAGS; ++k)
+    {
+        if ((size_t)k_disp[k] * 4u < c->n)
+        {
+            out->display_lags[out->n_display++] = k_disp[k];
+        }
+    }
+    mc.n_lags = out->n_display;
+    mc.symmetric = 0; /* the paper's curves: forward lags */
+    memset(mc.lags, 0, sizeof(mc.lags));
+    memcpy(mc.lags, out->display_lags, sizeof(out->display_lags));
+    if (aenl_moments_init(c->disp, &mc) != AENL_OK)
+    {
+        aenl_err_set(err, "channel %s: display moments configuration rejected", name);
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+/**
+ * Normalised autocorrelation rho(L) of white noise through the pre-filter, at the lags: from the
+ * impulse response, run until it has decayed (its tail below 1e-12 of the energy so far).
+ */
+static void filter_acf(const aenl_filter_t *proto, const uint16_t *lags, uint16_t n_lags,
+                       double *rho)
+{
+    enum
+    {
+        N_IMP = 1 << 15
+    };
+    static double imp[N_IMP];
+    aenl_filter_t f = *proto;
+    aenl_filter_reset(&f);
+    double y = 0.0;
+    (void)aenl_filter_push(&f, 0.0, &y); /* primes at rest */
+    size_t n = 0;
+    double e = 0.0;
+    for (; n < N_IMP; ++n)
+    {
+        (void)aenl_filter_push(&f, n == 0 ? 1.0 : 0.0, &y);
+        imp[n] = y;
+        e += y * y;
+        if (n > 64u && y * y < 1e-14 * e && imp[n - 1] * imp[n - 1] < 1e-14 * e)
+        {
+            break;
+        }
+    }
+    for (uint16_t i = 0; i < n_lags; ++i)
+    {
+        double s = 0.0;
+        for (size_t k = 0; k + lags[i] < n; ++k)
+        {
+            s += imp[k] * imp[k + lags[i]];
+        }
+        rho[i] = s / e;
+    }
+}
+
+/** Read the display curves and the restoring-force points out of the moments. */
+static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *out, uint16_t order,
+                                 aenl_err_t *err)
+{
+    const size_t ng = out->n_grid, nd = out->n_display;
+    out->x = malloc(ng * sizeof(double));
+    out->mean = malloc(3u * (nd ? nd : 1u) * ng * sizeof(double));
+    out->var = malloc(3u * (nd ? nd : 1u) * ng * sizeof(double));
+    out->position = malloc(3u * ng * sizeof(double));
+    out->accel = malloc(3u * ng * sizeof(double));
+    if (out->x == NULL || out->mean == NULL || out->var == NULL || out->position == NULL ||
+        out->accel == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    for (size_t k = 0; k < ng; ++k)
+    {
+        out->x[k] = aenl_moments_node_x(c->disp, (uint16_t)k);
+        for (int d = 0; d < 3; ++d)
+        {
+            for (size_t l = 0; l < nd; ++l)
+            {
+                aenl_moments_point_t q;
+                const int ok = aenl_moments_query(c->disp, (uint16_t)l, (uint16_t)k, (aenl_dir_t)d,
+                                                  &q) == AENL_OK;
+                out->mean[((size_t)d * nd + l) * ng + k] = ok ? q.mean : (double)NAN;
+                out->var[((size_t)d * nd + l) * ng + k] = ok ? q.var : (double)NAN;
+            }
+            aenl_moments_taylor_t t;
+            const int ok =
+                aenl_moments_taylor(c->mom, (uint16_t)k, (aenl_dir_t)d, order, &t) == AENL_OK;
+            out->position[(size_t)d * ng + k] = ok ? t.position : (double)NAN;
+            out->accel[(size_t)d * ng + k] = ok ? t.accel : (double)NAN;
+        }
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
+                                aenl_identify_result_t *out, aenl_err_t *err)
+{
+    if (src == NULL || out == NULL || src->n_cols == 0u)
+    {
+        aenl_err_set(err, "identify: no channels");
+        return AENL_E_ARG;
+    }
+    memset(out, 0, sizeof(*out));
+    aenl_identify_opts_t o;
+    aenl_identify_opts_default(&o);
+    if (opts != NULL)
+    {
+        o = *opts;
+    }
+    if (!isfinite(o.bandwidth) || o.bandwidth < 0.0 || o.cv_max < 256u ||
+        o.channel >= (long)src->n_cols)
+    {
+        aenl_err_set(err, "identify: bad options (bandwidth %g, cv_max %zu, channel %ld)",
+                     o.bandwidth, o.cv_max, o.channel);
+        return AENL_E_ARG;
+    }
+    id_run_t run;
+    memset(&run, 0, sizeof(run));
+    run.src = src;
+    run.opts = &o;
+    run.n_ch = o.channel >= 0 ? 1u : src->n_cols;
+    run.col = calloc(run.n_ch, sizeof(size_t));
+    run.ch = calloc(run.n_ch, sizeof(id_chan_t));
+    double *row = calloc(src->n_cols, sizeof(double));
+    out->ch = calloc(run.n_ch, sizeof(aenl_identify_channel_t));
+    aenl_classifier_t *cls = NULL;
+    aenl_status_t st = AENL_OK;
+    if (run.col == NULL || run.ch == NULL || row == NULL || out->ch == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_IO;
+        goto done;
+    }
+    out->n_channels = run.n_ch;
+    for (size_t k = 0; k < run.n_ch; ++k)
+    {
+        run.col[k] = o.channel >= 0 ? (size_t)o.channel : k;
+        run.ch[k].block = malloc(o.cv_max * sizeof(double));
+        if (run.ch[k].block == NULL)
+        {
+            aenl_err_set(err, "out of memory");
+            st = AENL_E_IO;
+            goto done;
+        }
+    }
+    st = for_rows(src, row, pass1_row, &run, err);
+    for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
+    {
+        st = chan_setup(&run.ch[k], src->names[run.col[k]], &o, &out->ch[k], err);
+    }
+    if (st == AENL_OK)
+    {
+        st = for_rows(src, row, pass2_row, &run, err);
+    }
+    for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
+    {
+        aenl_identify_channel_t *c = &out->ch[k];
+        aenl_classifier_cfg_t cc;
+        aenl_classifier_cfg_default(&cc);
+        cc.taylor_order = ID_TAYLOR_ORDER;
+        if (run.ch[k].cutoff > 0.0)
+        {
+            double rho[AENL_MOMENTS_MAX_LAGS];
+            filter_acf(&run.ch[k].filter, c->lags, c->n_lags, rho);
+            cc.use_noise_acf = 1;
+            for (uint16_t i = 0; i < c->n_lags; ++i)
+            {
+                cc.noise_acf[i] = rho[i];
+            }
+        }
+        if (cls == NULL)
+        {
+            cls = malloc(sizeof(*cls)); /* large (host capacities): not on the stack */
+        }
+        if (cls == NULL)
+        {
+            aenl_err_set(err, "out of memory");
+            st = AENL_E_IO;
+            break;
+        }
+        if (aenl_classifier_init(cls, &cc) != AENL_OK ||
+            aenl_classifier_update(cls, run.ch[k].mom) != AENL_OK)
+        {
+            aenl_err_set(err, "channel %s: classifier rejected the estimator", c->name);
+            st = AENL_E_ARG;
+            break;
+        }
+        c->res = *aenl_classifier_result(cls);
+        c->evidence = c->res.cls > AENL_CLASS_LINEAR ? c->res.evidence : 0.0;
+        st = chan_export(&run.ch[k], c, cc.taylor_order, err);
+    }
+    if (st == AENL_OK)
+    {
+        out->verdict = -1;
+        out->verdict_class = AENL_CLASS_INSUFFICIENT;
+        double best = 0.0;
+        for (size_t k = 0; k < run.n_ch; ++k)
+        {
+            const aenl_identify_channel_t *c = &out->ch[k];
+            if (c->res.cls == AENL_CLASS_LINEAR && out->verdict < 0)
+            {
+                out->verdict_class = AENL_CLASS_LINEAR;
+            }
+            if (c->res.cls > AENL_CLASS_LINEAR && c->evidence > best)
+            {
+                best = c->evidence;
+                out->verdict = (long)k;
+                out->verdict_class = c->res.cls;
+            }
+        }
+    }
+done:
+    for (size_t k = 0; run.ch != NULL && k < run.n_ch; ++k)
+    {
+        chan_free(&run.ch[k]);
+    }
+    free(cls);
+    free(run.ch);
+    free(run.col);
+    free(row);
+    if (st != AENL_OK)
+    {
+        aenl_identify_free(out);
+    }
+    return st;
+}
