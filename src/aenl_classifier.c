@@ -925,7 +925,7 @@ aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t 
                                     : AENL_REAL_MAX;
     aenl_real_t pm[AENL_CLS_N_MODELS];
     posterior(b, AENL_CLS_N_MODELS, pm);
-    for (uint16_t i = 0; i < AENL_CLS_N_MODELS; ++i)
+    for (unsigned i = 0; i < (unsigned)AENL_CLS_N_MODELS; ++i)
     {
         r.bic[i] = (b[i] < AENL_REAL_MAX) ? b[i] - b[AENL_CLS_MODEL_LINEAR] : AENL_REAL_MAX;
     }
@@ -1066,7 +1066,7 @@ aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t 
         r.bic_hysteresis = (bd[D_HYST] < AENL_REAL_MAX && bd[D_FP2] < AENL_REAL_MAX)
                                ? bd[D_HYST] - bd[D_FP2]
                                : AENL_R(0.0);
-        for (uint16_t i = D_POLY; i < D_N; ++i)
+        for (unsigned i = D_POLY; i < (unsigned)D_N; ++i)
         {
             best_nl = (bd[i] < best_nl) ? bd[i] : best_nl;
         }
@@ -1078,7 +1078,7 @@ aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t 
         r.prob[AENL_CLASS_LINEAR] = pm[AENL_CLS_MODEL_LINEAR];
         r.prob[AENL_CLASS_POLYNOMIAL] = pm[AENL_CLS_MODEL_POLY];
         r.prob[AENL_CLASS_FREEPLAY] = pm[AENL_CLS_MODEL_KINK1] + pm[AENL_CLS_MODEL_KINK2];
-        for (uint16_t i = AENL_CLS_MODEL_POLY; i < AENL_CLS_N_MODELS; ++i)
+        for (unsigned i = AENL_CLS_MODEL_POLY; i < (unsigned)AENL_CLS_N_MODELS; ++i)
         {
             best_nl = (b[i] < best_nl) ? b[i] : best_nl;
         }

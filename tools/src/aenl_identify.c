@@ -679,7 +679,7 @@ static void filter_acf(const aenl_filter_t *proto, const uint16_t *lags, uint16_
 static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *out, uint16_t order,
                                  aenl_err_t *err)
 {
-    const size_t ng = out->n_grid, nd = out->n_display;
+    const size_t ng = out->n_grid > 0u ? out->n_grid : 1u, nd = out->n_display;
     out->x = malloc(ng * sizeof(double));
     out->mean = malloc(3u * (nd ? nd : 1u) * ng * sizeof(double));
     out->var = malloc(3u * (nd ? nd : 1u) * ng * sizeof(double));
@@ -691,7 +691,7 @@ static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *ou
         aenl_err_set(err, "out of memory");
         return AENL_E_IO;
     }
-    for (size_t k = 0; k < ng; ++k)
+    for (size_t k = 0; k < out->n_grid; ++k)
     {
         out->x[k] = aenl_moments_node_x(c->disp, (uint16_t)k);
         for (int d = 0; d < 3; ++d)
