@@ -34,6 +34,10 @@
  */
 #define KINK_DF 3u
 
+/** Kink searches: candidates and shifts of the coarse pass at most (bounded work per update). */
+#define SEARCH_MAX       48u
+#define SEARCH_MAX_SHIFT 16u
+
 /** Huber threshold of the robust loss, in noise standard deviations. */
 #define HUBER_C AENL_R(2.0)
 
@@ -428,16 +432,21 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     }
     cls_spec_t sp = *base;
     const aenl_real_t du = (cand[n_cand - 1u] - cand[0]) / (aenl_real_t)(n_cand - 1u);
+    /* bounded work: a coarse pass over at most SEARCH_MAX candidates and SEARCH_MAX_SHIFT
+     * shifts, then the refinement at full resolution around the best */
+    const uint16_t stride = (uint16_t)((n_cand + SEARCH_MAX - 1u) / SEARCH_MAX);
+    const uint16_t shift_stride = (uint16_t)((n_shift + SEARCH_MAX_SHIFT - 1u) / SEARCH_MAX_SHIFT);
     uint16_t bi = 0u, bj = 0u;
-    for (uint16_t js = 0; js <= n_shift; ++js)
+    for (uint16_t js = 0; js <= n_shift;
+         js = (uint16_t)(js + (shift_stride > 0u ? shift_stride : 1u)))
     {
         sp.shift = (aenl_real_t)js * du;
-        for (uint16_t i = 1u; i + 2u < n_cand; ++i)
+        for (uint16_t i = 1u; i + 2u < n_cand; i = (uint16_t)(i + stride))
         {
             sp.b[0] = cand[i];
             const uint16_t j_lo = (sp.n_k == 2u) ? (uint16_t)(i + 2u) : i;
             const uint16_t j_hi = (sp.n_k == 2u) ? (uint16_t)(n_cand - 2u) : (uint16_t)(i + 1u);
-            for (uint16_t j = j_lo; j < j_hi; ++j)
+            for (uint16_t j = j_lo; j < j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? stride : 1u)))
             {
                 sp.b[1] = cand[j];
                 const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
@@ -457,6 +466,43 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     if (!k->ok)
     {
         return;
+    }
+    if (stride > 1u || shift_stride > 1u) /* full resolution around the coarse optimum */
+    {
+        const uint16_t ci = bi, cj = bj;
+        const uint16_t js0 = (uint16_t)(k->shift / du + AENL_R(0.5));
+        for (uint16_t js = (js0 > shift_stride ? (uint16_t)(js0 - shift_stride) : 0u);
+             js <= js0 + shift_stride && js <= n_shift; ++js)
+        {
+            sp.shift = (aenl_real_t)js * du;
+            for (uint16_t i = (ci > stride ? (uint16_t)(ci - stride) : 1u);
+                 i <= ci + stride && i + 2u < n_cand; ++i)
+            {
+                sp.b[0] = cand[i];
+                const uint16_t j_lo =
+                    (sp.n_k == 2u) ? (cj > stride ? (uint16_t)(cj - stride) : (uint16_t)0u) : i;
+                const uint16_t j_hi =
+                    (sp.n_k == 2u) ? (uint16_t)(cj + stride + 1u) : (uint16_t)(i + 1u);
+                for (uint16_t j = j_lo; j < j_hi; ++j)
+                {
+                    if (sp.n_k == 2u && (j < i + 2u || j + 2u >= n_cand))
+                    {
+                        continue;
+                    }
+                    sp.b[1] = cand[j];
+                    const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
+                    if (rss >= AENL_R(0.0) && rss < k->rss)
+                    {
+                        k->rss = rss;
+                        k->b[0] = sp.b[0];
+                        k->b[1] = sp.b[1];
+                        k->shift = sp.shift;
+                        bi = i;
+                        bj = j;
+                    }
+                }
+            }
+        }
     }
     cls_spec_t best = *base;
     best.b[0] = k->b[0];
@@ -870,7 +916,7 @@ aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t 
     const cls_set_t all = {c->pt[0], n};
     build_table(&all, &c->tab[0]);
     const uint16_t nc = candidates(c->pt[0], n, c->cand);
-    aenl_real_t *scratch = c->cand + nc; /* residuals, after the candidates */
+    aenl_real_t *scratch = c->resid;
     const cls_spec_t s_lin = {0u, 0u, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)};
     cls_spec_t s_poly = s_lin, s_k1 = s_lin, s_k2 = s_lin;
     s_poly.cubic = 1u;

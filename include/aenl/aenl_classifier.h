@@ -134,7 +134,8 @@ typedef struct aenl_classifier
     /* Working storage of one update (kept here, not on the stack): */
     aenl_cls_point_t pt[3][AENL_CLASSIFIER_MAX_NODES]; /**< all, rising, falling */
     aenl_cls_table_t tab[2];
-    aenl_real_t cand[2 * AENL_CLASSIFIER_MAX_NODES];
+    aenl_real_t cand[AENL_CLASSIFIER_MAX_NODES];      /**< candidate kink positions */
+    aenl_real_t resid[2 * AENL_CLASSIFIER_MAX_NODES]; /**< residuals of both directions */
     uint8_t interior[AENL_CLASSIFIER_MAX_NODES];
 } aenl_classifier_t;
 

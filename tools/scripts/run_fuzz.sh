@@ -21,7 +21,7 @@ CC=clang cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_F
   -DAENL_BUILD_TESTS=OFF -DAENL_WERROR=OFF >"$blog" 2>&1 || { cat "$blog"; exit 1; }
 # target:corpus:dictionary
 specs=(fuzz_csv:csv:csv.dict fuzz_ini:ini:ini.dict fuzz_moments_f32:moments: fuzz_moments_f64:moments:
-  fuzz_skf_f32:skf: fuzz_skf_f64:skf:)
+  fuzz_skf_f32:skf: fuzz_skf_f64:skf: fuzz_classifier_f32:classifier: fuzz_classifier_f64:classifier:)
 targets=()
 for s in "${specs[@]}"; do targets+=("${s%%:*}"); done
 # Project sources are built with fewer warnings here (clang's set differs from gcc's; the strict
