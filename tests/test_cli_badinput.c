@@ -134,7 +134,7 @@ static void remove_outputs(void)
 static void run_case(const bad_case_t *c)
 {
     cli_result_t r;
-    char msg[1024];
+    char msg[sizeof(r.err) + 512]; /* the whole stderr fits (Debug: -Wformat-truncation) */
     char prefix[64];
     remove_outputs();
     cli_run(&r, c->args);
@@ -263,6 +263,50 @@ static void test_cli_badinput_moments(void)
          NULL},
     };
 #undef MOM
+    run_cases(cases, sizeof(cases) / sizeof(cases[0]));
+}
+
+static void test_cli_badinput_identify(void)
+{
+    const csv_set_t s = make_csv_set();
+    const char *good = signal_csv("b_good.csv", "t,alpha,xi", 0, NULL);
+#define IDN(file)                                                                                  \
+    {                                                                                              \
+        "identify", file, "--json", NULL                                                           \
+    }
+    const bad_case_t cases[] = {
+        {"truncated", IDN(s.truncated), "b_trunc.csv:", NULL},
+        {"binary", IDN(s.binary), "binary file", NULL},
+        {"empty", IDN(s.empty), "b_empty.csv: empty file", NULL},
+        {"header-only", IDN(s.header), "b_header.csv: no data rows", NULL},
+        {"ragged row", IDN(s.ragged), "b_ragged.csv:42:4: extra cell", NULL},
+        {"non-numeric cell", IDN(s.nonnum), "b_nonnum.csv:12:2 (alpha): not a number", NULL},
+        {"all NaN", IDN(s.allnan), "channel alpha: no finite sample", NULL},
+        {"Inf cell", IDN(s.inf), "b_inf.csv:12:2 (alpha): infinite", NULL},
+        {"duplicated column", IDN(s.dup), "b_dup.csv:1:3 (alpha): duplicate column", NULL},
+        {"non-monotonic time", IDN(s.nonmono), "b_nonmono.csv: column 't', data row 21", NULL},
+        {"repeated time", IDN(s.reptime), "b_reptime.csv: column 't', data row 21", NULL},
+        {"NaN time", IDN(s.nantime), "b_nantime.csv: column 't', data row 31", NULL},
+        {"huge value", IDN(s.huge), "b_huge.csv: column 'alpha', data row 31", NULL},
+        {"unknown channel",
+         {"identify", good, "--channel", "nope", NULL},
+         "no channel 'nope'",
+         NULL},
+        {"unknown option", {"identify", good, "--bogus", NULL}, "unknown option --bogus", NULL},
+        {"missing file argument", {"identify", "--json", NULL}, "no data file", NULL},
+        {"missing option value", {"identify", good, "--plot", NULL}, "--plot needs a value", NULL},
+        {"bad --bandwidth", {"identify", good, "--bandwidth", "0", NULL}, "--bandwidth", NULL},
+        {"missing input file", IDN("/nonexistent/in.csv"), "/nonexistent/in.csv", NULL},
+        {"bad record with --plot",
+         {"identify", s.nonmono, "--plot", "bad_out_figs", NULL},
+         "b_nonmono.csv: column 't', data row 21",
+         NULL},
+        {"unwritable plot folder",
+         {"identify", good, "--plot", "/proc/bad_out/figs", NULL},
+         "/proc/bad_out",
+         NULL},
+    };
+#undef IDN
     run_cases(cases, sizeof(cases) / sizeof(cases[0]));
 }
 
@@ -490,6 +534,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_cli_badinput_moments);
+    RUN_TEST(test_cli_badinput_identify);
     RUN_TEST(test_cli_badinput_plot_timeseries);
     RUN_TEST(test_cli_badinput_plot_moments);
     RUN_TEST(test_cli_badinput_simulate);

@@ -217,6 +217,32 @@ static void test_cli_fit_bad_input(void)
     const char *a8[] = {"fit",    data, "--thresholds", "alpha:0",     "--c-header", "bad_out.h",
                         "--name", "",   "-o",           "bad_out.ini", NULL};
     expect_usage_error(a8, "empty model name");
+    const char *a9[] = {"fit", data, "--thresholds", "alpha:0", "--init", "n4sid", NULL};
+    expect_usage_error(a9, "unknown start");
+}
+
+/* The other start and plain EM are reachable from the command line; the log still rises. */
+static void test_cli_fit_subspace_start_and_plain_em(void)
+{
+    const char *data = write_record("fit_small2.csv", 3000);
+    const char *args[] = {
+        "fit",    data,       "--thresholds", "alpha:-0.2,0.2", "--states", "4",
+        "--init", "subspace", "--plain-em",   "--iter",         "8",        "--json",
+        NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cJSON *root = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, "stdout is not JSON");
+    cJSON *ll = cJSON_GetObjectItem(root, "loglik");
+    TEST_ASSERT_EQUAL_INT(8, cJSON_GetArraySize(ll));
+    for (int i = 1; i < cJSON_GetArraySize(ll); ++i)
+    {
+        TEST_ASSERT_TRUE(cJSON_GetArrayItem(ll, i)->valuedouble >=
+                         cJSON_GetArrayItem(ll, i - 1)->valuedouble -
+                             1e-9 * fabs(cJSON_GetArrayItem(ll, i - 1)->valuedouble));
+    }
+    cJSON_Delete(root);
 }
 
 int main(void)
@@ -224,5 +250,6 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_fit_json_model_and_header);
     RUN_TEST(test_cli_fit_bad_input);
+    RUN_TEST(test_cli_fit_subspace_start_and_plain_em);
     return UNITY_END();
 }

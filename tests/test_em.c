@@ -5,8 +5,10 @@
  *        log-likelihood never decreases and each mode's frequencies, damping and the noise
  *        covariance are recovered; the steady-state reuse of the covariance recursion equals the
  *        full recursion; frozen parameters stay put; threshold refinement moves a wrong
- *        threshold towards the true one; the modal reading is exact on a known rotation; and the
- *        core f64 filter converges to the DARE solution computed here with LAPACKE (structure-
+ *        threshold towards the true one; SQUAREM reaches in 40 iterations nearly what plain EM
+ *        reaches in 400 (rank-1 process noise, where plain EM crawls); the subspace start reads
+ *        the modes through measurement noise; the modal reading is exact on a known rotation; and
+ * the core f64 filter converges to the DARE solution computed here with LAPACKE (structure-
  *        preserving doubling, dgesv), independently of both the core and the EM code.
  */
 #include <lapacke.h>
@@ -357,6 +359,118 @@ static void test_em_refine_moves_a_wrong_threshold_towards_truth(void)
     free(y);
 }
 
+/* One linear mode, the two oscillators of make_truth's middle interval, driven through a single
+ * input (rank-1 process noise, as a gust drives an airfoil): the case where plain EM crawls, the
+ * states along the undriven directions being tied to the current A by the smoother. */
+static double *simulate_rank1(size_t n, uint64_t seed, double A[NX][NX])
+{
+    truth_t t;
+    make_truth(&t);
+    memcpy(A, t.A[1], sizeof(t.A[1]));
+    double *y = malloc(n * NZ * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    g_lcg = seed;
+    const double g[NX] = {0.02, 0.05, 0.01, 0.03}; /* input direction */
+    double x[NX] = {0.0};
+    for (size_t k = 0; k < n; ++k)
+    {
+        y[k * NZ + 0] = x[0] + 0.01 * gauss();
+        y[k * NZ + 1] = x[2] + 0.01 * gauss();
+        const double u = gauss();
+        double xn[NX];
+        for (int i = 0; i < NX; ++i)
+        {
+            xn[i] = g[i] * u;
+            for (int j = 0; j < NX; ++j)
+            {
+                xn[i] += A[i][j] * x[j];
+            }
+        }
+        memcpy(x, xn, sizeof(x));
+    }
+    return y;
+}
+
+/* SQUAREM (the default) against plain EM from the same start: both logs never decrease, and in
+ * 40 iterations SQUAREM closes most of the gap that plain EM leaves to its own 400-iteration
+ * value. */
+static void test_em_squarem_converges_faster_than_plain_em(void)
+{
+    double A[NX][NX];
+    const size_t n = 4000;
+    double *y = simulate_rank1(n, 21u, A);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.max_iter = 40;
+    aenl_em_result_t sq, pl, ref;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &sq, &err), err.msg);
+    o.plain_em = 1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &pl, &err), err.msg);
+    o.max_iter = 400;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &ref, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(40, sq.n_iter);
+    TEST_ASSERT_EQUAL_size_t(40, pl.n_iter);
+    check_monotone(&sq);
+    check_monotone(&pl);
+    TEST_ASSERT_DOUBLE_WITHIN(0.0, pl.loglik[0], sq.loglik[0]); /* same start */
+    TEST_ASSERT_TRUE(sq.loglik_final > pl.loglik_final);
+    /* measured: SQUAREM leaves 3 % of the gap */
+    TEST_ASSERT_TRUE(ref.loglik_final - sq.loglik_final <
+                     0.1 * (ref.loglik_final - pl.loglik_final));
+    aenl_em_result_free(&sq);
+    aenl_em_result_free(&pl);
+    aenl_em_result_free(&ref);
+    free(y);
+}
+
+/* The subspace start (opts.init) reads the dynamics from the output covariances at lags >= 1,
+ * which white measurement noise does not touch: without any EM iteration its frequencies and
+ * damping ratios are close to the truth. */
+static void test_em_subspace_start_reads_the_modes(void)
+{
+    double A[NX][NX];
+    const size_t n = 20000;
+    double *y = simulate_rank1(n, 22u, A);
+    aenl_em_model_t tm;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_alloc(&tm, NX, NZ, 1, &err));
+    memcpy(tm.A, A, sizeof(double) * NX * NX);
+    aenl_em_eig_t te[NX], fe[NX];
+    size_t t_osc = 0, f_osc = 0, n_eig = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_modal(&tm, 0, te, &n_eig, &t_osc, &err));
+    aenl_em_model_free(&tm);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = NX;
+    o.init = AENL_EM_INIT_SUBSPACE;
+    o.max_iter = 0;
+    aenl_em_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_modal(&r.model, 0, fe, &n_eig, &f_osc, &err));
+    TEST_ASSERT_EQUAL_size_t(2, t_osc);
+    TEST_ASSERT_EQUAL_size_t(2, f_osc);
+    for (size_t i = 0; i < 2; ++i)
+    {
+        /* measured on this record: 0.7 % and 0.007 at most */
+        TEST_ASSERT_DOUBLE_WITHIN(0.02 * te[i].frequency, te[i].frequency, fe[i].frequency);
+        TEST_ASSERT_DOUBLE_WITHIN(0.01, te[i].damping, fe[i].damping);
+    }
+    aenl_em_result_free(&r);
+    /* and EM from it keeps the log-likelihood non-decreasing */
+    o.max_iter = 10;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, NZ, &o, &r, &err), err.msg);
+    check_monotone(&r);
+    aenl_em_result_free(&r);
+    /* a block-row count that does not fit is an argument error */
+    o.ssi_rows = 1;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_fit(y, n, NZ, &o, &r, &err));
+    free(y);
+}
+
 static void test_em_modal_reading_is_exact_for_a_rotation(void)
 {
     aenl_em_model_t m;
@@ -623,6 +737,8 @@ int main(void)
     RUN_TEST(test_em_steady_state_reuse_equals_full_recursion);
     RUN_TEST(test_em_frozen_parameters_stay_put);
     RUN_TEST(test_em_refine_moves_a_wrong_threshold_towards_truth);
+    RUN_TEST(test_em_squarem_converges_faster_than_plain_em);
+    RUN_TEST(test_em_subspace_start_reads_the_modes);
     RUN_TEST(test_em_modal_reading_is_exact_for_a_rotation);
     RUN_TEST(test_em_rejects_bad_options);
     RUN_TEST(test_em_core_filter_converges_to_lapacke_dare);

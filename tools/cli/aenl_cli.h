@@ -65,5 +65,15 @@ int aenl_bench_simulate(int argc, char **argv);
 int aenl_cmd_fit(int argc, char **argv);
 /** `aenl bench fit` (tools/cli/bench_fit.c). */
 int aenl_bench_fit(int argc, char **argv);
+/** `aenl identify` (tools/cli/cmd_identify.c). */
+int aenl_cmd_identify(int argc, char **argv);
+/** `aenl diagnose` (tools/cli/cmd_diagnose.c). */
+int aenl_cmd_diagnose(int argc, char **argv);
+/** `aenl bench diagnose` (tools/cli/bench_diagnose.c). */
+int aenl_bench_diagnose(int argc, char **argv);
+/** `aenl bench identify` (tools/cli/bench_identify.c). */
+int aenl_bench_identify(int argc, char **argv);
+/** Run `name`, a program in aenl's own folder, with args (tools/cli/cmd_bench.c). */
+int aenl_bench_run_sibling(const char *name, char *const *args, int n_args);
 
 #endif /* AENL_CLI_H */

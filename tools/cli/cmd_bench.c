@@ -283,6 +283,11 @@ static int run_sibling(const char *name, char *const *args, int n_args)
     return AENL_EXIT_OK;
 }
 
+int aenl_bench_run_sibling(const char *name, char *const *args, int n_args)
+{
+    return run_sibling(name, args, n_args);
+}
+
 /* `aenl bench stream [N] [--plain]`: float32 core over N samples (default 10^9) against a double
  * reference, by aenl_stream_bench (tools/cli/bench_stream_f32.c); --plain also runs the build
  * without compensated summation (AENL_MOMENTS_COMPENSATED=0). */
@@ -322,6 +327,9 @@ int aenl_cmd_bench(int argc, char **argv)
     if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0)
     {
         printf("usage: aenl bench [moments|simulate|fit|all]\n"
+               "       aenl bench diagnose [--long] [--seeds N]   (hidden-effect matrix; minutes)\n"
+               "       aenl bench identify [--cases N] [--seed S] [--write DIR] [--verbose]\n"
+               "                                         (identification suite; minutes)\n"
                "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
                "double; minutes)\n");
         return AENL_EXIT_OK;
@@ -343,6 +351,14 @@ int aenl_cmd_bench(int argc, char **argv)
     {
         return aenl_bench_fit(argc - 1, argv + 1);
     }
+    if (strcmp(what, "diagnose") == 0)
+    {
+        return aenl_bench_diagnose(argc - 1, argv + 1);
+    }
+    if (strcmp(what, "identify") == 0)
+    {
+        return aenl_bench_identify(argc - 1, argv + 1);
+    }
     if (strcmp(what, "all") == 0 && argc <= 2)
     {
         int rc = bench_moments();
@@ -354,8 +370,18 @@ int aenl_cmd_bench(int argc, char **argv)
         char arg_fit[] = "fit";
         char *sub_fit[] = {arg_fit, NULL};
         const int rc3 = aenl_bench_fit(1, sub_fit);
-        return rc != AENL_EXIT_OK ? rc : (rc2 != AENL_EXIT_OK ? rc2 : rc3);
+        printf("\n");
+        char arg_id[] = "identify";
+        char *sub_id[] = {arg_id, NULL};
+        const int rc4 = aenl_bench_identify(1, sub_id);
+        return rc != AENL_EXIT_OK    ? rc
+               : rc2 != AENL_EXIT_OK ? rc2
+               : rc3 != AENL_EXIT_OK ? rc3
+                                     : rc4;
     }
-    aenl_cli_error(k_cmd, "unknown benchmark '%s' (moments, simulate, fit, stream or all)", what);
+    aenl_cli_error(k_cmd,
+                   "unknown benchmark '%s' (moments, simulate, fit, identify, diagnose, stream "
+                   "or all)",
+                   what);
     return AENL_EXIT_USAGE;
 }

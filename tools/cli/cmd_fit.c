@@ -21,8 +21,8 @@ static void help(void)
 {
     printf("usage: aenl fit DATA.csv --thresholds CH:T1[,T2,...] [--states N] [--iter K]\n"
            "                [--channels A,B] [--freeze A,b,Q,R,x0] [--free-c] [--refine]\n"
-           "                [--modes-from-data] [--tol REL] [--json] [-o model.ini]\n"
-           "                [--c-header model.h] [--name IDENT]\n\n"
+           "                [--modes-from-data] [--tol REL] [--init arx|subspace] [--plain-em]\n"
+           "                [--json] [-o model.ini] [--c-header model.h] [--name IDENT]\n\n"
            "Identifies x_k = A_s x_{k-1} + b_s + v, y_k = C x_k + w by EM (Kalman filter + RTS\n"
            "smoother, closed-form M-step), the mode s chosen by the thresholds on channel CH (the\n"
            "seed paper's freeplay: --thresholds alpha:ALPHA_F,ALPHA_F+DELTA). Every data column\n"
@@ -31,6 +31,10 @@ static void help(void)
            "Frequencies are |Im s|/(2 pi) with s = ln(lambda)/dt, in cycles per unit of the time\n"
            "column (Hz for seconds); damping = -Re s/|s|.\n"
            "Defaults: 4 states per output, 50 iterations, C = [I 0] fixed, thresholds as given.\n"
+           "The iterations are SQUAREM-accelerated EM (--plain-em: plain EM); the start is the\n"
+           "delay-embedding regression (--init subspace: covariance-driven stochastic subspace).\n"
+           "A lightly excited, heavily damped mode needs hundreds of iterations: check that the\n"
+           "log-likelihood has levelled off (--json loglik, or --tol).\n"
            "--json prints {\"modes\": [...], \"C\", \"R\", \"loglik\": [...]}, modes in ascending\n"
            "order of their threshold interval. --c-header writes a const aenl_skf_model_t.\n");
 }
@@ -105,7 +109,7 @@ typedef struct
 {
     const char *data, *thr, *channels, *freeze, *out_ini, *out_h, *name;
     long states, iter;
-    int json, refine, free_c, modes_from_data;
+    int json, refine, free_c, modes_from_data, plain_em, init;
     double tol;
 } fit_args_t;
 
@@ -125,7 +129,7 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
         if (strcmp(o, "--thresholds") == 0 || strcmp(o, "--channels") == 0 ||
             strcmp(o, "--freeze") == 0 || strcmp(o, "-o") == 0 || strcmp(o, "--c-header") == 0 ||
             strcmp(o, "--name") == 0 || strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 ||
-            strcmp(o, "--tol") == 0)
+            strcmp(o, "--tol") == 0 || strcmp(o, "--init") == 0)
         {
             if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
@@ -154,6 +158,22 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
             else if (strcmp(o, "--name") == 0)
             {
                 a->name = v;
+            }
+            else if (strcmp(o, "--init") == 0)
+            {
+                if (strcmp(v, "arx") == 0)
+                {
+                    a->init = AENL_EM_INIT_ARX;
+                }
+                else if (strcmp(v, "subspace") == 0)
+                {
+                    a->init = AENL_EM_INIT_SUBSPACE;
+                }
+                else
+                {
+                    aenl_cli_error(k_cmd, "--init: '%s' is not arx or subspace", v);
+                    return -1;
+                }
             }
             else if (strcmp(o, "--states") == 0)
             {
@@ -193,6 +213,10 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
         else if (strcmp(o, "--modes-from-data") == 0)
         {
             a->modes_from_data = 1;
+        }
+        else if (strcmp(o, "--plain-em") == 0)
+        {
+            a->plain_em = 1;
         }
         else if (aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
         {
@@ -501,6 +525,8 @@ int aenl_cmd_fit(int argc, char **argv)
     o.refine = a.refine;
     o.modes_from_data = a.modes_from_data;
     o.tol = a.tol;
+    o.plain_em = a.plain_em;
+    o.init = a.init;
 
     aenl_err_t err;
     aenl_err_clear(&err);

@@ -64,14 +64,29 @@ vg 0 "moments (cv bandwidth, split)" moments long.csv --channel alpha -o m.csv
 vg 0 "moments (given h, forgetting, falling)" moments long.csv --channel alpha --bandwidth 0.002 \
   --forgetting 0.999 --direction falling --lags 1,5 --grid -0.03:0.03:17 -o m2.csv
 vg 0 "moments (stdout, --no-split)" moments long.csv --channel xi --no-split
+vg 0 "identify (all channels, cv, table)" identify long.csv
+vg 0 "identify (--json, given h, no prefilter)" identify long.csv --json --channel alpha \
+  --bandwidth 0.002 --no-prefilter
 have_gnuplot=0
 command -v gnuplot >/dev/null && have_gnuplot=1
 if ((have_gnuplot)); then
+  vg 0 "identify --plot" identify long.csv --channel alpha --bandwidth 0.002 --plot figs
   vg 0 "moments --plot" moments long.csv --channel alpha -o m3.csv --plot m3.png
   vg 0 "plot moments" plot moments m.csv -o pm.png --marks 0.004,0.013
   vg 0 "plot timeseries" plot timeseries long.csv -o ts.png
 fi
 
+# diagnose: a short hidden-freeplay record (1200 samples) against the linear baseline; grid
+# calibration only and 2 replicates keep it to a few hundred short simulations.
+for w in truth base; do
+  awk '/^[ \t]*duration[ \t]*=/ { print "duration = 599.5"; next } { print }' \
+    "$root/tools/examples/diagnose_${w}_airfoil2dof.ini" >"dg_$w.ini"
+done
+vg 0 "simulate (diagnose record)" simulate dg_truth.ini -o dg_meas.csv
+vg 0 "diagnose --json --out" diagnose --measured dg_meas.csv --model dg_base.ini --json \
+  --refine 0 --replicates 2 --no-plots --out dg
+vg 2 "diagnose: wrong model for the record" diagnose --measured dg_meas.csv \
+  --model diagnose_base_section3dof.ini
 # Error paths must not leak either.
 printf 't,alpha\n0,1\n1\n' >ragged.csv
 printf 't,alpha\n0,1\n1,2\n1,3\n' >reptime.csv
@@ -81,6 +96,8 @@ vg 2 "moments: ragged row" moments ragged.csv --channel alpha -o x.csv
 vg 2 "moments: repeated time" moments reptime.csv --channel alpha -o x.csv
 vg 2 "moments: unknown channel" moments long.csv --channel nope -o x.csv
 vg 2 "moments: unwritable output" moments long.csv --channel alpha -o /nonexistent/x.csv
+vg 2 "identify: repeated time" identify reptime.csv --json
+vg 2 "identify: unknown channel" identify long.csv --channel nope
 vg 2 "simulate: duplicated key" simulate dupkey.ini -o x.csv
 vg 2 "simulate: unwritable output" simulate validate_linear_u4.ini -o /nonexistent/x.csv
 vg 2 "flutter: unknown option" flutter validate_linear_u4.ini --bogus

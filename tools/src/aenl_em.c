@@ -1618,6 +1618,382 @@ done:
     return st;
 }
 
+/* ---- subspace initialisation ------------------------------------------------------------------
+ * Covariance-driven stochastic subspace identification (Peeters & De Roeck 1999; Van Overschee
+ * & De Moor 1996, the state as the projection of the future onto the past):
+ *  1. sample output covariances Lambda_k = E[(y_{j+k} - ybar)(y_j - ybar)'], k = 0 .. 2i-1;
+ *  2. with the past p_k = (y_{k-i}, ..., y_{k-1}) and the future f_k = (y_k, ..., y_{k+i-1})
+ *     (mean removed), E[f p'] = O Ctrl (blocks Lambda_{i+r-c}); its SVD gives the
+ *     observability matrix O = U_n S_n^1/2 and Ctrl = S_n^1/2 V_n'. White measurement noise
+ *     enters only Lambda_0, so these are not biased by it;
+ *  3. the state estimate from the past, x_k = Ctrl E[p p']^-1 p_k (the Kalman filter state of
+ *     a filter started i samples earlier), in the basis where C = [I 0] (C = the first block
+ *     row of O, completed by an orthonormal basis of its null space), shifted by ybar so that
+ *     C x is the output;
+ *  4. per mode, as in ls_init, the regression of x_{k+1} on (x_k, 1): A_s, b_s, and Q_s from its
+ *     residuals (plus a small ridge); R half the covariance of y_k - C x_k.
+ * For one mode this is consistent as i grows; with several modes the pooled projection only
+ * approximates the state, and EM does the rest. No positive-realness condition is needed. */
+
+/* Output covariances (mean removed, pairs with both samples observed): lam[k] for k < n_lag. */
+static void output_covariances(const double *y, size_t n, size_t nz, const unsigned char *obs,
+                               size_t n_lag, double *ybar, double *lam)
+{
+    double cnt = 0.0;
+    memset(ybar, 0, nz * sizeof(double));
+    for (size_t k = 0; k < n; ++k)
+    {
+        if (obs[k])
+        {
+            for (size_t r = 0; r < nz; ++r)
+            {
+                ybar[r] += y[k * nz + r];
+            }
+            cnt += 1.0;
+        }
+    }
+    for (size_t r = 0; r < nz; ++r)
+    {
+        ybar[r] /= (cnt > 0.0 ? cnt : 1.0);
+    }
+    for (size_t lag = 0; lag < n_lag; ++lag)
+    {
+        double *L = lam + lag * nz * nz, c = 0.0;
+        memset(L, 0, nz * nz * sizeof(double));
+        for (size_t k = 0; k + lag < n; ++k)
+        {
+            if (!obs[k] || !obs[k + lag])
+            {
+                continue;
+            }
+            const double *a = y + (k + lag) * nz, *b = y + k * nz;
+            for (size_t r = 0; r < nz; ++r)
+            {
+                for (size_t q = 0; q < nz; ++q)
+                {
+                    L[r * nz + q] += (a[r] - ybar[r]) * (b[q] - ybar[q]);
+                }
+            }
+            c += 1.0;
+        }
+        for (size_t i = 0; i < nz * nz; ++i)
+        {
+            L[i] /= (c > 0.0 ? c : 1.0);
+        }
+    }
+}
+
+/* Steps 2-3 above: the state map Mt (nx x rows*nz, C = [I 0] basis), x_k = Mt p_k. 0: success. */
+static int ssi_state_map(const double *lam, size_t nz, size_t nx, size_t rows, double *Mt)
+{
+    const size_t L = rows * nz, nn = nx * nx;
+    int ok = 0;
+    double *H = malloc(L * L * sizeof(double)), *U = malloc(L * L * sizeof(double));
+    double *Vt = malloc(L * L * sizeof(double)), *sv = malloc(L * sizeof(double));
+    double *sup = malloc(L * sizeof(double)), *Ct = malloc(L * nx * sizeof(double));
+    double *T = malloc(nn * sizeof(double)), *Vc = malloc(nn * sizeof(double));
+    double *C = malloc(nz * nx * sizeof(double));
+    if (!H || !U || !Vt || !sv || !sup || !Ct || !T || !Vc || !C)
+    {
+        goto done;
+    }
+    /* E[f p'], block (r, c) = Lambda_{rows + r - c} */
+    for (size_t r = 0; r < rows; ++r)
+    {
+        for (size_t c = 0; c < rows; ++c)
+        {
+            const double *B = lam + (rows + r - c) * nz * nz;
+            for (size_t a = 0; a < nz; ++a)
+            {
+                for (size_t b = 0; b < nz; ++b)
+                {
+                    H[(r * nz + a) * L + c * nz + b] = B[a * nz + b];
+                }
+            }
+        }
+    }
+    if (LAPACKE_dgesvd(LAPACK_ROW_MAJOR, 'S', 'S', (lapack_int)L, (lapack_int)L, H, (lapack_int)L,
+                       sv, U, (lapack_int)L, Vt, (lapack_int)L, sup) != 0 ||
+        !(sv[nx - 1] > 1e-12 * sv[0]))
+    {
+        goto done;
+    }
+    for (size_t c = 0; c < nx; ++c)
+    {
+        for (size_t a = 0; a < nz; ++a)
+        {
+            C[a * nx + c] = U[a * L + c] * sqrt(sv[c]); /* first block row of O */
+        }
+        for (size_t j = 0; j < L; ++j)
+        {
+            Ct[j * nx + c] = sqrt(sv[c]) * Vt[c * L + j]; /* Ctrl' */
+        }
+    }
+    /* E[p p'], block (a, b) = Lambda_{a-b} (a >= b) or Lambda_{b-a}' ; then Ctrl' <- E[p p']^-1
+     * Ctrl' (H is reused) */
+    for (size_t a = 0; a < rows; ++a)
+    {
+        for (size_t b = 0; b < rows; ++b)
+        {
+            const double *B = lam + (a >= b ? a - b : b - a) * nz * nz;
+            for (size_t r = 0; r < nz; ++r)
+            {
+                for (size_t q = 0; q < nz; ++q)
+                {
+                    H[(a * nz + r) * L + b * nz + q] = (a >= b) ? B[r * nz + q] : B[q * nz + r];
+                }
+            }
+        }
+    }
+    if (posv(H, Ct, L, nx) != 0)
+    {
+        goto done;
+    }
+    /* T = [C; null(C)'] from the full SVD of C: rows nz.. of Vc span the null space */
+    memcpy(T, C, nz * nx * sizeof(double));
+    if (LAPACKE_dgesvd(LAPACK_ROW_MAJOR, 'N', 'A', (lapack_int)nz, (lapack_int)nx, T,
+                       (lapack_int)nx, sv, NULL, 1, Vc, (lapack_int)nx, sup) != 0 ||
+        !(sv[nz - 1] > 1e-8 * sv[0]))
+    {
+        goto done;
+    }
+    memcpy(T, C, nz * nx * sizeof(double));
+    memcpy(T + nz * nx, Vc + nz * nx, (nx - nz) * nx * sizeof(double));
+    /* Mt = T Ctrl E[p p']^-1 = T (Ct)' */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < L; ++j)
+        {
+            double acc = 0.0;
+            for (size_t r = 0; r < nx; ++r)
+            {
+                acc += T[i * nx + r] * Ct[j * nx + r];
+            }
+            Mt[i * L + j] = acc;
+        }
+    }
+    ok = 1;
+done:
+    free(H);
+    free(U);
+    free(Vt);
+    free(sv);
+    free(sup);
+    free(Ct);
+    free(T);
+    free(Vc);
+    free(C);
+    return ok ? 0 : -1;
+}
+
+/* The model m (C = [I 0]) from the subspace states (steps 1-4 above), rows block rows. */
+static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *w,
+                              aenl_em_model_t *m, size_t rows, aenl_err_t *err)
+{
+    const size_t nx = m->n_x, na = nx + 1, nn = nx * nx, nm = m->n_modes, L = rows * nz;
+    const size_t n_lag = 2 * rows;
+    if (nz == 0 || L <= nx || 4 * n_lag > n)
+    {
+        aenl_err_set(err, "subspace start: %zu block rows do not fit %zu states and %zu samples",
+                     rows, nx, n);
+        return AENL_E_ARG;
+    }
+    double *lam = malloc(n_lag * nz * nz * sizeof(double)), ybar[AENL_EM_MAX_X];
+    double *Mt = malloc(nx * L * sizeof(double)), *xs = malloc(n * nx * sizeof(double));
+    double *Gm = malloc(na * na * sizeof(double)), *Hm = malloc(na * nx * sizeof(double));
+    double *res = malloc(nn * sizeof(double)), *X = malloc(na * nx * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    if (!lam || !Mt || !xs || !Gm || !Hm || !res || !X)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+        goto done;
+    }
+    output_covariances(y, n, nz, w->obs, n_lag, ybar, lam);
+    if (ssi_state_map(lam, nz, nx, rows, Mt) != 0)
+    {
+        aenl_err_set(err, "subspace start: rank-deficient covariances with %zu block rows", rows);
+        st = AENL_E_NOT_PD;
+        goto done;
+    }
+    /* states for k >= rows (a missing past sample counts as the mean) */
+    for (size_t k = rows; k < n; ++k)
+    {
+        for (size_t i = 0; i < nx; ++i)
+        {
+            double acc = (i < nz) ? ybar[i] : 0.0;
+            const double *Mi = Mt + i * L;
+            for (size_t q = 0; q < L; ++q) /* sample k - rows + q / nz, output q % nz */
+            {
+                const size_t j = k - rows + q / nz, r = q % nz;
+                if (w->obs[j])
+                {
+                    acc += Mi[q] * (y[j * nz + r] - ybar[r]);
+                }
+            }
+            xs[k * nx + i] = acc;
+        }
+    }
+    memset(m->C, 0, nz * nx * sizeof(double));
+    for (size_t r = 0; r < nz; ++r)
+    {
+        m->C[r * nx + r] = 1.0;
+    }
+    for (size_t s = 0; s < nm; ++s)
+    {
+        memset(Gm, 0, na * na * sizeof(double));
+        memset(Hm, 0, na * nx * sizeof(double));
+        double cnt = 0.0, z[AENL_EM_MAX_X + 1];
+        for (size_t k = rows; k + 1 < n; ++k)
+        {
+            if (w->mode[k + 1] != s)
+            {
+                continue;
+            }
+            memcpy(z, xs + k * nx, nx * sizeof(double));
+            z[nx] = 1.0;
+            add_outer(Gm, z, z, na, 0);
+            for (size_t i = 0; i < na; ++i)
+            {
+                for (size_t j = 0; j < nx; ++j)
+                {
+                    Hm[i * nx + j] += z[i] * xs[(k + 1) * nx + j];
+                }
+            }
+            cnt += 1.0;
+        }
+        if (cnt < (double)(2 * na))
+        {
+            aenl_err_set(err,
+                         "mode %zu (threshold interval %zu) has %.0f usable transitions; at least "
+                         "%zu are needed for %zu states (move the thresholds or use fewer states)",
+                         s, s, cnt, 2 * na, nx);
+            st = AENL_E_ARG;
+            goto done;
+        }
+        double tr = 0.0;
+        for (size_t i = 0; i < nx; ++i)
+        {
+            tr += Gm[i * na + i];
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            Gm[i * na + i] += 1e-10 * tr / (double)nx; /* tiny ridge */
+        }
+        memcpy(X, Hm, na * nx * sizeof(double));
+        double *As = m->A + s * nn, *bs = m->b + s * nx, *Qs = m->Q + s * nn;
+        if (posv(Gm, X, na, nx) != 0)
+        {
+            aenl_err_set(err, "mode %zu: the subspace regression is singular", s);
+            st = AENL_E_NOT_PD;
+            goto done;
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t j = 0; j < nx; ++j)
+            {
+                As[i * nx + j] = X[j * nx + i];
+            }
+            bs[i] = X[nx * nx + i];
+        }
+        /* residual covariance, with a small ridge so that the filter starts positive definite */
+        memset(res, 0, nn * sizeof(double));
+        for (size_t k = rows; k + 1 < n; ++k)
+        {
+            if (w->mode[k + 1] != s)
+            {
+                continue;
+            }
+            double e[AENL_EM_MAX_X];
+            for (size_t i = 0; i < nx; ++i)
+            {
+                double acc = xs[(k + 1) * nx + i] - bs[i];
+                for (size_t j = 0; j < nx; ++j)
+                {
+                    acc -= As[i * nx + j] * xs[k * nx + j];
+                }
+                e[i] = acc;
+            }
+            add_outer(res, e, e, nx, 0);
+        }
+        double trq = 0.0;
+        for (size_t i = 0; i < nn; ++i)
+        {
+            Qs[i] = res[i] / cnt;
+        }
+        symm(Qs, nx);
+        for (size_t i = 0; i < nx; ++i)
+        {
+            trq += Qs[i * nx + i];
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            Qs[i * nx + i] += 1e-3 * trq / (double)nx;
+        }
+    }
+    /* R: half the covariance of y_k - C x_k; x0, P0 from the states */
+    memset(res, 0, nn * sizeof(double));
+    double ne = 0.0;
+    for (size_t k = rows; k < n; ++k)
+    {
+        if (!w->obs[k])
+        {
+            continue;
+        }
+        double e[AENL_EM_MAX_X];
+        for (size_t r = 0; r < nz; ++r)
+        {
+            e[r] = y[k * nz + r] - xs[k * nx + r];
+        }
+        add_outer(res, e, e, nz, 0);
+        ne += 1.0;
+    }
+    for (size_t i = 0; i < nz * nz; ++i)
+    {
+        m->R[i] = 0.5 * res[i] / (ne > 0.0 ? ne : 1.0);
+    }
+    symm(m->R, nz);
+    memset(m->P0, 0, nn * sizeof(double));
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double mean = 0.0, m2 = 0.0;
+        for (size_t k = rows; k < n; ++k)
+        {
+            const double d = xs[k * nx + i] - mean;
+            mean += d / (double)(k - rows + 1);
+            m2 += d * (xs[k * nx + i] - mean);
+        }
+        m->x0[i] = (i < nz && w->obs[0]) ? y[i] : mean;
+        m->P0[i * nx + i] = (m2 > 0.0) ? m2 / (double)(n - rows) : 1.0;
+    }
+done:
+    free(lam);
+    free(Mt);
+    free(xs);
+    free(Gm);
+    free(Hm);
+    free(res);
+    free(X);
+    return st;
+}
+
+/* The starting model (opts.init): the delay-embedding regression, or the subspace start with
+ * opts.ssi_rows block rows (default 4 (n_x / n_z + 2), at most an eighth of the record). */
+static aenl_status_t start_model(const double *y, size_t n, size_t nz, const ws_t *w,
+                                 aenl_em_model_t *m, const aenl_em_opts_t *o, aenl_err_t *err)
+{
+    if (o->init != AENL_EM_INIT_SUBSPACE)
+    {
+        return ls_init(y, n, nz, w, m, !o->no_iv, err);
+    }
+    size_t rows = (o->ssi_rows > 0) ? o->ssi_rows : 4 * (m->n_x / nz + 2);
+    if (o->ssi_rows == 0 && 8 * rows > n)
+    {
+        rows = n / 8;
+    }
+    return ssi_init(y, n, nz, w, m, rows, err);
+}
+
 /* Modes from the smoothed switching output of model m (one E-step). */
 static aenl_status_t modes_from_smoother(ws_t *w, const aenl_em_model_t *m, double *u)
 {
@@ -1641,30 +2017,43 @@ static aenl_status_t modes_from_smoother(ws_t *w, const aenl_em_model_t *m, doub
     return AENL_OK;
 }
 
-/* Run up to n_iter EM iterations; loglik (may be NULL) receives one value per iteration. */
-static aenl_status_t em_run(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o, size_t n_iter,
-                            double *loglik, size_t *done_iter, double *ll_final)
+/* ---- EM runs: plain, and accelerated by SQUAREM -------------------------------------------------
+ * Plain EM converges linearly, at the rate of the fraction of missing information; on lightly
+ * excited, heavily damped modes (the plunge mode of the airfoil) that fraction is close to one
+ * and thousands of iterations are needed to reach the likelihood maximum. SQUAREM (Varadhan &
+ * Roland 2008, scheme S3) extrapolates two EM steps: with r = F(t0) - t0 and
+ * v = F(F(t0)) - 2 F(t0) + t0, the point t' = t0 - 2 a r + a^2 v (a = -|r|/|v| <= -1) is tried;
+ * it is accepted when its log-likelihood is at least that of F(t0) and its covariances are
+ * valid, else a moves halfway towards -1, where t' = F(F(t0)) (a plain EM step). An accepted
+ * point is followed by one EM step (stabilisation). So every logged value is the likelihood of
+ * an accepted parameter set and the logged sequence never decreases, as with plain EM. */
+
+/* Shared tail of an E-step at the current parameters: log it, test convergence. 1: stop. */
+static int log_ll(double ll, double *loglik, size_t *it, double *prev, double tol)
+{
+    if (loglik != NULL)
+    {
+        loglik[*it] = ll;
+    }
+    const int conv = tol > 0.0 && *it > 0 && (ll - *prev) < tol * fabs(ll);
+    *prev = ll;
+    ++*it;
+    return conv;
+}
+
+/* Run up to n_iter plain EM iterations; loglik (may be NULL) receives one value per iteration. */
+static aenl_status_t em_run_plain(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o,
+                                  size_t n_iter, double *loglik, size_t *done_iter)
 {
     size_t it = 0;
     double prev = -INFINITY;
     aenl_status_t st = AENL_OK;
-    for (; it < n_iter; ++it)
+    while (it < n_iter)
     {
         double ll;
         st = e_step(w, m, &ll, 1);
-        if (st != AENL_OK)
+        if (st != AENL_OK || log_ll(ll, loglik, &it, &prev, o->tol))
         {
-            break;
-        }
-        if (loglik != NULL)
-        {
-            loglik[it] = ll;
-        }
-        const int ll_converged = o->tol > 0.0 && it > 0 && (ll - prev) < o->tol * fabs(ll);
-        prev = ll;
-        if (ll_converged)
-        {
-            ++it;
             break;
         }
         st = m_step(w, m, o->freeze);
@@ -1674,6 +2063,247 @@ static aenl_status_t em_run(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o
         }
     }
     *done_iter = it;
+    return st;
+}
+
+/* The parameter arrays that EM estimates, as (pointer, length) pairs; P0 is fixed. */
+static size_t param_arrays(const aenl_em_model_t *m, double **p, size_t *len)
+{
+    const size_t nx = m->n_x, nz = m->n_z, nm = m->n_modes;
+    p[0] = m->A;
+    len[0] = nm * nx * nx;
+    p[1] = m->b;
+    len[1] = nm * nx;
+    p[2] = m->Q;
+    len[2] = nm * nx * nx;
+    p[3] = m->C;
+    len[3] = nz * nx;
+    p[4] = m->R;
+    len[4] = nz * nz;
+    p[5] = m->x0;
+    len[5] = nx;
+    return 6;
+}
+
+/* |r|^2 and |v|^2 of the SQUAREM step from t0, t1 = F(t0), t2 = F(t1). */
+static void squarem_norms(const aenl_em_model_t *t0, const aenl_em_model_t *t1,
+                          const aenl_em_model_t *t2, double *rr, double *vv)
+{
+    double *p0[6], *p1[6], *p2[6];
+    size_t len[6];
+    const size_t na = param_arrays(t0, p0, len);
+    (void)param_arrays(t1, p1, len);
+    (void)param_arrays(t2, p2, len);
+    double sr = 0.0, sv = 0.0;
+    for (size_t a = 0; a < na; ++a)
+    {
+        for (size_t i = 0; i < len[a]; ++i)
+        {
+            const double r = p1[a][i] - p0[a][i], v = p2[a][i] - 2.0 * p1[a][i] + p0[a][i];
+            sr += r * r;
+            sv += v * v;
+        }
+    }
+    *rr = sr;
+    *vv = sv;
+}
+
+/* out = t0 - 2 a r + a^2 v (thresholds, P0 and sizes of t0). */
+static void squarem_point(aenl_em_model_t *out, const aenl_em_model_t *t0,
+                          const aenl_em_model_t *t1, const aenl_em_model_t *t2, double a)
+{
+    double *p0[6], *p1[6], *p2[6], *po[6];
+    size_t len[6];
+    const size_t na = param_arrays(t0, p0, len);
+    (void)param_arrays(t1, p1, len);
+    (void)param_arrays(t2, p2, len);
+    (void)param_arrays(out, po, len);
+    model_assign(out, t0);
+    for (size_t k = 0; k < na; ++k)
+    {
+        for (size_t i = 0; i < len[k]; ++i)
+        {
+            const double r = p1[k][i] - p0[k][i], v = p2[k][i] - 2.0 * p1[k][i] + p0[k][i];
+            po[k][i] = p0[k][i] - 2.0 * a * r + a * a * v;
+        }
+    }
+    symm(out->R, out->n_z);
+    for (size_t s = 0; s < out->n_modes; ++s)
+    {
+        symm(out->Q + s * out->n_x * out->n_x, out->n_x);
+    }
+}
+
+/* An extrapolated point is a model only if R is positive definite and every Q_s positive
+ * semi-definite (to a relative 1e-12 of its trace). scratch: n_x^2 entries. */
+static int covariances_valid(const aenl_em_model_t *m, double *scratch)
+{
+    const size_t nx = m->n_x, nz = m->n_z, nn = nx * nx;
+    memcpy(scratch, m->R, nz * nz * sizeof(double));
+    if (chol(scratch, nz) != 0)
+    {
+        return 0;
+    }
+    for (size_t s = 0; s < m->n_modes; ++s)
+    {
+        const double *Q = m->Q + s * nn;
+        double tr = 0.0;
+        for (size_t i = 0; i < nx; ++i)
+        {
+            tr += Q[i * nx + i];
+        }
+        memcpy(scratch, Q, nn * sizeof(double));
+        for (size_t i = 0; i < nx; ++i)
+        {
+            scratch[i * nx + i] += 1e-12 * tr + 1e-300;
+        }
+        if (chol(scratch, nx) != 0)
+        {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* SQUAREM cycles (see above) up to n_iter logged E-steps; m is the start and the result. t0, t1,
+ * t2: scratch models of m's sizes. A rejected extrapolation costs one forward pass (not logged). */
+static aenl_status_t em_run_squarem(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o,
+                                    size_t n_iter, double *loglik, size_t *done_iter,
+                                    aenl_em_model_t *t0, aenl_em_model_t *t1, aenl_em_model_t *t2)
+{
+    size_t it = 0;
+    double prev = -INFINITY, ll = 0.0;
+    aenl_status_t st = AENL_OK;
+    double *scratch = malloc(m->n_x * m->n_x * sizeof(double));
+    if (scratch == NULL)
+    {
+        *done_iter = 0;
+        return AENL_E_DIM;
+    }
+    model_assign(t0, m);
+    while (it < n_iter)
+    {
+        /* t1 = F(t0) */
+        model_assign(m, t0);
+        st = e_step(w, t0, &ll, 1);
+        if (st != AENL_OK || log_ll(ll, loglik, &it, &prev, o->tol))
+        {
+            break;
+        }
+        model_assign(t1, t0);
+        if ((st = m_step(w, t1, o->freeze)) != AENL_OK)
+        {
+            break;
+        }
+        model_assign(m, t1);
+        if (it >= n_iter)
+        {
+            break;
+        }
+        /* t2 = F(t1) */
+        double ll1 = 0.0;
+        st = e_step(w, t1, &ll1, 1);
+        if (st != AENL_OK || log_ll(ll1, loglik, &it, &prev, o->tol))
+        {
+            break;
+        }
+        model_assign(t2, t1);
+        if ((st = m_step(w, t2, o->freeze)) != AENL_OK)
+        {
+            break;
+        }
+        model_assign(m, t2);
+        if (it >= n_iter)
+        {
+            break;
+        }
+        /* extrapolate; back off towards a = -1 (m = t2) until the likelihood is not below t1's */
+        double rr, vv, llp = -INFINITY;
+        squarem_norms(t0, t1, t2, &rr, &vv);
+        double a = (vv > 0.0) ? -sqrt(rr / vv) : -1.0;
+        for (;;)
+        {
+            const int plain = !(a < -1.0 - 1e-3); /* a = -1: m = t2, a plain EM step */
+            if (plain)
+            {
+                model_assign(m, t2);
+            }
+            else
+            {
+                squarem_point(m, t0, t1, t2, a);
+            }
+            const aenl_status_t sf =
+                (plain || covariances_valid(m, scratch)) ? kf_forward(w, m, &llp) : AENL_E_NOT_PD;
+            if (sf == AENL_OK && (llp >= ll1 || plain))
+            {
+                break; /* in a plain EM step a loss can only be rounding */
+            }
+            if (plain)
+            {
+                st = sf;
+                break;
+            }
+            a = 0.5 * (a - 1.0);
+        }
+        if (st != AENL_OK)
+        {
+            break;
+        }
+        st = rts_backward(w); /* the statistics of the accepted point */
+        if (st != AENL_OK || log_ll(llp, loglik, &it, &prev, o->tol))
+        {
+            break;
+        }
+        if ((st = m_step(w, m, o->freeze)) != AENL_OK) /* stabilisation: t0 of the next cycle */
+        {
+            break;
+        }
+        model_assign(t0, m);
+    }
+    free(scratch);
+    *done_iter = it;
+    return st;
+}
+
+/* Run up to n_iter EM iterations (SQUAREM unless opts.plain); loglik (may be NULL) receives one
+ * value per iteration; *ll_final that of the returned model. */
+static aenl_status_t em_run(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o, size_t n_iter,
+                            double *loglik, size_t *done_iter, double *ll_final)
+{
+    aenl_status_t st;
+    if (o->plain_em)
+    {
+        st = em_run_plain(w, m, o, n_iter, loglik, done_iter);
+    }
+    else
+    {
+        /* three scratch models; a copy that fails leaves its model zeroed (safe to free) */
+        aenl_em_model_t t0, t1, t2;
+        aenl_err_t err;
+        memset(&t0, 0, sizeof(t0));
+        memset(&t1, 0, sizeof(t1));
+        memset(&t2, 0, sizeof(t2));
+        st = aenl_em_model_copy(&t0, m, &err);
+        if (st == AENL_OK)
+        {
+            st = aenl_em_model_copy(&t1, m, &err);
+        }
+        if (st == AENL_OK)
+        {
+            st = aenl_em_model_copy(&t2, m, &err);
+        }
+        if (st == AENL_OK)
+        {
+            st = em_run_squarem(w, m, o, n_iter, loglik, done_iter, &t0, &t1, &t2);
+        }
+        else
+        {
+            *done_iter = 0;
+        }
+        aenl_em_model_free(&t0);
+        aenl_em_model_free(&t1);
+        aenl_em_model_free(&t2);
+    }
     if (st == AENL_OK && ll_final != NULL)
     {
         st = e_step(w, m, ll_final, 0);
@@ -1752,6 +2382,11 @@ static aenl_status_t refine_thresholds(ws_t *w, aenl_em_model_t *m, const aenl_e
     }
     size_t done;
     double best_ll;
+    /* the candidates are compared after the same number of plain EM iterations: SQUAREM's
+     * progress in a few iterations varies from candidate to candidate */
+    aenl_em_opts_t po = *o;
+    po.plain_em = 1;
+    o = &po;
     set_modes(w, best.thresholds, u, 1);
     st = em_run(w, &best, o, o->refine_iter, NULL, &done, &best_ll);
     for (int round = 0; round < 3 && st == AENL_OK; ++round)
@@ -1835,15 +2470,15 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
             res->n_missing += w.obs[k] ? 0u : 1u;
         }
         set_modes(&w, m->thresholds, y + opts->switch_channel, n_z);
-        st = ls_init(y, n, n_z, &w, m, !opts->no_iv, err);
+        st = start_model(y, n, n_z, &w, m, opts, err);
     }
     if (st == AENL_OK && !opts->modes_from_data)
     {
         st = modes_from_smoother(&w, m, u);
         if (st == AENL_OK)
         {
-            st = ls_init(y, n, n_z, &w, m, !opts->no_iv,
-                         err); /* re-fit the start with the cleaner modes */
+            st = start_model(y, n, n_z, &w, m, opts,
+                             err); /* re-fit the start with the cleaner modes */
         }
     }
     if (st == AENL_OK && opts->refine && nm > 1)
@@ -1859,7 +2494,7 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
         if (st == AENL_OK)
         {
             set_modes(&w, m->thresholds, u, 1);
-            st = ls_init(y, n, n_z, &w, m, !opts->no_iv, err);
+            st = start_model(y, n, n_z, &w, m, opts, err);
         }
     }
     if (st == AENL_OK)

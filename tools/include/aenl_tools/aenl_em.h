@@ -18,6 +18,16 @@
  * lag-one covariances) and an exact M-step (closed form per mode, LAPACKE dposv), so the
  * log-likelihood never decreases (Shumway & Stoffer 1982, with an affine term per mode).
  *
+ * Acceleration: plain EM converges linearly at the rate of the fraction of missing information,
+ * which is close to one when the process noise is nearly rank-deficient (an airfoil driven by a
+ * single gust input): the smoothed states along the undriven directions follow the current A and
+ * the M-step hardly moves it. By default the iterations are SQUAREM (Varadhan & Roland 2008,
+ * scheme S3): two EM steps are extrapolated, the extrapolated point is kept only if its
+ * covariances are valid and its log-likelihood is not below that of the second step's start
+ * (else the step length backs off to a plain EM step), then one EM step stabilises it. Every
+ * logged value is the log-likelihood of an accepted parameter set and the log never decreases;
+ * a rejected extrapolation costs one forward pass. opts.plain_em gives plain EM.
+ *
  * Speed: the covariance side of the E-step (filter covariance, gain, smoother gain, smoothed and
  * lag-one covariances) depends only on the mode sequence and the missing-sample pattern, not on
  * the data values. It is computed with register-blocked small-matrix kernels, symmetric products
@@ -25,11 +35,17 @@
  * a run of constant mode it is frozen once it has converged (opts.steady_tol), which leaves only
  * the O(n_x^2) mean updates per step. The result equals the full recursion to about steady_tol.
  *
- * Initialisation by least squares: the state is the delay embedding x_k = (y_k, y_{k-1}, ...)
- * truncated to n_x entries (so C = [I 0] and the switching state is the switching channel);
- * per mode, y_{k+1} is regressed on (x_k, 1); the other rows shift. C stays [I 0] unless freed.
- * By default the regression uses instrumental variables (the same embedding p = ceil(n_x/n_z)
- * samples earlier), which removes the errors-in-variables bias of measurement noise.
+ * Initialisation by least squares (opts.init = AENL_EM_INIT_ARX, the default): the state is the
+ * delay embedding x_k = (y_k, y_{k-1}, ...) truncated to n_x entries (so C = [I 0] and the
+ * switching state is the switching channel); per mode, y_{k+1} is regressed on (x_k, 1); the
+ * other rows shift. C stays [I 0] unless freed. By default the regression uses instrumental
+ * variables (the same embedding p = ceil(n_x/n_z) samples earlier), which removes the
+ * errors-in-variables bias of measurement noise. With AENL_EM_INIT_SUBSPACE the state is instead
+ * the projection of the future outputs onto the past ones (covariance-driven stochastic subspace
+ * identification, opts.ssi_rows block rows, in the basis where C = [I 0]) and the per-mode
+ * regression is of x_{k+1} on (x_k, 1); it reads the dynamics from the output covariances at
+ * lags >= 1, which white measurement noise does not touch. Both are starts: EM does the rest,
+ * and on a flat likelihood different starts can end at different local maxima.
  *
  * Continuous-time reading of a discrete mode (aenl_em_modal): for each eigenvalue λ of A_s
  * (LAPACKE dgeev), s = ln(λ)/dt (principal branch), frequency f = |Im s|/(2π) in cycles per unit
@@ -60,6 +76,10 @@
 #define AENL_EM_FREEZE_C  0x08u
 #define AENL_EM_FREEZE_R  0x10u
 #define AENL_EM_FREEZE_X0 0x20u
+
+/** Starting model (opts.init). */
+#define AENL_EM_INIT_ARX      0 /**< delay-embedding regression (IV unless opts.no_iv) */
+#define AENL_EM_INIT_SUBSPACE 1 /**< covariance-driven stochastic subspace, then regression */
 
 /** A switching model in double. Arrays are row-major and owned by the model. */
 typedef struct aenl_em_model
@@ -93,6 +113,9 @@ typedef struct aenl_em_opts
     double refine_step;  /**< first search step (0: 10 % of the channel's std) */
     size_t refine_iter;  /**< EM iterations per candidate (default 5) */
     int no_iv;           /**< 1: plain least-squares start (default 0: instrumental variables) */
+    int plain_em;        /**< 1: plain EM iterations (default 0: SQUAREM-accelerated EM) */
+    int init;            /**< AENL_EM_INIT_* (default AENL_EM_INIT_ARX) */
+    size_t ssi_rows;     /**< subspace start: block rows i (default 0: 4 (n_x / n_z + 2)) */
     double steady_tol;   /**< steady-state covariance reuse: inside a run of constant mode, once
                               the filter (and smoother) covariance has converged to this relative
                               tolerance, the remaining steps reuse it instead of recomputing it

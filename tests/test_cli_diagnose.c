@@ -1,0 +1,169 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_cli_diagnose.c
+ * @brief `aenl diagnose` end to end: a record simulated from the example truth (2-DOF airfoil,
+ *        hidden pitch freeplay, SNR 3) against the example linear baseline names freeplay in
+ *        pitch, prints the issue's JSON, writes DIR/updated.ini that `aenl simulate` runs as is
+ *        and the figure data. Bad input: exit 2, one message on stderr, nothing on stdout, no
+ *        output file.
+ */
+#include "aenl_cli_test.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+
+#include "unity.h"
+
+/* Path of an example INI under tools/examples (static buffer per call slot). */
+static const char *example(const char *name)
+{
+    static char buf[4][1024];
+    static int slot = 0;
+    char *p = buf[slot++ % 4];
+    (void)snprintf(p, 1024, "%s/tools/examples/%s", AENL_SOURCE_DIR, name);
+    return p;
+}
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static const char *tmp_path(const char *name)
+{
+    static char buf[4][512];
+    static int slot = 0;
+    char *p = buf[slot++ % 4];
+    (void)snprintf(p, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
+    return p;
+}
+
+static void make_record(void)
+{
+    cli_result_t *r = malloc(sizeof(*r));
+    TEST_ASSERT_NOT_NULL(r);
+    const char *args[] = {"simulate", example("diagnose_truth_airfoil2dof.ini"), "-o",
+                          "measured2.csv", NULL};
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    free(r);
+}
+
+static void test_diagnose_names_freeplay_and_updates(void)
+{
+    make_record();
+    cli_result_t *r = malloc(sizeof(*r));
+    TEST_ASSERT_NOT_NULL(r);
+    const char *args[] = {"diagnose",
+                          "--measured",
+                          "measured2.csv",
+                          "--model",
+                          example("diagnose_base_airfoil2dof.ini"),
+                          "--out",
+                          "diag2",
+                          "--json",
+                          "--no-plots",
+                          NULL};
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    cJSON *root = cJSON_Parse(r->out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r->out);
+    TEST_ASSERT_EQUAL_INT(5, cJSON_GetArraySize(root));
+    const cJSON *dis = cJSON_GetObjectItemCaseSensitive(root, "disagreement");
+    TEST_ASSERT_TRUE(cJSON_IsArray(dis) && cJSON_GetArraySize(dis) >= 1);
+    const cJSON *d0 = cJSON_GetArrayItem(dis, 0);
+    TEST_ASSERT_TRUE(cJSON_IsString(cJSON_GetObjectItemCaseSensitive(d0, "channel")));
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(d0, "band")));
+    TEST_ASSERT_TRUE(cJSON_IsString(cJSON_GetObjectItemCaseSensitive(d0, "signature")));
+    TEST_ASSERT_TRUE(cJSON_GetObjectItemCaseSensitive(d0, "significance")->valuedouble > 3.0);
+    const cJSON *me = cJSON_GetObjectItemCaseSensitive(root, "missing_effect");
+    TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItemCaseSensitive(me, "type")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("pitch", cJSON_GetObjectItemCaseSensitive(me, "dof")->valuestring);
+    const cJSON *params = cJSON_GetObjectItemCaseSensitive(me, "params");
+    const double deg = 3.14159265358979323846 / 180.0;
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 0.5 * deg, 0.5 * deg,
+                              cJSON_GetObjectItemCaseSensitive(params, "delta")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 0.2 * deg, 0.2 * deg,
+                              cJSON_GetObjectItemCaseSensitive(params, "alpha_f")->valuedouble);
+    const double before = cJSON_GetObjectItemCaseSensitive(root, "gap_before")->valuedouble;
+    const double after = cJSON_GetObjectItemCaseSensitive(root, "gap_after")->valuedouble;
+    TEST_ASSERT_TRUE(before >= 5.0 * after);
+    TEST_ASSERT_EQUAL_STRING("diag2/updated.ini",
+                             cJSON_GetObjectItemCaseSensitive(root, "updated_model")->valuestring);
+    cJSON_Delete(root);
+    static const char *const files[] = {"diag2/updated.ini",      "diag2/report.txt",
+                                        "diag2/gaps.csv",         "diag2/candidates.csv",
+                                        "diag2/curves_alpha.csv", "diag2/spectrum_xi.csv",
+                                        "diag2/timeseries.csv"};
+    for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); ++i)
+    {
+        TEST_ASSERT_TRUE_MESSAGE(cli_exists(tmp_path(files[i])), files[i]);
+    }
+    /* The updated model runs as is. */
+    const char *sim[] = {"simulate", "diag2/updated.ini", "-o", "updated_sim.csv", NULL};
+    cli_run(r, sim);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    TEST_ASSERT_TRUE(cli_exists(tmp_path("updated_sim.csv")));
+    free(r);
+}
+
+/* exit 2, exactly one line on stderr containing `want`, nothing on stdout */
+static void expect_usage(const char *const *args, const char *want)
+{
+    cli_result_t *r = malloc(sizeof(*r));
+    TEST_ASSERT_NOT_NULL(r);
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r->status, r->err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r->err_lines, r->err);
+    TEST_ASSERT_EQUAL_size_t(0, r->n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r->err, want), r->err);
+    free(r);
+}
+
+static void test_diagnose_bad_input(void)
+{
+    make_record();
+    const char *base = example("diagnose_base_airfoil2dof.ini");
+    const char *no_model[] = {"diagnose", "--measured", "measured2.csv", NULL};
+    expect_usage(no_model, "--model");
+    const char *unknown[] = {"diagnose", "--measured", "measured2.csv", "--model", base,
+                             "--bogus",  NULL};
+    expect_usage(unknown, "--bogus");
+    const char *missing_file[] = {"diagnose", "--measured", "nope.csv", "--model", base, NULL};
+    expect_usage(missing_file, "nope.csv");
+    /* The record of the wrong model: no channel 'h'. */
+    const char *wrong_model[] = {"diagnose",
+                                 "--measured",
+                                 "measured2.csv",
+                                 "--model",
+                                 example("diagnose_base_section3dof.ini"),
+                                 NULL};
+    expect_usage(wrong_model, "no column 'h'");
+    /* A record at another step than the model's dt. */
+    const char *csv = cli_file("short_dt.csv", "t,alpha,xi\n");
+    FILE *f = fopen(csv, "a");
+    TEST_ASSERT_NOT_NULL(f);
+    for (int i = 0; i < 1000; ++i)
+    {
+        fprintf(f, "%g,%g,%g\n", 0.25 * i, sin(0.1 * i), cos(0.07 * i));
+    }
+    (void)fclose(f);
+    const char *wrong_dt[] = {"diagnose", "--measured", "short_dt.csv", "--model", base, NULL};
+    expect_usage(wrong_dt, "dt");
+    /* --out into a folder that cannot be created: no file anywhere. */
+    const char *bad_out[] = {"diagnose",    "--measured", "measured2.csv", "--model", base, "--out",
+                             "no/such/dir", "--no-plots", "--refine",      "0",       NULL};
+    expect_usage(bad_out, "no/such/dir");
+    TEST_ASSERT_TRUE(cli_no_file_like("no"));
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_diagnose_names_freeplay_and_updates);
+    RUN_TEST(test_diagnose_bad_input);
+    return UNITY_END();
+}

@@ -1,0 +1,503 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_cli_identify.c
+ * @brief `aenl identify` end to end: the JSON object of DESIGN.md section 4 (every key and no
+ *        other, types, class names from the allowed set, ascending switching points, a verdict
+ *        consistent with its channel), the table, --channel, --plot (three figures per channel,
+ *        folder created, nothing left on failure), and bad input (exit 2, one line on stderr
+ *        naming what and where, nothing on stdout, no output). Content is checked only where it
+ *        is unambiguous: the paper's 3-DOF flap freeplay (delta = 2 deg, SNR 3) is freeplay in
+ *        beta with its points near -+1 deg, a linear turbulence record is linear.
+ */
+#include "aenl_cli_test.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+
+#include "unity.h"
+
+#define DEG 0.017453292519943295
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+/* Like cli_file(), with a pool large enough for every path a test holds at once. */
+static const char *put_file(const char *name, const char *text)
+{
+    static char paths[48][512];
+    static int slot = 0;
+    char *p = paths[slot++ % 48];
+    (void)snprintf(p, 512, "%s", cli_file(name, text));
+    return p;
+}
+
+/* ---- records ------------------------------------------------------------------------------ */
+
+/* The source tree's root, from this file's path (tests/test_cli_identify.c). */
+static const char *source_root(void)
+{
+    static char root[512];
+    (void)snprintf(root, sizeof(root), "%s", __FILE__);
+    for (int up = 0; up < 2; ++up)
+    {
+        char *slash = strrchr(root, '/');
+        if (slash != NULL)
+        {
+            *slash = '\0';
+        }
+    }
+    return root;
+}
+
+/* `aenl simulate INI -o NAME` into the test folder (once per name); the full path. */
+static const char *simulate(const char *ini, const char *name)
+{
+    static char paths[4][512];
+    static int slot = 0;
+    char *p = paths[slot++ % 4];
+    (void)snprintf(p, 512, "%s/%s", AENL_TEST_TMP_DIR, name);
+    if (!cli_exists(p))
+    {
+        const char *args[] = {"simulate", ini, "-o", name, NULL};
+        cli_result_t r;
+        cli_run(&r, args);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    }
+    return p;
+}
+
+/* The paper's flap freeplay (3-DOF section, gap -1 .. +1 deg, SNR 3): t,h,alpha,beta. */
+static const char *flap_record(void)
+{
+    char ini[600];
+    (void)snprintf(ini, sizeof(ini), "%s/tools/examples/paper_flap_freeplay.ini", source_root());
+    return simulate(ini, "id_flap.csv");
+}
+
+/* The same section, linear in every DOF, below flutter and driven by turbulence, SNR 10. */
+static const char *linear_record(void)
+{
+    const char *ini = cli_file("id_linear.ini", "[model]\ntype = section3dof\nvelocity = 12\n\n"
+                                                "[excitation]\ntype = turbulence\n"
+                                                "intensity = 0.005\nlength_scale = 0.25\n"
+                                                "seed = 3\n\n[run]\nduration = 20\ndt = 0.002\n\n"
+                                                "[noise]\nsnr = 10\nseed = 5\n");
+    return simulate(ini, "id_linear.csv");
+}
+
+/* ---- the JSON contract -------------------------------------------------------------------- */
+
+static int is_class(const cJSON *s)
+{
+    static const char *const k_classes[] = {"linear", "polynomial", "freeplay", "hysteresis",
+                                            "insufficient"};
+    if (!cJSON_IsString(s))
+    {
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof(k_classes) / sizeof(k_classes[0]); ++i)
+    {
+        if (strcmp(s->valuestring, k_classes[i]) == 0)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* Every key of `obj` is one of `keys` (n of them) and every one of them is there. */
+static void check_keys(const cJSON *obj, const char *const *keys, size_t n, const char *what)
+{
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsObject(obj), what);
+    const cJSON *item = NULL;
+    size_t seen = 0;
+    cJSON_ArrayForEach(item, obj)
+    {
+        int known = 0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            known |= (strcmp(item->string, keys[i]) == 0);
+        }
+        char msg[256];
+        (void)snprintf(msg, sizeof(msg), "%s: unexpected key '%s'", what, item->string);
+        TEST_ASSERT_TRUE_MESSAGE(known, msg);
+        seen++;
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+        char msg[256];
+        (void)snprintf(msg, sizeof(msg), "%s: no key '%s'", what, keys[i]);
+        TEST_ASSERT_NOT_NULL_MESSAGE(cJSON_GetObjectItemCaseSensitive(obj, keys[i]), msg);
+    }
+    TEST_ASSERT_EQUAL_size_t_MESSAGE(n, seen, what);
+}
+
+/* An array of finite numbers in ascending order (null allowed where `nulls`). */
+static void check_numbers(const cJSON *a, int ascending, int nulls, const char *what)
+{
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsArray(a), what);
+    double prev = -HUGE_VAL;
+    const cJSON *v = NULL;
+    cJSON_ArrayForEach(v, a)
+    {
+        if (nulls && cJSON_IsNull(v))
+        {
+            continue;
+        }
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(v) && isfinite(v->valuedouble), what);
+        if (ascending)
+        {
+            TEST_ASSERT_TRUE_MESSAGE(v->valuedouble >= prev, what);
+            prev = v->valuedouble;
+        }
+    }
+}
+
+static void check_confidence(const cJSON *c, const char *what)
+{
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(c), what);
+    TEST_ASSERT_TRUE_MESSAGE(c->valuedouble >= 0.0 && c->valuedouble <= 1.0, what);
+}
+
+/* The whole object of DESIGN.md section 4; returns the verdict's channel object or NULL. */
+static const cJSON *check_contract(const cJSON *root, const char *file, int n_channels)
+{
+    static const char *const k_top[] = {"file", "verdict", "channels"};
+    static const char *const k_verdict[] = {"class", "channel", "switch_points", "confidence"};
+    static const char *const k_channel[] = {
+        "name", "class", "switch_points", "switch_point_std", "confidence", "bandwidth", "lags"};
+    check_keys(root, k_top, 3, "top level");
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(root, "file");
+    TEST_ASSERT_TRUE(cJSON_IsString(f));
+    TEST_ASSERT_EQUAL_STRING(file, f->valuestring);
+
+    const cJSON *chans = cJSON_GetObjectItemCaseSensitive(root, "channels");
+    TEST_ASSERT_TRUE(cJSON_IsArray(chans));
+    TEST_ASSERT_EQUAL_INT(n_channels, cJSON_GetArraySize(chans));
+    const cJSON *ch = NULL;
+    cJSON_ArrayForEach(ch, chans)
+    {
+        check_keys(ch, k_channel, 7, "channel");
+        const cJSON *name = cJSON_GetObjectItemCaseSensitive(ch, "name");
+        TEST_ASSERT_TRUE(cJSON_IsString(name));
+        const char *what = name->valuestring;
+        const cJSON *cls = cJSON_GetObjectItemCaseSensitive(ch, "class");
+        TEST_ASSERT_TRUE_MESSAGE(is_class(cls), what);
+        const cJSON *pts = cJSON_GetObjectItemCaseSensitive(ch, "switch_points");
+        const cJSON *std = cJSON_GetObjectItemCaseSensitive(ch, "switch_point_std");
+        check_numbers(pts, 1, 0, what);
+        check_numbers(std, 0, 1, what);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(cJSON_GetArraySize(pts), cJSON_GetArraySize(std), what);
+        const cJSON *s = NULL;
+        cJSON_ArrayForEach(s, std)
+        {
+            TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNull(s) || s->valuedouble >= 0.0, what);
+        }
+        const char *c = cls->valuestring;
+        if (strcmp(c, "linear") == 0 || strcmp(c, "polynomial") == 0 ||
+            strcmp(c, "insufficient") == 0)
+        {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(0, cJSON_GetArraySize(pts), what);
+        }
+        if (strcmp(c, "freeplay") == 0)
+        {
+            TEST_ASSERT_TRUE_MESSAGE(cJSON_GetArraySize(pts) >= 1, what);
+        }
+        check_confidence(cJSON_GetObjectItemCaseSensitive(ch, "confidence"), what);
+        const cJSON *bw = cJSON_GetObjectItemCaseSensitive(ch, "bandwidth");
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(bw) && bw->valuedouble > 0.0, what);
+        const cJSON *lags = cJSON_GetObjectItemCaseSensitive(ch, "lags");
+        check_numbers(lags, 1, 0, what);
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_GetArraySize(lags) >= 1, what);
+        const cJSON *l = NULL;
+        cJSON_ArrayForEach(l, lags)
+        {
+            TEST_ASSERT_TRUE_MESSAGE(l->valuedouble >= 1.0 &&
+                                         fabs(l->valuedouble - floor(l->valuedouble)) < 1e-12,
+                                     what);
+        }
+    }
+
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "verdict");
+    check_keys(v, k_verdict, 4, "verdict");
+    const cJSON *vcls = cJSON_GetObjectItemCaseSensitive(v, "class");
+    TEST_ASSERT_TRUE(is_class(vcls));
+    const cJSON *vpts = cJSON_GetObjectItemCaseSensitive(v, "switch_points");
+    check_numbers(vpts, 1, 0, "verdict");
+    check_confidence(cJSON_GetObjectItemCaseSensitive(v, "confidence"), "verdict");
+    const cJSON *vch = cJSON_GetObjectItemCaseSensitive(v, "channel");
+    if (cJSON_IsNull(vch))
+    {
+        /* no channel named: linear or insufficient, and then no switching points */
+        TEST_ASSERT_TRUE(strcmp(vcls->valuestring, "linear") == 0 ||
+                         strcmp(vcls->valuestring, "insufficient") == 0);
+        TEST_ASSERT_EQUAL_INT(0, cJSON_GetArraySize(vpts));
+        cJSON_ArrayForEach(ch, chans)
+        {
+            const char *c = cJSON_GetObjectItemCaseSensitive(ch, "class")->valuestring;
+            TEST_ASSERT_TRUE(strcmp(c, "linear") == 0 || strcmp(c, "insufficient") == 0);
+        }
+        return NULL;
+    }
+    /* a channel named: one of the channels, same class and points */
+    TEST_ASSERT_TRUE(cJSON_IsString(vch));
+    const cJSON *named = NULL;
+    cJSON_ArrayForEach(ch, chans)
+    {
+        if (strcmp(cJSON_GetObjectItemCaseSensitive(ch, "name")->valuestring, vch->valuestring) ==
+            0)
+        {
+            named = ch;
+        }
+    }
+    TEST_ASSERT_NOT_NULL_MESSAGE(named, "the verdict names no channel of the list");
+    TEST_ASSERT_EQUAL_STRING(cJSON_GetObjectItemCaseSensitive(named, "class")->valuestring,
+                             vcls->valuestring);
+    TEST_ASSERT_FALSE(strcmp(vcls->valuestring, "linear") == 0 ||
+                      strcmp(vcls->valuestring, "insufficient") == 0);
+    const cJSON *npts = cJSON_GetObjectItemCaseSensitive(named, "switch_points");
+    TEST_ASSERT_EQUAL_INT(cJSON_GetArraySize(npts), cJSON_GetArraySize(vpts));
+    for (int k = 0; k < cJSON_GetArraySize(vpts); ++k)
+    {
+        TEST_ASSERT_EQUAL_DOUBLE(cJSON_GetArrayItem(npts, k)->valuedouble,
+                                 cJSON_GetArrayItem(vpts, k)->valuedouble);
+    }
+    return named;
+}
+
+static cJSON *run_json(const char *const *args, cli_result_t *r)
+{
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->err_lines, r->err);
+    cJSON *root = cJSON_Parse(r->out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, "stdout is not one JSON object");
+    return root;
+}
+
+/* ---- tests -------------------------------------------------------------------------------- */
+
+/* The JSON contract on a nonlinear record (the paper's flap freeplay) and a linear one. Whether
+ * the verdicts are right is measured, not asserted here: `aenl bench identify` runs the paper's
+ * cases and the evaluation suite and prints the hits and the misses. */
+static void test_cli_identify_flap_freeplay_json(void)
+{
+    const char *data = flap_record();
+    const char *args[] = {"identify", data, "--json", NULL};
+    static cli_result_t r;
+    cJSON *root = run_json(args, &r);
+    (void)check_contract(root, data, 3);
+    cJSON_Delete(root);
+}
+
+static void test_cli_identify_linear_turbulence_json(void)
+{
+    const char *data = linear_record();
+    const char *args[] = {"identify", data, "--json", NULL};
+    static cli_result_t r;
+    cJSON *root = run_json(args, &r);
+    (void)check_contract(root, data, 3);
+    cJSON_Delete(root);
+}
+
+static void test_cli_identify_table_and_channel(void)
+{
+    const char *data = flap_record();
+    static cli_result_t r;
+    /* given bandwidth: no cross-validation, a fast run */
+    const char *table[] = {"identify", data, "--bandwidth", "0.002", NULL};
+    cli_run(&r, table);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.err_lines, r.err);
+    static const char *const k_heads[] = {"channel", "class",  "confidence", "bandwidth",
+                                          "lags",    "period", "noise",      "switching points"};
+    for (size_t i = 0; i < sizeof(k_heads) / sizeof(k_heads[0]); ++i)
+    {
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, k_heads[i]), r.out);
+    }
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nh "), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nalpha "), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nbeta "), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: "), r.out);
+    TEST_ASSERT_NULL_MESSAGE(strchr(r.out, '{'), "the table is not JSON");
+
+    /* --channel: only that one, given bandwidth and no pre-filter accepted */
+    const char *one[] = {"identify",    data,    "--channel",      "beta", "--json",
+                         "--bandwidth", "0.002", "--no-prefilter", NULL};
+    cJSON *root = run_json(one, &r);
+    check_contract(root, data, 1);
+    const cJSON *ch = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "channels"), 0);
+    TEST_ASSERT_EQUAL_STRING("beta", cJSON_GetObjectItemCaseSensitive(ch, "name")->valuestring);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.002,
+                              cJSON_GetObjectItemCaseSensitive(ch, "bandwidth")->valuedouble);
+    cJSON_Delete(root);
+}
+
+static void test_cli_identify_plot(void)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
+    {
+        TEST_IGNORE_MESSAGE("gnuplot not installed");
+    }
+    const char *data = flap_record();
+    static cli_result_t r;
+    (void)system("rm -rf '" AENL_TEST_TMP_DIR "/id_figs'"); /* NOLINT(cert-env33-c) */
+    const char *args[] = {"identify", data,     "--channel",   "beta", "--bandwidth",
+                          "0.002",    "--plot", "id_figs/sub", NULL};
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    static const char *const k_kinds[] = {"timeseries", "moments", "restoring"};
+    for (size_t i = 0; i < 3; ++i)
+    {
+        char path[700];
+        (void)snprintf(path, sizeof(path), "%s/id_figs/sub/id_flap_beta_%s.png", AENL_TEST_TMP_DIR,
+                       k_kinds[i]);
+        FILE *f = fopen(path, "rb");
+        TEST_ASSERT_NOT_NULL_MESSAGE(f, path);
+        unsigned char magic[8] = {0};
+        const size_t got = fread(magic, 1, sizeof(magic), f);
+        (void)fclose(f);
+        TEST_ASSERT_EQUAL_size_t(8, got);
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE(0x89, magic[0], path); /* PNG signature */
+        TEST_ASSERT_EQUAL_HEX8_MESSAGE('P', magic[1], path);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, path + strlen(AENL_TEST_TMP_DIR) + 1u), r.out);
+    }
+    /* nothing but the three figures (no temporary left beside them) */
+    TEST_ASSERT_EQUAL_INT(0, system("test $(ls -A '" AENL_TEST_TMP_DIR /* NOLINT(cert-env33-c) */
+                                    "/id_figs/sub' | wc -l) -eq 3"));
+
+    /* a bad record with --plot: exit 2 and the folder is not created */
+    const char *bad = cli_file("id_bad_plot.csv", "t,x\n0,1\n1,2\n1,3\n");
+    const char *bad_args[] = {"identify", bad, "--plot", "bad_out_figs", NULL};
+    cli_run(&r, bad_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_TRUE(cli_no_file_like("bad_out"));
+}
+
+/* ---- bad input ---------------------------------------------------------------------------- */
+
+typedef struct
+{
+    const char *what;
+    const char *args[12];
+    const char *needle;
+} bad_case_t;
+
+static void run_bad(const bad_case_t *c)
+{
+    static cli_result_t r;
+    static char msg[sizeof(r.err) + 512];
+    (void)system("rm -rf '" AENL_TEST_TMP_DIR "'/bad_out*"); /* NOLINT(cert-env33-c) */
+    cli_run(&r, c->args);
+    (void)snprintf(msg, sizeof(msg), "%s: exit %d, %d stderr line(s), %zu stdout bytes; %s",
+                   c->what, r.status, r.err_lines, r.n_out, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r.err_lines, msg);
+    TEST_ASSERT_EQUAL_size_t_MESSAGE(0, r.n_out, msg);
+    TEST_ASSERT_TRUE_MESSAGE(strncmp(r.err, "aenl identify: ", 15) == 0, msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, c->needle), msg);
+    TEST_ASSERT_TRUE_MESSAGE(cli_no_file_like("bad_out"), msg);
+}
+
+/* t,a,b: n rows of two oscillations; row `row` replaced by `edit` when not NULL. */
+static const char *small_csv(const char *name, size_t n, size_t row, const char *edit)
+{
+    static char text[1 << 16];
+    size_t pos = (size_t)snprintf(text, sizeof(text), "t,a,b\n");
+    for (size_t i = 0; i < n && pos + 100 < sizeof(text); ++i)
+    {
+        if (edit != NULL && i == row)
+        {
+            pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%s\n", edit);
+            continue;
+        }
+        pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%zu,%.6f,%.6f\n", i,
+                                sin(0.3 * (double)i), cos(0.17 * (double)i));
+    }
+    return put_file(name, text);
+}
+
+static void test_cli_identify_bad_input(void)
+{
+    const char *good = small_csv("id_good.csv", 400, 0, NULL);
+    static char constant[1 << 14];
+    size_t pos = (size_t)snprintf(constant, sizeof(constant), "t,a,b\n");
+    for (int i = 0; i < 300; ++i)
+    {
+        pos += (size_t)snprintf(constant + pos, sizeof(constant) - pos, "%d,0.25,%g\n", i,
+                                sin(0.3 * i));
+    }
+    const char *flat = put_file("id_const.csv", constant);
+    const bad_case_t cases[] = {
+        {"missing file", {"identify", "/nonexistent/x.csv", NULL}, "/nonexistent/x.csv"},
+        {"empty", {"identify", put_file("id_empty.csv", ""), NULL}, "id_empty.csv: empty file"},
+        {"header only", {"identify", put_file("id_hdr.csv", "t,a,b\n"), NULL}, "no data rows"},
+        {"time only",
+         {"identify", put_file("id_tonly.csv", "t\n0\n1\n"), NULL},
+         "id_tonly.csv: no data column"},
+        {"non-numeric",
+         {"identify", small_csv("id_nonnum.csv", 400, 9, "9,x1,0"), NULL},
+         "id_nonnum.csv:11:2 (a): not a number"},
+        {"Inf cell",
+         {"identify", small_csv("id_inf.csv", 400, 9, "9,inf,0"), NULL},
+         "id_inf.csv:11:2 (a): infinite"},
+        {"ragged row",
+         {"identify", small_csv("id_ragged.csv", 400, 9, "9,1"), NULL},
+         "id_ragged.csv:11"},
+        {"time not increasing",
+         {"identify", small_csv("id_mono.csv", 400, 20, "5,0.1,0.2"), NULL},
+         "id_mono.csv: column 't', data row 21: time 5 does not increase"},
+        {"missing time",
+         {"identify", small_csv("id_nant.csv", 400, 20, "nan,0.1,0.2"), NULL},
+         "id_nant.csv: column 't', data row 21: missing time"},
+        {"huge value",
+         {"identify", small_csv("id_huge.csv", 400, 30, "30,1e300,0.2"), NULL},
+         "id_huge.csv: column 'a', data row 31: value 1e+300 is too large"},
+        {"all missing",
+         {"identify", put_file("id_nan.csv", "t,a,b\n0,nan,1\n1,nan,2\n2,,3\n"), NULL},
+         "id_nan.csv, channel a: no finite sample"},
+        {"constant", {"identify", flat, NULL}, "id_const.csv, channel a: constant signal"},
+        {"unknown channel",
+         {"identify", good, "--channel", "nope", NULL},
+         "id_good.csv: no channel 'nope' (channels: a, b)"},
+        {"time as channel", {"identify", good, "--channel", "t", NULL}, "no channel 't'"},
+        {"standard input", {"identify", "-", NULL}, "not '-'"},
+        {"no file", {"identify", "--json", NULL}, "no data file"},
+        {"two files", {"identify", good, good, NULL}, "one data file only"},
+        {"unknown option", {"identify", good, "--bogus", NULL}, "unknown option --bogus"},
+        {"missing value", {"identify", good, "--channel", NULL}, "--channel needs a value"},
+        {"bad bandwidth", {"identify", good, "--bandwidth", "-1", NULL}, "--bandwidth"},
+        {"bandwidth not a number",
+         {"identify", good, "--bandwidth", "abc", NULL},
+         "--bandwidth: 'abc' is not a finite number"},
+        {"unwritable plot folder",
+         {"identify", good, "--plot", "/proc/nope/figs", NULL},
+         "/proc/nope"},
+    };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); ++i)
+    {
+        if (strcmp(cases[i].what, "unwritable plot folder") == 0 &&
+            system("command -v gnuplot >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
+        {
+            continue; /* without gnuplot, --plot fails earlier (tested by that message) */
+        }
+        run_bad(&cases[i]);
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_cli_identify_flap_freeplay_json);
+    RUN_TEST(test_cli_identify_linear_turbulence_json);
+    RUN_TEST(test_cli_identify_table_and_channel);
+    RUN_TEST(test_cli_identify_plot);
+    RUN_TEST(test_cli_identify_bad_input);
+    return UNITY_END();
+}

@@ -1,0 +1,269 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_diagnose.c
+ * @brief aenl_diagnose: the signature pieces (Welch peak, noise estimate, distance properties,
+ *        rejected records) and representative hidden-effect cases (issue 6): measured data from a
+ *        truth model with the effect (parameters and seeds drawn from a seed the diagnosis never
+ *        sees, SNR 3), a baseline lacking it. Goals checked: effect and DOF named, parameters
+ *        within 15 %, gap reduced at least 5-fold; null case: none, gap within 2x the noise
+ *        floor. The full matrix is `aenl bench diagnose` (too slow for CI under the sanitizers).
+ */
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_diagnose.h"
+#include "aenl_tools/aenl_rng.h"
+#include "unity.h"
+
+#define PI 3.14159265358979323846
+
+/* The truth seed of the representative cases: never given to the diagnosis. */
+#define TRUTH_SEED 101u
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static void test_welch_peak_at_sinusoid(void)
+{
+    const size_t n = 8192, seg = 1024;
+    double *x = malloc(n * sizeof(double));
+    double *p = malloc((seg / 2u + 1u) * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    TEST_ASSERT_NOT_NULL(p);
+    for (size_t i = 0; i < n; ++i)
+    {
+        x[i] = 3.0 + sin(2.0 * PI * 0.05 * (double)i);
+    }
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_welch(x, n, seg, p, &err));
+    size_t best = 1;
+    double total = 0.0;
+    for (size_t k = 1; k <= seg / 2u; ++k)
+    {
+        best = p[k] > p[best] ? k : best;
+        total += p[k] / (double)seg;
+    }
+    TEST_ASSERT_TRUE(best == 51u || best == 52u); /* 0.05 * 1024 = 51.2 */
+    TEST_ASSERT_DOUBLE_WITHIN(0.05, 0.5, total);  /* Parseval: the variance of the sine */
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_welch(x, n, 1000, p, &err)); /* not 2^k */
+    free(x);
+    free(p);
+}
+
+static void test_chan_setup_noise_and_period(void)
+{
+    const size_t n = 20000;
+    double *x = malloc(n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 5);
+    for (size_t i = 0; i < n; ++i)
+    {
+        x[i] = sin(2.0 * PI * (double)i / 100.0) + 0.2 * aenl_rng_gauss(&g);
+    }
+    aenl_diagnose_chan_t c;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_chan_setup(x, n, &c, &err));
+    TEST_ASSERT_DOUBLE_WITHIN(0.02, 0.2, c.noise_sd);
+    TEST_ASSERT_DOUBLE_WITHIN(5.0, 100.0, c.period);
+    TEST_ASSERT_TRUE(c.lags[0] < c.lags[1] && c.lags[1] < c.lags[2]);
+    TEST_ASSERT_TRUE(c.n_bands >= 5u);
+    /* A signature against itself: zero gap; against a louder copy: a positive amplitude gap. */
+    aenl_diagnose_sig_t a, b;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &a, NULL, &err));
+    TEST_ASSERT_TRUE(a.valid);
+    double fam[AENL_DIAGNOSE_N_FAMILY];
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0, aenl_diagnose_distance(&c, &a, &a, fam));
+    for (size_t i = 0; i < n; ++i)
+    {
+        x[i] *= 1.5;
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &b, NULL, &err));
+    TEST_ASSERT_TRUE(aenl_diagnose_distance(&c, &a, &b, fam) > 0.1);
+    TEST_ASSERT_TRUE(fam[AENL_DIAGNOSE_AMPLITUDE] > 0.2);
+    /* A diverged record: invalid signature, capped distance. */
+    x[n / 2u] = (double)NAN;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &b, NULL, &err));
+    TEST_ASSERT_FALSE(b.valid);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9, 10.0, aenl_diagnose_distance(&c, &a, &b, fam));
+    free(x);
+}
+
+static void test_chan_setup_rejects(void)
+{
+    double x[1000];
+    aenl_diagnose_chan_t c;
+    aenl_err_t err;
+    for (size_t i = 0; i < 1000u; ++i)
+    {
+        x[i] = 2.0;
+    }
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_chan_setup(x, 1000, &c, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "constant"));
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_chan_setup(x, 100, &c, &err));
+    x[10] = (double)NAN;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_chan_setup(x, 1000, &c, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "missing"));
+}
+
+static void test_run_rejects_wrong_step_and_channels(void)
+{
+    aenl_diagnose_case_t c;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(0, TRUTH_SEED, 0, &c, &err));
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_measure(&c, &t, &err));
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    aenl_diagnose_result_t r;
+    aenl_sim_run_t run = c.base_run;
+    run.dt = 0.25;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_run(&t, &c.base, &run, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "dt"));
+    aenl_sim_model_t m3;
+    aenl_sim_model_default(&m3, AENL_SIM_SECTION3DOF);
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_run(&t, &m3, &c.base_run, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "no column 'h'"));
+    o.n_replicates = 1;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_run(&t, &c.base, &c.base_run, &o, &r, &err));
+    aenl_table_free(&t);
+}
+
+/* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too. */
+static void check_case(const char *name)
+{
+    aenl_diagnose_case_t c;
+    memset(&c, 0, sizeof(c));
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    size_t k = 0;
+    for (; k < aenl_diagnose_n_cases(); ++k)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(k, TRUTH_SEED, 0, &c, &err));
+        if (strcmp(c.name, name) == 0)
+        {
+            break;
+        }
+    }
+    TEST_ASSERT_TRUE_MESSAGE(k < aenl_diagnose_n_cases(), name);
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_case_measure(&c, &t, &err), err.msg);
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        AENL_OK, aenl_diagnose_run(&t, &c.base, &c.base_run, &o, &r, &err), err.msg);
+    aenl_table_free(&t);
+    const size_t nc = r.n_channels;
+    printf("%s: named %s %s, gap %.3g -> %.3g, floor %.3g, %u simulations, %.1f s\n", name,
+           aenl_diagnose_effect_name(r.effect), aenl_diagnose_dof_name(r.dof), r.gap_before[nc],
+           r.gap_after[nc], r.floor_before[nc], r.n_sims, r.seconds);
+    TEST_ASSERT_EQUAL_STRING_MESSAGE(aenl_diagnose_effect_name(c.effect),
+                                     aenl_diagnose_effect_name(r.effect), name);
+    if (c.effect == AENL_DIAGNOSE_NONE)
+    {
+        TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] <= 2.0 * r.floor_before[nc], name);
+        TEST_ASSERT_EQUAL_size_t(0, r.n_dis);
+    }
+    else
+    {
+        TEST_ASSERT_EQUAL_STRING_MESSAGE(aenl_diagnose_dof_name(c.dof),
+                                         aenl_diagnose_dof_name(r.dof), name);
+        double rel[AENL_DIAGNOSE_MAX_PAR];
+        const size_t np =
+            aenl_diagnose_param_errors(c.effect, &c.truth.law[c.dof], &r.updated.law[c.dof], rel);
+        TEST_ASSERT_TRUE(np >= 1u);
+        for (size_t i = 0; i < np; ++i)
+        {
+            printf("  parameter %zu: relative error %.2f %%\n", i, 100.0 * rel[i]);
+            TEST_ASSERT_TRUE_MESSAGE(rel[i] <= 0.15, name);
+        }
+        TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] >= 5.0 * r.gap_after[nc], name);
+        TEST_ASSERT_TRUE(r.n_dis >= 1u);
+        TEST_ASSERT_TRUE(r.dis[0].significance > o.report_ratio);
+    }
+    /* JSON: exactly the issue's keys. */
+    char *js = aenl_diagnose_json(&r, NULL);
+    TEST_ASSERT_NOT_NULL(js);
+    cJSON *root = cJSON_Parse(js);
+    TEST_ASSERT_NOT_NULL(root);
+    TEST_ASSERT_TRUE(cJSON_IsArray(cJSON_GetObjectItemCaseSensitive(root, "disagreement")));
+    const cJSON *me = cJSON_GetObjectItemCaseSensitive(root, "missing_effect");
+    TEST_ASSERT_EQUAL_STRING(aenl_diagnose_effect_name(c.effect),
+                             cJSON_GetObjectItemCaseSensitive(me, "type")->valuestring);
+    TEST_ASSERT_TRUE(cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(me, "params")));
+    TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_before")));
+    TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_after")));
+    TEST_ASSERT_TRUE(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(root, "updated_model")));
+    TEST_ASSERT_EQUAL_INT(5, cJSON_GetArraySize(root));
+    cJSON_Delete(root);
+    free(js);
+    /* The updated INI loads and holds the named law. */
+    char path[512];
+    (void)snprintf(path, sizeof(path), "%s/%s.ini", AENL_TEST_TMP_DIR, name);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_write_ini(&r, "test", path, &err));
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &m, &run, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(r.updated.law[c.dof].kind, m.law[c.dof].kind);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, r.updated.law[c.dof].delta, m.law[c.dof].delta);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, r.run.dt, run.dt);
+    TEST_ASSERT_TRUE(run.snr > 1.0 && run.snr < 10.0); /* the record's SNR 3, estimated */
+    aenl_diagnose_result_free(&r);
+}
+
+static void test_hidden_freeplay_airfoil2dof(void)
+{
+    check_case("a2_freeplay_pitch");
+}
+
+static void test_hidden_polynomial_airfoil2dof(void)
+{
+    check_case("a2_polynomial_pitch");
+}
+
+static void test_hidden_preload_airfoil2dof(void)
+{
+    check_case("a2_preload_pitch");
+}
+
+static void test_hidden_hysteresis_section3dof(void)
+{
+    check_case("s3_hysteresis_flap");
+}
+
+static void test_null_section3dof(void)
+{
+    check_case("s3_none");
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_welch_peak_at_sinusoid);
+    RUN_TEST(test_chan_setup_noise_and_period);
+    RUN_TEST(test_chan_setup_rejects);
+    RUN_TEST(test_run_rejects_wrong_step_and_channels);
+    RUN_TEST(test_hidden_freeplay_airfoil2dof);
+    RUN_TEST(test_hidden_polynomial_airfoil2dof);
+    RUN_TEST(test_hidden_preload_airfoil2dof);
+    RUN_TEST(test_hidden_hysteresis_section3dof);
+    RUN_TEST(test_null_section3dof);
+    return UNITY_END();
+}

@@ -1,0 +1,1300 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file cmd_identify.c
+ * @brief `aenl identify`: which structural nonlinearity, in which channel, with its switching
+ *        points (DESIGN.md sections 2.2 and 4). A thin layer over aenl_identify_run(): the record
+ *        is streamed (never loaded whole), checked row by row on the way, and the result printed
+ *        as a table or as the JSON object of DESIGN.md section 4; --plot draws the paper-style
+ *        figures of every channel.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <cjson/cJSON.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "aenl/aenl_classifier.h"
+#include "aenl_cli.h"
+#include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_identify.h"
+#include "aenl_tools/aenl_plot.h"
+
+static const char *const k_cmd = "identify";
+
+/* Time-series figure: whole record as a min/max envelope over at most this many bins, and a
+ * detail of the last samples (12 dominant periods, within these limits). */
+#define TS_BINS       1500u
+#define TS_DETAIL_MIN 400u
+#define TS_DETAIL_MAX 4000u
+
+static void help(void)
+{
+    printf(
+        "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
+        "                     [--no-prefilter]\n\n"
+        "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
+        "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
+        "switching points in the channel's units with their standard errors, and names the\n"
+        "channel that carries the nonlinearity. Every column is a channel except the time\n"
+        "column (t, t_s, time, time_s or tau: checked finite and increasing); the file is read\n"
+        "twice, one row at a time, never held whole.\n\n"
+        "--json          one JSON object: file, verdict {class, channel, switch_points,\n"
+        "                confidence}, channels [{name, class, switch_points, switch_point_std,\n"
+        "                confidence, bandwidth, lags}] (DESIGN.md section 4)\n"
+        "--plot DIR      per channel, DIR/<file>_<channel>_{timeseries,moments,restoring}.png:\n"
+        "                the record, the conditional mean and variance for lags 1, 10, 30, and\n"
+        "                the restoring-force points, switching points marked (needs gnuplot)\n"
+        "--bandwidth H   kernel half-width in channel units for every channel (default: leave-\n"
+        "                one-out cross-validation per channel); 'cv' is the default\n"
+        "--no-prefilter  no low-pass at 8 / period before the estimates\n\n"
+        "Verdict: the nonlinear channel with the strongest evidence; when none is nonlinear,\n"
+        "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
+        "channel could be decided, with channel null and no switching points.\n");
+}
+
+/* ---- the record, checked on its way to the pipeline ------------------------------------------ */
+
+/* Time columns checked at most (a record has one; a second is checked too, like in moments). */
+#define MAX_TIME_COLS 4
+
+/* A source that forwards the CSV source's rows and checks what aenl_cli_check_record checks on a
+ * table, row by row: every time column (aenl_csv_is_time_name) finite and strictly increasing,
+ * values within +-AENL_CLI_MAX_ABS, at least one finite and two distinct values per channel read,
+ * at least one data row. It also counts the rows and keeps the time of the row last read (the
+ * first time column, else the row index) for the time-series figure. */
+typedef struct
+{
+    const aenl_identify_source_t *inner;
+    const aenl_identify_csv_t *csv; /* while open: csv->csv the reader, csv->row the file row */
+    const char *path;
+    long channel; /* -1 all, else the only channel checked */
+    size_t rows;
+    size_t n_time, t_col[MAX_TIME_COLS]; /* time columns of the file */
+    double t_prev[MAX_TIME_COLS];
+    double t_now;    /* time (or index) of the row last read */
+    char t_name[64]; /* name of the first time column ("row" when there is none) */
+    size_t *n_finite;
+    double *lo, *hi;
+    size_t n_rows_total; /* rows of the first complete pass (0 before) */
+    int failed;          /* the record itself was at fault: exit 2 */
+} checked_t;
+
+static aenl_status_t checked_open(void *ctx, aenl_err_t *err)
+{
+    checked_t *c = (checked_t *)ctx;
+    c->rows = 0;
+    for (size_t k = 0; k < c->inner->n_cols; ++k)
+    {
+        c->n_finite[k] = 0;
+        c->lo[k] = HUGE_VAL;
+        c->hi[k] = -HUGE_VAL;
+    }
+    const aenl_status_t st = c->inner->open(c->inner->ctx, err);
+    c->failed |= (st != AENL_OK);
+    c->n_time = 0;
+    (void)snprintf(c->t_name, sizeof(c->t_name), "row");
+    if (st == AENL_OK)
+    {
+        const aenl_csv_t *csv = (const aenl_csv_t *)c->csv->csv;
+        for (size_t k = 0; k < aenl_csv_n_cols(csv) && c->n_time < MAX_TIME_COLS; ++k)
+        {
+            if (aenl_csv_is_time_name(aenl_csv_col_name(csv, k)))
+            {
+                if (c->n_time == 0)
+                {
+                    (void)snprintf(c->t_name, sizeof(c->t_name), "%s", aenl_csv_col_name(csv, k));
+                }
+                c->t_col[c->n_time++] = k;
+            }
+        }
+    }
+    return st;
+}
+
+static int checked_at_end(checked_t *c, aenl_err_t *err)
+{
+    if (c->rows == 0)
+    {
+        aenl_err_set(err, "%s: no data rows (header only)", c->path);
+        return -1;
+    }
+    for (size_t k = 0; k < c->inner->n_cols; ++k)
+    {
+        if (c->channel >= 0 && (size_t)c->channel != k)
+        {
+            continue;
+        }
+        if (c->n_finite[k] == 0)
+        {
+            aenl_err_set(err, "%s, channel %s: no finite sample (%zu samples, all missing)",
+                         c->path, c->inner->names[k], c->rows);
+            return -1;
+        }
+        if (!(c->hi[k] > c->lo[k]))
+        {
+            aenl_err_set(err,
+                         "%s, channel %s: constant signal (every sample is %g): nothing to "
+                         "identify (name another channel with --channel)",
+                         c->path, c->inner->names[k], c->lo[k]);
+            return -1;
+        }
+    }
+    if (c->n_rows_total == 0)
+    {
+        c->n_rows_total = c->rows;
+    }
+    return 0;
+}
+
+/* The time columns of the row just read; 0 or -1 with err set. */
+static int check_time(checked_t *c, aenl_err_t *err)
+{
+    const aenl_csv_t *csv = (const aenl_csv_t *)c->csv->csv;
+    c->t_now = (double)(c->rows - 1u);
+    for (size_t i = 0; i < c->n_time; ++i)
+    {
+        const double t = c->csv->row[c->t_col[i]];
+        const char *name = aenl_csv_col_name(csv, c->t_col[i]);
+        if (isnan(t))
+        {
+            aenl_err_set(err, "%s: column '%s', data row %zu: missing time value", c->path, name,
+                         c->rows);
+            return -1;
+        }
+        if (c->rows > 1 && !(t > c->t_prev[i]))
+        {
+            aenl_err_set(err,
+                         "%s: column '%s', data row %zu: time %.10g does not increase (previous "
+                         "%.10g)",
+                         c->path, name, c->rows, t, c->t_prev[i]);
+            return -1;
+        }
+        c->t_prev[i] = t;
+        c->t_now = (i == 0) ? t : c->t_now;
+    }
+    return 0;
+}
+
+static int checked_next(void *ctx, double *row, aenl_err_t *err)
+{
+    checked_t *c = (checked_t *)ctx;
+    const int rc = c->inner->next(c->inner->ctx, row, err);
+    if (rc < 0)
+    {
+        c->failed = 1;
+        return rc;
+    }
+    if (rc == 0)
+    {
+        const int end = checked_at_end(c, err);
+        c->failed |= (end != 0);
+        return end;
+    }
+    c->rows++;
+    if (check_time(c, err) != 0)
+    {
+        c->failed = 1;
+        return -1;
+    }
+    for (size_t k = 0; k < c->inner->n_cols; ++k)
+    {
+        if (c->channel >= 0 && (size_t)c->channel != k)
+        {
+            continue;
+        }
+        const double v = row[k];
+        if (isnan(v))
+        {
+            continue;
+        }
+        if (!(fabs(v) <= AENL_CLI_MAX_ABS))
+        {
+            aenl_err_set(err,
+                         "%s: column '%s', data row %zu: value %g is too large (the limit is "
+                         "+-%g)",
+                         c->path, c->inner->names[k], c->rows, v, AENL_CLI_MAX_ABS);
+            c->failed = 1;
+            return -1;
+        }
+        c->n_finite[k]++;
+        c->lo[k] = v < c->lo[k] ? v : c->lo[k];
+        c->hi[k] = v > c->hi[k] ? v : c->hi[k];
+    }
+    return 1;
+}
+
+static void checked_close(void *ctx)
+{
+    const checked_t *c = (const checked_t *)ctx;
+    c->inner->close(c->inner->ctx);
+}
+
+/* ---- arguments ------------------------------------------------------------------------------- */
+
+typedef struct
+{
+    const char *data, *channel, *plot_dir;
+    int json;
+    aenl_identify_opts_t opts;
+} args_t;
+
+/* 0 to go on, 1 after --help, -1 after printing a usage error. */
+static int parse_args(int argc, char **argv, args_t *a)
+{
+    memset(a, 0, sizeof(*a));
+    aenl_identify_opts_default(&a->opts);
+    for (int i = 1; i < argc; ++i)
+    {
+        const char *o = argv[i];
+        const char *v = NULL;
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0)
+        {
+            help();
+            return 1;
+        }
+        if (strcmp(o, "--json") == 0)
+        {
+            a->json = 1;
+        }
+        else if (strcmp(o, "--no-prefilter") == 0)
+        {
+            a->opts.prefilter = 0;
+        }
+        else if (strcmp(o, "--channel") == 0)
+        {
+            if ((a->channel = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--plot") == 0)
+        {
+            if ((a->plot_dir = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+            if (a->plot_dir[0] == '\0')
+            {
+                aenl_cli_error(k_cmd, "--plot: empty folder name");
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--bandwidth") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+            if (strcmp(v, "cv") == 0)
+            {
+                a->opts.bandwidth = 0.0;
+            }
+            else if (aenl_cli_parse_double(k_cmd, "--bandwidth", v, &a->opts.bandwidth) != 0)
+            {
+                return -1;
+            }
+            else if (!(a->opts.bandwidth > 0.0))
+            {
+                aenl_cli_error(k_cmd, "--bandwidth: %s must be positive (or 'cv')", v);
+                return -1;
+            }
+        }
+        else if (aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
+        {
+            return -1;
+        }
+    }
+    if (a->data == NULL)
+    {
+        aenl_cli_error(k_cmd, "no data file (usage: aenl identify DATA.csv [--channel C] [--json] "
+                              "[--plot DIR])");
+        return -1;
+    }
+    if (strcmp(a->data, "-") == 0)
+    {
+        aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
+        return -1;
+    }
+    if (a->plot_dir != NULL && !aenl_plot_available())
+    {
+        aenl_cli_error(k_cmd, "--plot needs gnuplot on PATH (Debian: apt-get install gnuplot-nox)");
+        return -1;
+    }
+    return 0;
+}
+
+/* Index of --channel among the source's channels; -1 after printing the error. */
+static long find_channel(const aenl_identify_source_t *src, const char *path, const char *name)
+{
+    for (size_t k = 0; k < src->n_cols; ++k)
+    {
+        if (strcmp(src->names[k], name) == 0)
+        {
+            return (long)k;
+        }
+    }
+    char names[512] = "";
+    size_t len = 0;
+    for (size_t k = 0; k < src->n_cols && len + strlen(src->names[k]) + 3u < sizeof(names); ++k)
+    {
+        const int w =
+            snprintf(names + len, sizeof(names) - len, "%s%s", k ? ", " : "", src->names[k]);
+        len += (w > 0) ? (size_t)w : 0u;
+    }
+    aenl_cli_error(k_cmd, "%s: no channel '%s' (channels: %s)", path, name, names);
+    return -1;
+}
+
+/* ---- the verdict ----------------------------------------------------------------------------- */
+
+typedef struct
+{
+    aenl_class_t cls;
+    long channel; /* -1: none named */
+    double confidence;
+} verdict_t;
+
+/* The pipeline's named channel, or, when none is nonlinear: linear with the smallest confidence
+ * of the linear channels, or insufficient (confidence 0) when no channel was decided. */
+static verdict_t make_verdict(const aenl_identify_result_t *r)
+{
+    verdict_t v = {AENL_CLASS_INSUFFICIENT, -1, 0.0};
+    if (r->verdict >= 0 && (size_t)r->verdict < r->n_channels)
+    {
+        const aenl_classifier_result_t *res = &r->ch[r->verdict].res;
+        v.cls = res->cls;
+        v.channel = r->verdict;
+        v.confidence = (double)res->confidence;
+        return v;
+    }
+    double conf = 1.0;
+    int any = 0;
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        const aenl_classifier_result_t *res = &r->ch[i].res;
+        if (res->cls != AENL_CLASS_INSUFFICIENT)
+        {
+            any = 1;
+            conf = fmin(conf, (double)res->confidence);
+        }
+    }
+    if (any)
+    {
+        v.cls = AENL_CLASS_LINEAR;
+        v.confidence = conf;
+    }
+    return v;
+}
+
+/* ---- JSON (DESIGN.md section 4) -------------------------------------------------------------- */
+
+static cJSON *num_or_null(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+static cJSON *json_points(const aenl_classifier_result_t *res, int std)
+{
+    cJSON *a = cJSON_CreateArray();
+    if (a == NULL)
+    {
+        return NULL;
+    }
+    const unsigned n = res->n_switch <= AENL_CLASSIFIER_MAX_SWITCH ? res->n_switch : 0u;
+    for (unsigned k = 0; k < n; ++k)
+    {
+        const double x = (double)(std ? res->switch_std[k] : res->switch_points[k]);
+        if (!cJSON_AddItemToArray(a, num_or_null(x)))
+        {
+            cJSON_Delete(a);
+            return NULL;
+        }
+    }
+    return a;
+}
+
+/* Add `item` to `obj` under `key`; 0 on success (item freed on failure). */
+static int add(cJSON *obj, const char *key, cJSON *item)
+{
+    if (item == NULL)
+    {
+        return -1;
+    }
+    if (!cJSON_AddItemToObject(obj, key, item))
+    {
+        cJSON_Delete(item);
+        return -1;
+    }
+    return 0;
+}
+
+static cJSON *json_channel(const aenl_identify_channel_t *ch)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (o == NULL)
+    {
+        return NULL;
+    }
+    cJSON *lags = cJSON_CreateArray();
+    for (uint16_t k = 0; lags != NULL && k < ch->n_lags; ++k)
+    {
+        if (!cJSON_AddItemToArray(lags, cJSON_CreateNumber((double)ch->lags[k])))
+        {
+            cJSON_Delete(lags);
+            lags = NULL;
+        }
+    }
+    const int bad = add(o, "name", cJSON_CreateString(ch->name)) != 0 ||
+                    add(o, "class", cJSON_CreateString(aenl_class_name(ch->res.cls))) != 0 ||
+                    add(o, "switch_points", json_points(&ch->res, 0)) != 0 ||
+                    add(o, "switch_point_std", json_points(&ch->res, 1)) != 0 ||
+                    add(o, "confidence", num_or_null((double)ch->res.confidence)) != 0 ||
+                    add(o, "bandwidth", num_or_null(ch->bandwidth)) != 0;
+    if (bad)
+    {
+        cJSON_Delete(lags); /* not attached yet */
+        cJSON_Delete(o);
+        return NULL;
+    }
+    if (add(o, "lags", lags) != 0)
+    {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+/* Print the object; -1 when memory ran out (nothing printed). */
+static int print_json(const aenl_identify_result_t *r, const char *path, const verdict_t *v)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *verdict = cJSON_CreateObject();
+    cJSON *chans = cJSON_CreateArray();
+    int bad = (root == NULL);
+    if (verdict != NULL)
+    {
+        static const aenl_classifier_result_t k_none; /* no switching points */
+        const aenl_classifier_result_t *res = v->channel >= 0 ? &r->ch[v->channel].res : &k_none;
+        bad |= add(verdict, "class", cJSON_CreateString(aenl_class_name(v->cls)));
+        bad |=
+            add(verdict, "channel",
+                v->channel >= 0 ? cJSON_CreateString(r->ch[v->channel].name) : cJSON_CreateNull());
+        bad |= add(verdict, "switch_points", json_points(res, 0));
+        bad |= add(verdict, "confidence", num_or_null(v->confidence));
+    }
+    for (size_t i = 0; chans != NULL && i < r->n_channels; ++i)
+    {
+        cJSON *c = json_channel(&r->ch[i]);
+        if (c == NULL || !cJSON_AddItemToArray(chans, c))
+        {
+            cJSON_Delete(c);
+            bad = 1;
+            break;
+        }
+    }
+    if (root != NULL)
+    {
+        bad |= add(root, "file", cJSON_CreateString(path));
+        bad |= add(root, "verdict", verdict);
+        bad |= add(root, "channels", chans);
+    }
+    else
+    {
+        cJSON_Delete(verdict);
+        cJSON_Delete(chans);
+    }
+    char *text = bad ? NULL : cJSON_Print(root);
+    cJSON_Delete(root);
+    if (text == NULL)
+    {
+        return -1;
+    }
+    printf("%s\n", text);
+    free(text);
+    return 0;
+}
+
+/* ---- the table ------------------------------------------------------------------------------- */
+
+static const char *class_label(const aenl_classifier_result_t *res)
+{
+    if (res->cls == AENL_CLASS_POLYNOMIAL)
+    {
+        return res->hardening > 0   ? "polynomial (hardening)"
+               : res->hardening < 0 ? "polynomial (softening)"
+                                    : "polynomial";
+    }
+    return aenl_class_name(res->cls);
+}
+
+/* "1..12 (6)" or "1,2,4" for a short list. */
+static void lags_label(const aenl_identify_channel_t *ch, char *buf, size_t n)
+{
+    buf[0] = '\0';
+    if (ch->n_lags == 0)
+    {
+        (void)snprintf(buf, n, "-");
+    }
+    else if (ch->n_lags <= 3)
+    {
+        size_t len = 0;
+        for (uint16_t k = 0; k < ch->n_lags && len < n; ++k)
+        {
+            const int w = snprintf(buf + len, n - len, "%s%u", k ? "," : "", (unsigned)ch->lags[k]);
+            len += (w > 0) ? (size_t)w : 0u;
+        }
+    }
+    else
+    {
+        (void)snprintf(buf, n, "%u..%u (%u)", (unsigned)ch->lags[0],
+                       (unsigned)ch->lags[ch->n_lags - 1u], (unsigned)ch->n_lags);
+    }
+}
+
+static void print_points(const aenl_classifier_result_t *res, int with_std)
+{
+    if (res->n_switch == 0 || res->n_switch > AENL_CLASSIFIER_MAX_SWITCH)
+    {
+        printf("-");
+        return;
+    }
+    for (unsigned k = 0; k < res->n_switch; ++k)
+    {
+        printf("%s%.5g", k ? ", " : "", (double)res->switch_points[k]);
+        if (with_std)
+        {
+            printf(" ± %.2g", (double)res->switch_std[k]);
+        }
+    }
+}
+
+static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
+                        const aenl_identify_opts_t *o, const verdict_t *v)
+{
+    int w_name = 7;
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        const int len = (int)strlen(r->ch[i].name);
+        w_name = len > w_name ? (len < 40 ? len : 40) : w_name;
+    }
+    printf("%s: %zu rows, %zu channel%s; bandwidth %s, pre-filter %s\n", path, rows, r->n_channels,
+           r->n_channels == 1 ? "" : "s", o->bandwidth > 0.0 ? "given" : "by cross-validation",
+           o->prefilter ? "on" : "off");
+    printf("%-*s  %-22s  %10s  %10s  %-10s  %8s  %10s  %s\n", w_name, "channel", "class",
+           "confidence", "bandwidth", "lags", "period", "noise", "switching points (± std)");
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        const aenl_identify_channel_t *ch = &r->ch[i];
+        char lags[64];
+        lags_label(ch, lags, sizeof(lags));
+        printf("%-*s  %-22s  %10.3f  %10.4g  %-10s  %8.4g  %10.3g  ", w_name, ch->name,
+               class_label(&ch->res), (double)ch->res.confidence, ch->bandwidth, lags, ch->period,
+               ch->noise_std);
+        print_points(&ch->res, 1);
+        printf("\n");
+    }
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        if (r->ch[i].bw_method == AENL_BW_RULE)
+        {
+            printf("  %s: bandwidth by the rule of thumb (cross-validation gave no minimum)\n",
+                   r->ch[i].name);
+        }
+        if (r->ch[i].n_missing > 0)
+        {
+            printf("  %s: %zu missing sample%s (NaN cells) skipped\n", r->ch[i].name,
+                   r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
+        }
+    }
+    printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
+    if (v->channel >= 0)
+    {
+        const aenl_identify_channel_t *ch = &r->ch[v->channel];
+        printf("verdict: %s in channel %s (confidence %.3f)", class_label(&ch->res), ch->name,
+               v->confidence);
+        if (ch->res.n_switch > 0)
+        {
+            printf(", switching points ");
+            print_points(&ch->res, 0);
+        }
+        printf("\n");
+    }
+    else if (v->cls == AENL_CLASS_LINEAR)
+    {
+        printf("verdict: linear, no channel shows a nonlinearity (confidence %.3f)\n",
+               v->confidence);
+    }
+    else
+    {
+        printf("verdict: insufficient data, no channel could be decided\n");
+    }
+}
+
+/* ---- figures --------------------------------------------------------------------------------- */
+
+/* Figures written so far (removed again if a later one fails) and folders created. */
+typedef struct
+{
+    char **files;
+    size_t n_files, cap_files;
+    char *dirs[16];
+    size_t n_dirs;
+} outputs_t;
+
+static void outputs_rollback(outputs_t *o)
+{
+    for (size_t i = 0; i < o->n_files; ++i)
+    {
+        (void)remove(o->files[i]);
+    }
+    for (size_t i = o->n_dirs; i > 0; --i)
+    {
+        (void)rmdir(o->dirs[i - 1u]); /* only if still empty */
+    }
+}
+
+static void outputs_free(outputs_t *o)
+{
+    for (size_t i = 0; i < o->n_files; ++i)
+    {
+        free(o->files[i]);
+    }
+    free((void *)o->files);
+    for (size_t i = 0; i < o->n_dirs; ++i)
+    {
+        free(o->dirs[i]);
+    }
+    memset(o, 0, sizeof(*o));
+}
+
+static char *dup_str(const char *s)
+{
+    const size_t n = strlen(s) + 1u;
+    char *d = malloc(n);
+    if (d != NULL)
+    {
+        memcpy(d, s, n);
+    }
+    return d;
+}
+
+static aenl_status_t outputs_add(outputs_t *o, const char *path, aenl_err_t *err)
+{
+    if (o->n_files == o->cap_files)
+    {
+        const size_t cap = o->cap_files ? 2u * o->cap_files : 8u;
+        char **f = (char **)realloc((void *)o->files, cap * sizeof(*f));
+        if (f == NULL)
+        {
+            aenl_err_set(err, "out of memory");
+            return AENL_E_IO;
+        }
+        o->files = f;
+        o->cap_files = cap;
+    }
+    if ((o->files[o->n_files] = dup_str(path)) == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    o->n_files++;
+    return AENL_OK;
+}
+
+/* mkdir -p DIR, remembering what was created. */
+static aenl_status_t make_dir(outputs_t *o, const char *dir, aenl_err_t *err)
+{
+    char buf[4096];
+    const size_t len = strlen(dir);
+    if (len + 1u > sizeof(buf))
+    {
+        aenl_err_set(err, "--plot: folder name too long");
+        return AENL_E_ARG;
+    }
+    memcpy(buf, dir, len + 1u);
+    for (size_t i = 1; i <= len; ++i)
+    {
+        if (buf[i] != '/' && buf[i] != '\0')
+        {
+            continue;
+        }
+        const char keep = buf[i];
+        buf[i] = '\0';
+        struct stat sb;
+        if (stat(buf, &sb) == 0)
+        {
+            if (!S_ISDIR(sb.st_mode))
+            {
+                aenl_err_set(err, "--plot: %s exists and is not a folder", buf);
+                return AENL_E_IO;
+            }
+        }
+        else if (mkdir(buf, 0777) != 0)
+        {
+            aenl_err_set(err, "--plot: cannot create folder %s (%s)", buf, strerror(errno));
+            return AENL_E_IO;
+        }
+        else if (o->n_dirs < sizeof(o->dirs) / sizeof(o->dirs[0]))
+        {
+            o->dirs[o->n_dirs] = dup_str(buf);
+            o->n_dirs += (o->dirs[o->n_dirs] != NULL) ? 1u : 0u;
+        }
+        buf[i] = keep;
+    }
+    return AENL_OK;
+}
+
+/* A temporary data file for gnuplot: /tmp/aenl_identify_XXXXXX, opened for writing. */
+static FILE *open_tmp(char path[64], aenl_err_t *err)
+{
+    (void)snprintf(path, 64, "/tmp/aenl_identify_XXXXXX");
+    const int fd = mkstemp(path);
+    FILE *f = (fd >= 0) ? fdopen(fd, "w") : NULL;
+    if (f == NULL)
+    {
+        if (fd >= 0)
+        {
+            (void)close(fd);
+            (void)remove(path);
+        }
+        path[0] = '\0';
+        aenl_err_set(err, "cannot create a temporary file in /tmp");
+    }
+    return f;
+}
+
+static aenl_status_t close_tmp(FILE *f, const char *path, aenl_err_t *err)
+{
+    const int bad = ferror(f);
+    if (fclose(f) != 0 || bad)
+    {
+        aenl_err_set(err, "cannot write the temporary file %s", path);
+        return AENL_E_IO;
+    }
+    return AENL_OK;
+}
+
+static void put_num(FILE *f, double v, const char *sep)
+{
+    if (isfinite(v))
+    {
+        fprintf(f, "%.10g%s", v, sep);
+    }
+    else
+    {
+        fprintf(f, "nan%s", sep);
+    }
+}
+
+/* Channel name as a file-name piece: letters, digits, '-', '_' and '.' kept, others '_'. */
+static void file_piece(const char *s, char *out, size_t n)
+{
+    size_t k = 0;
+    for (; *s != '\0' && k + 1u < n; ++s)
+    {
+        const char c = *s;
+        const int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                       c == '-' || c == '_' || c == '.';
+        out[k++] = c;
+        if (!ok)
+        {
+            out[k - 1u] = '_';
+        }
+    }
+    out[k] = '\0';
+}
+
+/* A title or label gnuplot can take (no quote, no newline). */
+static void plot_text(char *s)
+{
+    for (; *s != '\0'; ++s)
+    {
+        *s = (char)((*s == '\'' || *s == '\n' || *s == '\r') ? ' ' : *s);
+    }
+}
+
+/* Everything one channel's figures need besides its result. */
+typedef struct
+{
+    const char *dir, *stem, *path;
+    outputs_t *outputs;
+} fig_ctx_t;
+
+static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t *ch,
+                              const char *kind, const aenl_plot_var_t *vars, size_t n_vars,
+                              aenl_err_t *err)
+{
+    char piece[128], png[4096 + 256];
+    file_piece(ch->name, piece, sizeof(piece));
+    (void)snprintf(png, sizeof(png), "%s/%s_%s_%s.png", fc->dir, fc->stem, piece, kind);
+    char script[32];
+    (void)snprintf(script, sizeof(script), "identify_%s", kind);
+    aenl_status_t st = aenl_plot_run(script, vars, n_vars, png, err);
+    if (st == AENL_OK)
+    {
+        st = outputs_add(fc->outputs, png, err);
+        if (st != AENL_OK)
+        {
+            (void)remove(png);
+        }
+    }
+    return st;
+}
+
+/* Switching points as "x1 x2 ..." (gnuplot word list). */
+static void marks_label(const aenl_classifier_result_t *res, char *buf, size_t n)
+{
+    size_t len = 0;
+    buf[0] = '\0';
+    for (unsigned k = 0; k < res->n_switch && k < AENL_CLASSIFIER_MAX_SWITCH && len < n; ++k)
+    {
+        const int w =
+            snprintf(buf + len, n - len, "%s%.10g", k ? " " : "", (double)res->switch_points[k]);
+        len += (w > 0) ? (size_t)w : 0u;
+    }
+}
+
+static void fig_title(const fig_ctx_t *fc, const aenl_identify_channel_t *ch, const char *what,
+                      char *buf, size_t n)
+{
+    const char *base = strrchr(fc->path, '/') ? strrchr(fc->path, '/') + 1 : fc->path;
+    (void)snprintf(buf, n, "%s: %s, %s (confidence %.2f) - %s", base, ch->name,
+                   class_label(&ch->res), (double)ch->res.confidence, what);
+    plot_text(buf);
+}
+
+/* (2) conditional mean and variance for the display lags: CSV lag,x,mean,var (all pairs). */
+static aenl_status_t plot_moments(const fig_ctx_t *fc, const aenl_identify_channel_t *ch,
+                                  aenl_err_t *err)
+{
+    char tmp[64];
+    FILE *f = open_tmp(tmp, err);
+    if (f == NULL)
+    {
+        return AENL_E_IO;
+    }
+    char lags[AENL_IDENTIFY_DISPLAY_LAGS * 8 + 1] = "";
+    size_t len = 0;
+    fprintf(f, "lag,x,mean,var\n");
+    for (uint16_t l = 0; l < ch->n_display; ++l)
+    {
+        for (uint16_t g = 0; g < ch->n_grid; ++g)
+        {
+            const size_t k = (size_t)l * ch->n_grid + g; /* direction 0: all pairs */
+            fprintf(f, "%u,", (unsigned)ch->display_lags[l]);
+            put_num(f, ch->x[g], ",");
+            put_num(f, ch->mean[k], ",");
+            put_num(f, ch->var[k], "\n");
+        }
+        const int w = snprintf(lags + len, sizeof(lags) - len, "%s%u", l ? " " : "",
+                               (unsigned)ch->display_lags[l]);
+        len += (w > 0 && (size_t)w < sizeof(lags) - len) ? (size_t)w : 0u;
+    }
+    aenl_status_t st = close_tmp(f, tmp, err);
+    if (st == AENL_OK)
+    {
+        char title[600], marks[256], xlabel[300];
+        fig_title(fc, ch, "conditional mean and variance", title, sizeof(title));
+        marks_label(&ch->res, marks, sizeof(marks));
+        (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
+        plot_text(xlabel);
+        const aenl_plot_var_t vars[] = {
+            {"in", tmp}, {"lags", lags}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
+        st = run_plot(fc, ch, "moments", vars, sizeof(vars) / sizeof(vars[0]), err);
+    }
+    (void)remove(tmp);
+    return st;
+}
+
+/* (3) restoring-force points: CSV dir,position,accel (0 all, 1 rising, 2 falling). */
+static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_channel_t *ch,
+                                    aenl_err_t *err)
+{
+    char tmp[64];
+    FILE *f = open_tmp(tmp, err);
+    if (f == NULL)
+    {
+        return AENL_E_IO;
+    }
+    fprintf(f, "dir,position,accel\n");
+    for (unsigned d = 0; d < 3u; ++d)
+    {
+        for (uint16_t g = 0; g < ch->n_grid; ++g)
+        {
+            const size_t k = (size_t)d * ch->n_grid + g;
+            fprintf(f, "%u,", d);
+            put_num(f, ch->position[k], ",");
+            put_num(f, ch->accel[k], "\n");
+        }
+    }
+    aenl_status_t st = close_tmp(f, tmp, err);
+    if (st == AENL_OK)
+    {
+        char title[600], marks[256], xlabel[300];
+        fig_title(fc, ch, "restoring force", title, sizeof(title));
+        marks_label(&ch->res, marks, sizeof(marks));
+        (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
+        plot_text(xlabel);
+        const aenl_plot_var_t vars[] = {
+            {"in", tmp}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
+        st = run_plot(fc, ch, "restoring", vars, sizeof(vars) / sizeof(vars[0]), err);
+    }
+    (void)remove(tmp);
+    return st;
+}
+
+/* (1) The time series of every channel, read again from the file with bounded memory: a min/max
+ * envelope over at most TS_BINS bins of the whole record, and the last `detail` rows. */
+typedef struct
+{
+    size_t n_bins, per_bin, detail, n_ch;
+    const long *col;    /* n_ch source columns */
+    double *bin_t;      /* n_bins: time of the bin's first row */
+    double *lo, *hi;    /* [n_ch][n_bins] */
+    double *det;        /* ring of detail rows x (1 + n_ch): time then the channels */
+    size_t n_det;       /* rows in the ring (<= detail) */
+    size_t ring_start;  /* slot of the oldest row */
+    const char *t_name; /* x-axis label */
+} ts_view_t;
+
+static void ts_view_free(ts_view_t *v)
+{
+    free(v->bin_t);
+    free(v->lo);
+    free(v->hi);
+    free(v->det);
+    memset(v, 0, sizeof(*v));
+}
+
+static aenl_status_t ts_view_read(ts_view_t *v, const aenl_identify_source_t *src, checked_t *chk,
+                                  aenl_err_t *err)
+{
+    const size_t n_rows = chk->n_rows_total;
+    if (n_rows == 0 || v->n_ch == 0 || v->detail == 0)
+    {
+        aenl_err_set(err, "no data rows to plot");
+        return AENL_E_ARG;
+    }
+    v->n_bins = n_rows < TS_BINS ? n_rows : TS_BINS;
+    v->per_bin = (n_rows + v->n_bins - 1u) / v->n_bins;
+    v->n_bins = (n_rows + v->per_bin - 1u) / v->per_bin;
+    v->bin_t = malloc(v->n_bins * sizeof(double));
+    v->lo = malloc(v->n_ch * v->n_bins * sizeof(double));
+    v->hi = malloc(v->n_ch * v->n_bins * sizeof(double));
+    v->det = malloc(v->detail * (1u + v->n_ch) * sizeof(double));
+    double *row = malloc((src->n_cols + 1u) * sizeof(double));
+    if (v->bin_t == NULL || v->lo == NULL || v->hi == NULL || v->det == NULL || row == NULL)
+    {
+        free(row);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    for (size_t b = 0; b < v->n_bins; ++b)
+    {
+        v->bin_t[b] = (double)NAN; /* a bin left empty (the file shrank) is not drawn */
+    }
+    for (size_t k = 0; k < v->n_ch * v->n_bins; ++k)
+    {
+        v->lo[k] = HUGE_VAL;
+        v->hi[k] = -HUGE_VAL;
+    }
+    aenl_status_t st = src->open(src->ctx, err);
+    size_t r = 0;
+    int rc = 1;
+    while (st == AENL_OK && (rc = src->next(src->ctx, row, err)) == 1 && r < n_rows)
+    {
+        const double t = chk->t_now; /* the time of this row (checked increasing) */
+        const size_t b = r / v->per_bin;
+        if (r % v->per_bin == 0u)
+        {
+            v->bin_t[b] = t;
+        }
+        double *d = v->det + (r % v->detail) * (1u + v->n_ch);
+        d[0] = t;
+        for (size_t c = 0; c < v->n_ch; ++c)
+        {
+            const double x = row[v->col[c]];
+            d[1u + c] = x;
+            if (!isnan(x))
+            {
+                v->lo[c * v->n_bins + b] = fmin(v->lo[c * v->n_bins + b], x);
+                v->hi[c * v->n_bins + b] = fmax(v->hi[c * v->n_bins + b], x);
+            }
+        }
+        r++;
+    }
+    if (st == AENL_OK)
+    {
+        src->close(src->ctx);
+        if (rc < 0)
+        {
+            st = AENL_E_IO; /* err set by the source */
+        }
+    }
+    v->n_det = r < v->detail ? r : v->detail;
+    v->ring_start = r < v->detail ? 0u : r % v->detail;
+    v->t_name = chk->t_name;
+    free(row);
+    return st;
+}
+
+static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, size_t c,
+                                     const aenl_identify_channel_t *ch, aenl_err_t *err)
+{
+    char env[64], det[64];
+    FILE *f = open_tmp(env, err);
+    if (f == NULL)
+    {
+        return AENL_E_IO;
+    }
+    fprintf(f, "t,lo,hi\n");
+    for (size_t b = 0; b < v->n_bins; ++b)
+    {
+        const double lo = v->lo[c * v->n_bins + b], hi = v->hi[c * v->n_bins + b];
+        put_num(f, v->bin_t[b], ",");
+        put_num(f, lo <= hi ? lo : (double)NAN, ",");
+        put_num(f, lo <= hi ? hi : (double)NAN, "\n");
+    }
+    aenl_status_t st = close_tmp(f, env, err);
+    if (st != AENL_OK)
+    {
+        (void)remove(env);
+        return st;
+    }
+    f = open_tmp(det, err);
+    if (f == NULL)
+    {
+        (void)remove(env);
+        return AENL_E_IO;
+    }
+    fprintf(f, "t,x\n");
+    for (size_t k = 0; k < v->n_det; ++k)
+    {
+        const double *d = v->det + ((v->ring_start + k) % v->detail) * (1u + v->n_ch);
+        put_num(f, d[0], ",");
+        put_num(f, d[1u + c], "\n");
+    }
+    st = close_tmp(f, det, err);
+    if (st == AENL_OK)
+    {
+        char title[600], marks[256], ylabel[300], label[128];
+        fig_title(fc, ch, "record", title, sizeof(title));
+        marks_label(&ch->res, marks, sizeof(marks));
+        (void)snprintf(ylabel, sizeof(ylabel), "%s", ch->name);
+        plot_text(ylabel);
+        (void)snprintf(label, sizeof(label), "%zu", v->per_bin);
+        const aenl_plot_var_t vars[] = {{"env", env},     {"detail", det},    {"marks", marks},
+                                        {"title", title}, {"ylabel", ylabel}, {"per_bin", label}};
+        st = run_plot(fc, ch, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
+    }
+    (void)remove(env);
+    (void)remove(det);
+    return st;
+}
+
+/* Stem of the data file's name (no folder, no extension) as a file-name piece. */
+static void data_stem(const char *path, char *out, size_t n)
+{
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    char buf[256];
+    (void)snprintf(buf, sizeof(buf), "%s", base);
+    char *dot = strrchr(buf, '.');
+    if (dot != NULL && dot != buf)
+    {
+        *dot = '\0';
+    }
+    file_piece(buf, out, n);
+}
+
+/* Every figure of every channel into dir; all or nothing (outs lists what was written). */
+static aenl_status_t plot_all(const aenl_identify_result_t *r, const aenl_identify_source_t *src,
+                              checked_t *chk, const char *path, const char *dir, outputs_t *outs,
+                              aenl_err_t *err)
+{
+    char stem[128];
+    data_stem(path, stem, sizeof(stem));
+    const fig_ctx_t fc = {dir, stem, path, outs};
+    ts_view_t v;
+    memset(&v, 0, sizeof(v));
+    long *col = malloc((r->n_channels + 1u) * sizeof(long));
+    if (col == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    double period = 0.0;
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        col[i] = 0;
+        for (size_t k = 0; k < src->n_cols; ++k)
+        {
+            col[i] = strcmp(src->names[k], r->ch[i].name) == 0 ? (long)k : col[i];
+        }
+        period = fmax(period, r->ch[i].period);
+    }
+    v.n_ch = r->n_channels;
+    v.col = col;
+    const double want = fmin(fmax(12.0 * period, (double)TS_DETAIL_MIN), (double)TS_DETAIL_MAX);
+    v.detail = (size_t)want;
+    v.detail = v.detail < chk->n_rows_total ? v.detail : chk->n_rows_total;
+    aenl_status_t st = ts_view_read(&v, src, chk, err);
+    for (size_t i = 0; st == AENL_OK && i < r->n_channels; ++i)
+    {
+        st = plot_timeseries(&fc, &v, i, &r->ch[i], err);
+        if (st == AENL_OK)
+        {
+            st = plot_moments(&fc, &r->ch[i], err);
+        }
+        if (st == AENL_OK)
+        {
+            st = plot_restoring(&fc, &r->ch[i], err);
+        }
+    }
+    ts_view_free(&v);
+    free(col);
+    return st;
+}
+
+/* ---- the subcommand -------------------------------------------------------------------------- */
+
+/* Run the pipeline over the checked source and print; the exit status. */
+static int identify(const args_t *a, aenl_identify_source_t *csv_src)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_identify_opts_t opts = a->opts;
+    if (a->channel != NULL && (opts.channel = find_channel(csv_src, a->data, a->channel)) < 0)
+    {
+        return AENL_EXIT_USAGE;
+    }
+    const size_t n = csv_src->n_cols;
+    checked_t chk;
+    memset(&chk, 0, sizeof(chk));
+    chk.inner = csv_src;
+    chk.csv = (const aenl_identify_csv_t *)csv_src->ctx;
+    chk.path = a->data;
+    chk.channel = opts.channel;
+    chk.n_finite = malloc(n * sizeof(size_t));
+    chk.lo = malloc(n * sizeof(double));
+    chk.hi = malloc(n * sizeof(double));
+    if (chk.n_finite == NULL || chk.lo == NULL || chk.hi == NULL)
+    {
+        free(chk.n_finite);
+        free(chk.lo);
+        free(chk.hi);
+        aenl_cli_error(k_cmd, "out of memory");
+        return AENL_EXIT_FAIL;
+    }
+    aenl_identify_source_t src = {
+        n, csv_src->names, &chk, checked_open, checked_next, checked_close};
+    /* The folder first (a bad one fails before the long part); removed again on any failure. */
+    outputs_t outs;
+    memset(&outs, 0, sizeof(outs));
+    if (a->plot_dir != NULL && make_dir(&outs, a->plot_dir, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        outputs_rollback(&outs);
+        outputs_free(&outs);
+        free(chk.n_finite);
+        free(chk.lo);
+        free(chk.hi);
+        return AENL_EXIT_USAGE;
+    }
+    aenl_identify_result_t res;
+    memset(&res, 0, sizeof(res));
+    const aenl_status_t st = aenl_identify_run(&src, &opts, &res, &err);
+    int rc = AENL_EXIT_OK;
+    if (st != AENL_OK)
+    {
+        /* The record at fault (the source, or a channel the pipeline cannot use): 2; memory or a
+         * capacity: an internal failure. */
+        const int bad_input = chk.failed || (st != AENL_E_IO && st != AENL_E_DIM);
+        const char *msg = err.msg[0] ? err.msg : aenl_status_str(st);
+        if (strstr(msg, a->data) != NULL)
+        {
+            aenl_cli_error(k_cmd, "%s", msg);
+        }
+        else
+        {
+            aenl_cli_error(k_cmd, "%s: %s", a->data, msg);
+        }
+        rc = bad_input ? AENL_EXIT_USAGE : AENL_EXIT_FAIL;
+    }
+    if (rc == AENL_EXIT_OK && a->plot_dir != NULL &&
+        plot_all(&res, &src, &chk, a->data, a->plot_dir, &outs, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        rc = AENL_EXIT_USAGE;
+    }
+    if (rc == AENL_EXIT_OK)
+    {
+        const verdict_t v = make_verdict(&res);
+        if (a->json)
+        {
+            if (print_json(&res, a->data, &v) != 0)
+            {
+                aenl_cli_error(k_cmd, "out of memory while writing the JSON");
+                rc = AENL_EXIT_FAIL;
+            }
+        }
+        else
+        {
+            print_table(&res, a->data, chk.n_rows_total, &opts, &v);
+            for (size_t i = 0; i < outs.n_files; ++i)
+            {
+                printf("%s %s\n", i ? "        " : "figures:", outs.files[i]);
+            }
+        }
+    }
+    if (rc != AENL_EXIT_OK)
+    {
+        outputs_rollback(&outs); /* all or nothing: no figure, no folder we made */
+    }
+    outputs_free(&outs);
+    if (st == AENL_OK)
+    {
+        aenl_identify_free(&res);
+    }
+    free(chk.n_finite);
+    free(chk.lo);
+    free(chk.hi);
+    return rc;
+}
+
+int aenl_cmd_identify(int argc, char **argv)
+{
+    args_t a;
+    const int pa = parse_args(argc, argv, &a);
+    if (pa != 0)
+    {
+        return pa > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
+    }
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_identify_source_t csv_src;
+    aenl_identify_csv_t csv_ctx;
+    memset(&csv_src, 0, sizeof(csv_src));
+    memset(&csv_ctx, 0, sizeof(csv_ctx));
+    if (aenl_identify_csv_source(&csv_src, &csv_ctx, a.data, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        aenl_identify_csv_free(&csv_ctx);
+        return AENL_EXIT_USAGE;
+    }
+    int rc = AENL_EXIT_USAGE;
+    if (csv_src.n_cols == 0)
+    {
+        aenl_cli_error(k_cmd, "%s: no data column (only time)", a.data);
+    }
+    else
+    {
+        rc = identify(&a, &csv_src);
+    }
+    aenl_identify_csv_free(&csv_ctx);
+    return rc;
+}

@@ -1,0 +1,298 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_diagnose.h
+ * @brief Host-only: model-vs-measurement diagnosis. Given a measured record and a baseline model
+ *        of the same test (velocity, initial condition or excitation, sampling), find where they
+ *        disagree, name the structural effect the model lacks, add it with fitted parameters and
+ *        show the gap shrink (DESIGN.md section 3, README "Diagnose").
+ *
+ * Method (README "Diagnose" has the full definitions):
+ *  1. Signature settings are fixed once from the measured record, per channel: scale (std),
+ *     measurement-noise std (robust, from third differences), dominant period (Welch peak),
+ *     low-pass pre-filter (4 / period), lags (period / 16, / 8, / 4), a 32-node grid over the
+ *     1..99 % quantiles, a kernel bandwidth of 2 grid steps, Welch segment and spectral bands.
+ *  2. Signature of a channel: amplitude (9 quantiles and an 8-window RMS envelope), conditional
+ *     mean and conditional standard deviation curves (rising and falling, 3 lags; the core
+ *     estimator aenl_moments through aenl_curves), Welch spectrum in 20 log-spaced bands.
+ *  3. Every simulation runs the model under the measured conditions, noise-free, then gets
+ *     Gaussian noise of the measured noise std per channel. All candidate simulations share the
+ *     same turbulence and noise seeds (common random numbers); replicates use other seeds.
+ *  4. Gap per channel: RMS over the four signature families of each family's RMS normalised
+ *     difference (quantiles, envelope and curves in units of the measured std, spectrum as
+ *     ln amplitude ratio); total: RMS over channels. Noise floor: RMS of the gap between
+ *     independent replicates of the same model.
+ *  5. Candidates per DOF whose baseline law is linear: freeplay (gap δ, start α_f), hysteresis
+ *     (δ, α_f, M0), cubic polynomial (c3), preload (M0). Each is calibrated by a coarse grid,
+ *     then Nelder-Mead on the total gap squared. Choice: "none" when the baseline gap is within
+ *     `none_ratio` times its floor; otherwise the least (gap / floor)^2 + penalty * n_params.
+ *
+ * Memory: the result owns heap arrays released by aenl_diagnose_result_free(). No global state;
+ * re-entrant. Cost: a few hundred simulations of the record (see the README for timings).
+ */
+#ifndef AENL_TOOLS_DIAGNOSE_H
+#define AENL_TOOLS_DIAGNOSE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_sim.h"
+
+#define AENL_DIAGNOSE_N_FAMILY 4  /**< amplitude, mean, std, spectrum */
+#define AENL_DIAGNOSE_MAX_CAND 12 /**< 4 effects x 3 DOFs */
+#define AENL_DIAGNOSE_MAX_PAR  3  /**< parameters of one candidate */
+#define AENL_DIAGNOSE_MAX_DIS  (AENL_SIM_MAX_Q * AENL_DIAGNOSE_N_FAMILY)
+#define AENL_DIAGNOSE_N_QUANT  9    /**< amplitude quantiles */
+#define AENL_DIAGNOSE_N_ENV    8    /**< envelope windows */
+#define AENL_DIAGNOSE_N_GRID   32   /**< curve nodes */
+#define AENL_DIAGNOSE_N_LAGS   3    /**< curve lags */
+#define AENL_DIAGNOSE_N_BANDS  20   /**< spectral bands */
+#define AENL_DIAGNOSE_N_CURVE  192  /**< 2 directions x N_LAGS x N_GRID */
+#define AENL_DIAGNOSE_MAX_SEG  4096 /**< longest Welch segment */
+#define AENL_DIAGNOSE_MAX_BINS 2049 /**< Welch bins: MAX_SEG / 2 + 1 */
+
+/** The missing effect named by the diagnosis. */
+typedef enum aenl_diagnose_effect
+{
+    AENL_DIAGNOSE_NONE = 0,
+    AENL_DIAGNOSE_FREEPLAY = 1,
+    AENL_DIAGNOSE_HYSTERESIS = 2,
+    AENL_DIAGNOSE_POLYNOMIAL = 3,
+    AENL_DIAGNOSE_PRELOAD = 4
+} aenl_diagnose_effect_t;
+
+/** Signature families. */
+typedef enum aenl_diagnose_family
+{
+    AENL_DIAGNOSE_AMPLITUDE = 0, /**< quantiles and RMS envelope (LCO amplitude or decay) */
+    AENL_DIAGNOSE_MEAN = 1,      /**< conditional mean curves */
+    AENL_DIAGNOSE_STD = 2,       /**< conditional standard deviation curves */
+    AENL_DIAGNOSE_SPECTRUM = 3   /**< Welch spectrum in bands */
+} aenl_diagnose_family_t;
+
+/** Options (aenl_diagnose_opts_default). */
+typedef struct aenl_diagnose_opts
+{
+    unsigned n_replicates; /**< replicates per noise-floor estimate, >= 2 (default 3) */
+    double penalty;        /**< choice penalty per parameter, in (gap/floor)^2 units (0.5) */
+    double none_ratio;     /**< baseline gap / floor at or below which "none" is named (2) */
+    double report_ratio;   /**< a (channel, family) is reported when its gap / floor > this (3) */
+    unsigned n_refine;     /**< candidates refined by Nelder-Mead after the grid (4) */
+    unsigned max_evals;    /**< Nelder-Mead evaluations per candidate (40) */
+    uint64_t noise_seed;   /**< seed of the simulated measurement noise (1) */
+    int verbose;           /**< 1: progress lines on stderr */
+} aenl_diagnose_opts_t;
+
+/** One calibrated candidate. */
+typedef struct aenl_diagnose_cand
+{
+    aenl_diagnose_effect_t effect;
+    aenl_sim_dof_t dof;
+    unsigned n_params;
+    aenl_sim_law_t law; /**< the fitted law of the DOF */
+    double gap;         /**< total gap of the fitted model (main seeds) */
+    double floor;       /**< its replicate floor (0 when not computed: not among the best) */
+    double score;       /**< (gap / common floor)^2 + penalty * n_params; HUGE_VAL unscored */
+    unsigned n_evals;   /**< simulations spent */
+    int refined;        /**< 1 when Nelder-Mead ran */
+} aenl_diagnose_cand_t;
+
+/** A significant disagreement of the baseline. */
+typedef struct aenl_diagnose_dis
+{
+    size_t channel;                /**< output channel index */
+    aenl_diagnose_family_t family; /**< signature */
+    double lo, hi;                 /**< band: channel units, or frequency (spectrum) */
+    double significance;           /**< family gap / its replicate floor */
+} aenl_diagnose_dis_t;
+
+/** Per-channel signature settings, fixed from the measured record (read-only). */
+typedef struct aenl_diagnose_chan
+{
+    double scale;    /**< std of the measured channel */
+    double noise_sd; /**< estimated measurement-noise std */
+    double mean;     /**< mean of the pre-filtered measured channel */
+    double period;   /**< dominant period, samples */
+    double cutoff;   /**< pre-filter cutoff, fraction of the sample rate */
+    size_t settle;   /**< leading samples left out of every signature */
+    uint16_t lags[AENL_DIAGNOSE_N_LAGS];
+    double x_min, x_max, bandwidth; /**< curve grid and kernel bandwidth */
+    size_t seg;                     /**< Welch segment length */
+    size_t band_lo[AENL_DIAGNOSE_N_BANDS], band_hi[AENL_DIAGNOSE_N_BANDS]; /**< bins [lo, hi) */
+    size_t n_bands;
+} aenl_diagnose_chan_t;
+
+/** Signature of one channel of one record. */
+typedef struct aenl_diagnose_sig
+{
+    int valid; /**< 0: the record diverged or was not finite (every difference capped) */
+    double quant[AENL_DIAGNOSE_N_QUANT];
+    double env[AENL_DIAGNOSE_N_ENV];
+    double mean[AENL_DIAGNOSE_N_CURVE]; /**< [dir: rising, falling][lag][node], NaN empty */
+    double sd[AENL_DIAGNOSE_N_CURVE];
+    double weight[AENL_DIAGNOSE_N_CURVE]; /**< effective sample size, 0 empty */
+    double lpsd[AENL_DIAGNOSE_N_BANDS];   /**< ln of the band-mean PSD */
+    double freq;                          /**< dominant frequency, cycles per sample */
+    double amp;                           /**< half of the 1..99 % quantile range */
+} aenl_diagnose_sig_t;
+
+/** Everything one diagnosis found. */
+typedef struct aenl_diagnose_result
+{
+    size_t n_channels, n_samples;
+    double dt; /**< sample step, model time unit */
+    const char *names[AENL_SIM_MAX_Q];
+    aenl_diagnose_chan_t chan[AENL_SIM_MAX_Q];
+    /** gap per channel (index n_channels = total), before and after, with replicate floors */
+    double gap_before[AENL_SIM_MAX_Q + 1], gap_after[AENL_SIM_MAX_Q + 1];
+    double floor_before[AENL_SIM_MAX_Q + 1], floor_after[AENL_SIM_MAX_Q + 1];
+    /** family gaps [channel][family] and their significance (gap / floor), before and after */
+    double fam_before[AENL_SIM_MAX_Q][AENL_DIAGNOSE_N_FAMILY];
+    double fam_after[AENL_SIM_MAX_Q][AENL_DIAGNOSE_N_FAMILY];
+    double sig_before[AENL_SIM_MAX_Q][AENL_DIAGNOSE_N_FAMILY];
+    double sig_after[AENL_SIM_MAX_Q][AENL_DIAGNOSE_N_FAMILY];
+    aenl_diagnose_dis_t dis[AENL_DIAGNOSE_MAX_DIS];
+    size_t n_dis;
+    aenl_diagnose_cand_t cand[AENL_DIAGNOSE_MAX_CAND];
+    size_t n_cand;
+    aenl_diagnose_effect_t effect; /**< the named effect */
+    aenl_sim_dof_t dof;            /**< its DOF (meaningless for NONE) */
+    size_t chosen;                 /**< index into cand, or n_cand for NONE */
+    int explained;                 /**< 0: significant disagreement no candidate reduces */
+    aenl_sim_model_t updated;      /**< baseline plus the named effect */
+    aenl_sim_run_t run;            /**< conditions of the comparison (no noise) */
+    double snr[AENL_SIM_MAX_Q];    /**< measured std / noise std per channel (for the INI) */
+    /** Signatures of the measured record, the baseline and the updated model (main seeds). */
+    aenl_diagnose_sig_t sig_meas[AENL_SIM_MAX_Q], sig_base[AENL_SIM_MAX_Q], sig_upd[AENL_SIM_MAX_Q];
+    double *psd_meas, *psd_base, *psd_upd; /**< [channel][bin] Welch PSD, n_bins per channel */
+    size_t n_bins;
+    double *y_meas, *y_base, *y_upd; /**< [channel][sample] records (simulated ones noisy) */
+    unsigned n_sims;                 /**< simulations run */
+    double seconds;                  /**< wall time */
+} aenl_diagnose_result_t;
+
+/** Defaults (see the field comments). Cannot fail. */
+void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o);
+
+/** "freeplay", "hysteresis", "polynomial", "preload", "none". */
+const char *aenl_diagnose_effect_name(aenl_diagnose_effect_t e);
+/** "pitch", "plunge", "flap". */
+const char *aenl_diagnose_dof_name(aenl_sim_dof_t d);
+/** "amplitude", "conditional_mean", "conditional_std", "spectrum". */
+const char *aenl_diagnose_family_name(aenl_diagnose_family_t f);
+/** Output channel index of a DOF for the model type (e.g. pitch -> alpha). */
+size_t aenl_diagnose_dof_channel(aenl_sim_type_t type, aenl_sim_dof_t dof);
+
+/**
+ * @brief Diagnose `measured` (columns: a time column and the model's output channels, by name;
+ *        uniform step equal to run->dt) against the baseline `base` run under `run` (duration
+ *        is replaced by the record's length; the run's noise settings are ignored: the noise is
+ *        estimated from the record).
+ * @param[out] out filled on success (free with aenl_diagnose_result_free); zeroed on failure
+ * @return AENL_OK; AENL_E_ARG with a message for a record that does not fit the model (missing
+ *         channel, wrong step, too short, constant, missing samples) or a baseline that cannot
+ *         be simulated; AENL_E_DIM out of memory.
+ */
+aenl_status_t aenl_diagnose_run(const aenl_table_t *measured, const aenl_sim_model_t *base,
+                                const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
+                                aenl_diagnose_result_t *out, aenl_err_t *err);
+
+/** Free and zero. Safe on a zeroed result. */
+void aenl_diagnose_result_free(aenl_diagnose_result_t *r);
+
+/**
+ * @brief Write the updated model as an INI that `aenl simulate` runs as is: the baseline's
+ *        parameters and laws, the named effect's section, the conditions of the record, and a
+ *        [noise] section with the record's SNR. `source` names the inputs in a comment.
+ * @return AENL_OK or AENL_E_IO.
+ */
+aenl_status_t aenl_diagnose_write_ini(const aenl_diagnose_result_t *r, const char *source,
+                                      const char *path, aenl_err_t *err);
+
+/**
+ * @brief Write the figure data into `dir`: gaps.csv, curves_<ch>.csv, spectrum.csv,
+ *        timeseries.csv, candidates.csv.
+ * @return AENL_OK or AENL_E_IO.
+ */
+aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const char *dir,
+                                       aenl_err_t *err);
+
+/**
+ * @brief The result as the JSON object of `aenl diagnose --json` (issue 6), malloc'ed text;
+ *        `updated_model` is the given path or null. NULL when out of memory.
+ */
+char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_path);
+
+/**
+ * @brief Human-readable report (what disagrees, the candidates, the evidence, the gaps).
+ *        fp: an open stream.
+ */
+void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp);
+
+/* ---- signatures (exposed for tests and figures) ------------------------------------------ */
+
+/**
+ * @brief Fix the signature settings of one channel from the measured samples x[0..n-1].
+ * @return AENL_OK; AENL_E_ARG when the channel is constant, not finite or too short.
+ */
+aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_chan_t *c,
+                                       aenl_err_t *err);
+
+/**
+ * @brief Signature of x[0..n-1] under the settings c; psd (NULL or seg/2+1 values) receives
+ *        the Welch PSD. A non-finite or diverged record gives valid = 0.
+ */
+aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diagnose_chan_t *c,
+                                      aenl_diagnose_sig_t *s, double *psd, aenl_err_t *err);
+
+/**
+ * @brief Family gaps between two signatures of one channel (a: reference, usually measured);
+ *        fam[f] receives the family's RMS normalised difference (capped at 10 per element).
+ *        Optional per-element outputs (NULL to skip): dq/denv/dcurve_mean/dcurve_sd/dband.
+ * @return the channel gap sqrt(mean_f fam[f]^2).
+ */
+double aenl_diagnose_distance(const aenl_diagnose_chan_t *c, const aenl_diagnose_sig_t *a,
+                              const aenl_diagnose_sig_t *b, double fam[AENL_DIAGNOSE_N_FAMILY]);
+
+/** Welch PSD of x (mean removed, Hann, 50 % overlap), seg a power of two; psd: seg/2+1. */
+aenl_status_t aenl_diagnose_welch(const double *x, size_t n, size_t seg, double *psd,
+                                  aenl_err_t *err);
+
+/* ---- hidden-effect cases (tests and `aenl bench diagnose`) ------------------------------- */
+
+/** One hidden-effect case: the truth model and conditions, and a baseline lacking the effect. */
+typedef struct aenl_diagnose_case
+{
+    char name[64];
+    aenl_sim_model_t truth, base;
+    aenl_sim_run_t truth_run, base_run; /**< truth: its own seeds, SNR 3; base: other seeds */
+    aenl_diagnose_effect_t effect;
+    aenl_sim_dof_t dof;
+} aenl_diagnose_case_t;
+
+/** Number of built-in hidden-effect cases. */
+size_t aenl_diagnose_n_cases(void);
+
+/**
+ * @brief Build case `index` with the truth's parameters and seeds drawn from `seed` (the
+ *        diagnosis never sees them). `long_record` 1 gives 60 s at 1 kHz (3-DOF) or 12000
+ *        samples (2-DOF) instead of the short CI records.
+ * @return AENL_OK or AENL_E_ARG for an index out of range.
+ */
+aenl_status_t aenl_diagnose_case_make(size_t index, uint64_t seed, int long_record,
+                                      aenl_diagnose_case_t *c, aenl_err_t *err);
+
+/** Simulate a case's truth and return it as a measured table (t + channels). */
+aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_table_t *out,
+                                         aenl_err_t *err);
+
+/**
+ * @brief Relative errors |fit - truth| / |truth| of the parameters that define `effect`
+ *        (freeplay: delta, alpha_f; hysteresis: delta, alpha_f, preload; polynomial: c3;
+ *        preload: preload) into rel[0..]; returns their count (0 for NONE).
+ */
+size_t aenl_diagnose_param_errors(aenl_diagnose_effect_t effect, const aenl_sim_law_t *truth,
+                                  const aenl_sim_law_t *fit, double rel[AENL_DIAGNOSE_MAX_PAR]);
+
+#endif /* AENL_TOOLS_DIAGNOSE_H */

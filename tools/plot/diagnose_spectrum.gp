@@ -1,0 +1,18 @@
+# SPDX-License-Identifier: MIT
+# `aenl diagnose`: Welch power spectral density of one channel, measured, baseline and updated.
+# Variables: in (spectrum_<ch>.csv: f,measured,baseline,updated), out (PNG); optional: title.
+if (!exists("title")) title = ''
+set terminal pngcairo size 900,500 enhanced font ',11'
+set output out
+set datafile separator comma
+set datafile columnheaders
+set datafile missing 'nan'
+set grid
+set logscale xy
+set key top right
+set title title noenhanced
+set xlabel 'frequency (cycles per model time unit)'
+set ylabel 'PSD'
+plot in using 1:($2 > 0 ? $2 : NaN) with lines lw 2 lc rgb '#1f4e9c' title 'measured', \
+     in using 1:($3 > 0 ? $3 : NaN) with lines lw 1.5 dt 2 lc rgb '#606060' title 'baseline', \
+     in using 1:($4 > 0 ? $4 : NaN) with lines lw 1.5 lc rgb '#2a9c1f' title 'updated'

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: MIT
+# `aenl diagnose`: time histories at the end of the record, one panel per channel, measured,
+# baseline and updated model (the simulated ones with the record's noise level).
+# Variables: in (timeseries.csv: t, then <ch>_measured,<ch>_baseline,<ch>_updated per channel),
+# out (PNG); optional: title.
+if (!exists("title")) title = ''
+hdr = system(sprintf("head -n 1 '%s' | tr -d '\\r' | tr ',' ' '", in))
+nch = (words(hdr) - 1) / 3
+set terminal pngcairo size 1000, (260 * nch + 80) enhanced font ',10'
+set output out
+set datafile separator comma
+set datafile columnheaders
+set datafile missing 'nan'
+set grid
+set key top right horizontal
+set lmargin 12
+set multiplot layout nch, 1 title title noenhanced
+do for [c = 0:nch-1] {
+    name = word(hdr, 2 + 3 * c)
+    set ylabel name[1:strstrt(name, '_')-1] noenhanced
+    if (c == nch - 1) { set xlabel 'time (model unit)' } else { unset xlabel }
+    plot in using 1:(column(2 + 3 * c)) with lines lw 1 lc rgb '#1f4e9c' title 'measured', \
+         in using 1:(column(3 + 3 * c)) with lines lw 1 lc rgb '#909090' title 'baseline', \
+         in using 1:(column(4 + 3 * c)) with lines lw 1 lc rgb '#2a9c1f' title 'updated'
+}
+unset multiplot

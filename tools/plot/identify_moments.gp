@@ -1,0 +1,24 @@
+# SPDX-License-Identifier: MIT
+# `aenl identify --plot`, figure 2 of a channel: conditional mean (top) and variance (bottom) for
+# the display lags (the paper's Figs. 5-9, j = -L), all pairs; the identified switching points are
+# dashed vertical lines.
+# Variables: in (CSV lag,x,mean,var), out (PNG), lags ("1 10 30"); optional: title, xlabel, marks.
+if (!exists("title")) title = ''
+if (!exists("xlabel")) xlabel = 'x'
+if (!exists("marks")) marks = ''
+set terminal pngcairo size 900,900 enhanced font ',11'
+set output out
+set datafile separator comma
+set datafile columnheaders
+set datafile missing 'nan'
+set grid
+set key top left
+set lmargin 12
+set multiplot layout 2,1 title title noenhanced
+do for [m in marks] { set arrow from first m+0, graph 0 to first m+0, graph 1 nohead dt 2 lw 1.5 lc rgb '#aa0000' }
+set xlabel xlabel noenhanced
+set ylabel sprintf('E(X_n | X_{n-L} = %s)', xlabel) noenhanced
+plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s', l)
+set ylabel sprintf('Var(X_n | X_{n-L} = %s)', xlabel) noenhanced
+plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s', l)
+unset multiplot

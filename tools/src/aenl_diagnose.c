@@ -1,0 +1,1178 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_diagnose.c
+ * @brief The diagnosis workflow: simulate the baseline under the measured conditions, measure the
+ *        gap and its noise floor, calibrate every candidate effect by simulation (coarse grid,
+ *        then Nelder-Mead on the gap, common random numbers), choose with a parameter penalty,
+ *        and build the updated model (README "Diagnose").
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "aenl_diagnose_internal.h"
+#include "aenl_tools/aenl_rng.h"
+
+#define N_CH_MAX AENL_SIM_MAX_Q
+#define N_FAM    AENL_DIAGNOSE_N_FAMILY
+
+/* Seeds of replicate r > 0: offsets that keep them apart from the main ones (r = 0). */
+#define TURB_SEED_STEP  7919u
+#define NOISE_SEED_STEP 104729u
+
+/* Candidates whose replicate floor enters the common yardstick of the choice. */
+#define N_FLOOR_CAND 3u
+
+/* Records from this length on are probed first (see probe()); runaway threshold in stds. */
+#define PROBE_MIN_SAMPLES 8000u
+#define PROBE_LIMIT       20.0
+
+static double now_s(void)
+{
+    struct timespec ts;
+    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o)
+{
+    memset(o, 0, sizeof(*o));
+    o->n_replicates = 3;
+    o->penalty = 0.5;
+    o->none_ratio = 2.0;
+    o->report_ratio = 3.0;
+    o->n_refine = 4;
+    o->max_evals = 40;
+    o->noise_seed = 1;
+    o->verbose = 0;
+}
+
+const char *aenl_diagnose_effect_name(aenl_diagnose_effect_t e)
+{
+    switch (e)
+    {
+        case AENL_DIAGNOSE_FREEPLAY:
+            return "freeplay";
+        case AENL_DIAGNOSE_HYSTERESIS:
+            return "hysteresis";
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            return "polynomial";
+        case AENL_DIAGNOSE_PRELOAD:
+            return "preload";
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return "none";
+    }
+}
+
+const char *aenl_diagnose_dof_name(aenl_sim_dof_t d)
+{
+    switch (d)
+    {
+        case AENL_SIM_DOF_PLUNGE:
+            return "plunge";
+        case AENL_SIM_DOF_FLAP:
+            return "flap";
+        case AENL_SIM_DOF_PITCH:
+        default:
+            return "pitch";
+    }
+}
+
+const char *aenl_diagnose_family_name(aenl_diagnose_family_t f)
+{
+    switch (f)
+    {
+        case AENL_DIAGNOSE_MEAN:
+            return "conditional_mean";
+        case AENL_DIAGNOSE_STD:
+            return "conditional_std";
+        case AENL_DIAGNOSE_SPECTRUM:
+            return "spectrum";
+        case AENL_DIAGNOSE_AMPLITUDE:
+        default:
+            return "amplitude";
+    }
+}
+
+const char *const *aenl_diagnose_channel_names(aenl_sim_type_t type, size_t *n)
+{
+    static const char *const names2[] = {"alpha", "xi"};
+    static const char *const names3[] = {"h", "alpha", "beta"};
+    if (type == AENL_SIM_AIRFOIL2DOF)
+    {
+        *n = 2;
+        return names2;
+    }
+    *n = 3;
+    return names3;
+}
+
+size_t aenl_diagnose_dof_channel(aenl_sim_type_t type, aenl_sim_dof_t dof)
+{
+    if (type == AENL_SIM_AIRFOIL2DOF)
+    {
+        return dof == AENL_SIM_DOF_PLUNGE ? 1u : 0u;
+    }
+    return dof == AENL_SIM_DOF_PLUNGE ? 0u : (dof == AENL_SIM_DOF_PITCH ? 1u : 2u);
+}
+
+/* ---- simulation of one model under the record's conditions ------------------------------- */
+
+typedef struct
+{
+    aenl_sim_run_t run; /* the record's conditions, noise off */
+    size_t n, n_ch;
+    aenl_diagnose_result_t *res; /* settings and measured signatures */
+    uint64_t noise_seed;
+    unsigned n_sims;
+    int verbose;
+} ctx_t;
+
+/* On a long record, the first tenth first: a model that runs away there (response beyond
+ * PROBE_LIMIT times the larger of the measured std and mean) is not simulated further. Runaway
+ * models can become very stiff (a diverging flutter mode driving a hardening spring), and their
+ * full runs would dominate the cost; their signatures are invalid either way. AENL_E_NUMERIC:
+ * diverged. */
+static aenl_status_t probe(const ctx_t *x, const aenl_sim_model_t *m, const aenl_sim_run_t *run)
+{
+    if (x->n < PROBE_MIN_SAMPLES)
+    {
+        return AENL_OK;
+    }
+    aenl_sim_run_t pr = *run;
+    const size_t n_probe = x->n / 10u; /* whole samples */
+    pr.duration = (double)n_probe * run->dt;
+    aenl_sim_result_t r;
+    aenl_err_t e;
+    aenl_err_clear(&e);
+    const aenl_status_t st = aenl_sim_simulate(m, &pr, &r, &e);
+    if (st == AENL_E_DIM)
+    {
+        return st;
+    }
+    if (st != AENL_OK)
+    {
+        return AENL_E_NUMERIC;
+    }
+    aenl_status_t out = AENL_OK;
+    for (size_t c = 0; c < x->n_ch && out == AENL_OK; ++c)
+    {
+        const aenl_diagnose_chan_t *ch = &x->res->chan[c];
+        /* offsets count: a model without the record's static offset is not a runaway */
+        const double ref = fmax(ch->scale, fabs(ch->mean));
+        for (size_t i = 0; i < r.n_samples; ++i)
+        {
+            const double v = r.y[c * r.n_samples + i];
+            if (!isfinite(v) || fabs(v - ch->mean) > PROBE_LIMIT * ref)
+            {
+                out = AENL_E_NUMERIC;
+                break;
+            }
+        }
+    }
+    aenl_sim_result_free(&r);
+    return out;
+}
+
+/* Simulate `m` with the seeds of replicate `rep`, add the measured noise, take signatures.
+ * A model that cannot be simulated (diverges, bad parameters) gives invalid signatures; only
+ * out-of-memory is an error. y (n_ch * n) and psd (n_ch * n_bins) may be NULL. */
+static aenl_status_t sim_sig(ctx_t *x, const aenl_sim_model_t *m, unsigned rep,
+                             aenl_diagnose_sig_t *sig, double *y, double *psd, aenl_err_t *err)
+{
+    aenl_sim_run_t run = x->run;
+    run.turb_seed = x->run.turb_seed + (uint64_t)rep * TURB_SEED_STEP;
+    aenl_sim_result_t r;
+    aenl_err_t e;
+    aenl_err_clear(&e);
+    x->n_sims++;
+    for (size_t c = 0; c < x->n_ch; ++c)
+    {
+        memset(&sig[c], 0, sizeof(sig[c]));
+    }
+    aenl_status_t st = probe(x, m, &run);
+    if (st == AENL_E_DIM)
+    {
+        aenl_err_set(err, "out of memory (simulation)");
+        return st;
+    }
+    if (st == AENL_OK)
+    {
+        st = aenl_sim_simulate(m, &run, &r, &e);
+    }
+    else
+    {
+        memset(&r, 0, sizeof(r));
+    }
+    if (st == AENL_E_DIM)
+    {
+        aenl_err_set(err, "%s", e.msg);
+        return st;
+    }
+    if (st != AENL_OK || r.n_samples < x->n)
+    {
+        aenl_sim_result_free(&r);
+        if (y != NULL)
+        {
+            for (size_t i = 0; i < x->n_ch * x->n; ++i)
+            {
+                y[i] = (double)NAN;
+            }
+        }
+        return AENL_OK;
+    }
+    aenl_rng_t rng;
+    aenl_rng_seed(&rng, x->noise_seed + (uint64_t)rep * NOISE_SEED_STEP);
+    aenl_status_t out = AENL_OK;
+    for (size_t c = 0; c < x->n_ch && out == AENL_OK; ++c)
+    {
+        double *ch = r.y + c * r.n_samples;
+        const double sd = x->res->chan[c].noise_sd;
+        for (size_t i = 0; i < x->n; ++i)
+        {
+            ch[i] += sd * aenl_rng_gauss(&rng);
+        }
+        out = aenl_diagnose_signature(ch, x->n, &x->res->chan[c], &sig[c],
+                                      psd ? psd + c * x->res->n_bins : NULL, err);
+        if (y != NULL)
+        {
+            memcpy(y + c * x->n, ch, x->n * sizeof(double));
+        }
+    }
+    aenl_sim_result_free(&r);
+    return out;
+}
+
+/* Gap of signatures b against a: per channel (ch may be NULL), families (fam may be NULL). */
+static double gap_of(const ctx_t *x, const aenl_diagnose_sig_t *a, const aenl_diagnose_sig_t *b,
+                     double *ch, double fam[][N_FAM])
+{
+    double tot = 0.0;
+    for (size_t c = 0; c < x->n_ch; ++c)
+    {
+        double f[N_FAM];
+        const double g = aenl_diagnose_distance(&x->res->chan[c], &a[c], &b[c], f);
+        if (ch != NULL)
+        {
+            ch[c] = g;
+        }
+        if (fam != NULL)
+        {
+            memcpy(fam[c], f, sizeof(f));
+        }
+        tot += g * g;
+    }
+    return sqrt(tot / (double)x->n_ch);
+}
+
+/* Replicate floor of a model: main signatures `main_sig` plus n_rep replicates; the floor of
+ * every gap is the RMS over all pairs. Per-element floors (elem, NULL to skip) for the bands. */
+typedef struct
+{
+    double ch[N_CH_MAX + 1]; /* per channel, [n_ch] total */
+    double fam[N_CH_MAX][N_FAM];
+} floor_t;
+
+static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
+                              const aenl_diagnose_sig_t *main_sig, unsigned n_rep, floor_t *fl,
+                              double *elem, aenl_err_t *err)
+{
+    const size_t n_run = (size_t)n_rep + 1u;
+    aenl_diagnose_sig_t *s = malloc(n_run * x->n_ch * sizeof(*s));
+    if (s == NULL)
+    {
+        aenl_err_set(err, "out of memory (replicates)");
+        return AENL_E_DIM;
+    }
+    memcpy(s, main_sig, x->n_ch * sizeof(*s));
+    aenl_status_t st = AENL_OK;
+    for (unsigned r = 1; r <= n_rep && st == AENL_OK; ++r)
+    {
+        st = sim_sig(x, m, r, s + (size_t)r * x->n_ch, NULL, NULL, err);
+    }
+    memset(fl, 0, sizeof(*fl));
+    const size_t per_ch = (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE;
+    if (elem != NULL)
+    {
+        memset(elem, 0, x->n_ch * per_ch * sizeof(double));
+    }
+    size_t n_pair = 0;
+    for (size_t i = 0; i < n_run && st == AENL_OK; ++i)
+    {
+        for (size_t j = i + 1u; j < n_run; ++j)
+        {
+            double ch[N_CH_MAX] = {0}, fam[N_CH_MAX][N_FAM] = {{0}};
+            const double g = gap_of(x, s + i * x->n_ch, s + j * x->n_ch, ch, fam);
+            fl->ch[x->n_ch] += g * g;
+            for (size_t c = 0; c < x->n_ch; ++c)
+            {
+                fl->ch[c] += ch[c] * ch[c];
+                for (int f = 0; f < N_FAM; ++f)
+                {
+                    fl->fam[c][f] += fam[c][f] * fam[c][f];
+                    if (elem == NULL)
+                    {
+                        continue;
+                    }
+                    const size_t ne =
+                        aenl_diagnose_n_elements(&x->res->chan[c], (aenl_diagnose_family_t)f);
+                    for (size_t e = 0; e < ne; ++e)
+                    {
+                        double w = 0.0;
+                        const double d = aenl_diagnose_element(
+                            &x->res->chan[c], &s[i * x->n_ch + c], &s[j * x->n_ch + c],
+                            (aenl_diagnose_family_t)f, e, &w);
+                        elem[c * per_ch + (size_t)f * AENL_DIAGNOSE_N_CURVE + e] +=
+                            isfinite(d) ? d * d : 0.0;
+                    }
+                }
+            }
+            n_pair++;
+        }
+    }
+    free(s);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    for (size_t c = 0; c <= x->n_ch; ++c)
+    {
+        fl->ch[c] = sqrt(fl->ch[c] / (double)n_pair);
+    }
+    for (size_t c = 0; c < x->n_ch; ++c)
+    {
+        for (int f = 0; f < N_FAM; ++f)
+        {
+            fl->fam[c][f] = sqrt(fl->fam[c][f] / (double)n_pair);
+        }
+    }
+    if (elem != NULL)
+    {
+        for (size_t i = 0; i < x->n_ch * per_ch; ++i)
+        {
+            elem[i] = sqrt(elem[i] / (double)n_pair);
+        }
+    }
+    return AENL_OK;
+}
+
+/* ---- candidates ------------------------------------------------------------------------------ */
+
+typedef struct
+{
+    double s;                            /* signal std of the DOF's channel (noise removed) */
+    double m;                            /* mean of the DOF's channel */
+    double p0;                           /* preload: first guess of M0 / s */
+    double theta[AENL_DIAGNOSE_MAX_PAR]; /* best so far */
+    double best;                         /* best objective (gap^2) */
+    aenl_diagnose_effect_t effect;
+    aenl_sim_dof_t dof;
+    unsigned n_par;
+    unsigned n_evals;
+} spec_t;
+
+/* Parameters theta (scaled, unconstrained) to the DOF's law; the README lists the maps. */
+static void spec_law(const spec_t *sp, const double *th, aenl_sim_law_t *law)
+{
+    memset(law, 0, sizeof(*law));
+    switch (sp->effect)
+    {
+        case AENL_DIAGNOSE_FREEPLAY:
+        {
+            const double delta = sp->s * exp(th[0]);
+            law->kind = AENL_SIM_LAW_FREEPLAY;
+            law->delta = delta;
+            law->x_f = sp->m + sp->s * th[1] - 0.5 * delta;
+            break;
+        }
+        case AENL_DIAGNOSE_HYSTERESIS:
+        {
+            const double delta = sp->s * exp(th[0]);
+            law->kind = AENL_SIM_LAW_HYSTERESIS;
+            law->delta = delta;
+            law->x_f = delta * th[1];
+            law->preload = delta * th[2];
+            break;
+        }
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            law->kind = AENL_SIM_LAW_POLYNOMIAL;
+            law->n_coeffs = 3;
+            law->coeffs[0] = 1.0;
+            law->coeffs[1] = 0.0;
+            law->coeffs[2] = 0.01 * sinh(th[0]) / (sp->s * sp->s);
+            break;
+        case AENL_DIAGNOSE_PRELOAD:
+            /* M = M0 + x: the Lee freeplay with inner stiffness 1 has no gap at all. */
+            law->kind = AENL_SIM_LAW_FREEPLAY;
+            law->delta = 1e-9;
+            law->x_f = 0.0;
+            law->preload = sp->s * th[0];
+            law->inner_stiffness = 1.0;
+            break;
+        case AENL_DIAGNOSE_NONE:
+        default:
+            law->kind = AENL_SIM_LAW_LINEAR;
+            break;
+    }
+}
+
+typedef struct
+{
+    ctx_t *x;
+    const aenl_sim_model_t *base;
+    spec_t *sp;
+    aenl_diagnose_sig_t *sig; /* scratch, n_ch */
+    aenl_err_t *err;
+    aenl_status_t st;
+} obj_t;
+
+/* Objective: total gap squared of the candidate with parameters th. */
+static double objective(obj_t *o, const double *th)
+{
+    if (o->st != AENL_OK)
+    {
+        return HUGE_VAL;
+    }
+    aenl_sim_model_t m = *o->base;
+    spec_law(o->sp, th, &m.law[o->sp->dof]);
+    o->st = sim_sig(o->x, &m, 0, o->sig, NULL, NULL, o->err);
+    if (o->st != AENL_OK)
+    {
+        return HUGE_VAL;
+    }
+    const double g = gap_of(o->x, o->x->res->sig_meas, o->sig, NULL, NULL);
+    const double j = g * g;
+    o->sp->n_evals++;
+    if (j < o->sp->best)
+    {
+        o->sp->best = j;
+        memcpy(o->sp->theta, th, sizeof(double) * o->sp->n_par);
+    }
+    return j;
+}
+
+/* Coarse grid of first guesses, per effect; returns the count (rows of AENL_DIAGNOSE_MAX_PAR). */
+static size_t spec_grid(const spec_t *sp, double g[][AENL_DIAGNOSE_MAX_PAR])
+{
+    size_t n = 0;
+    switch (sp->effect)
+    {
+        case AENL_DIAGNOSE_FREEPLAY:
+        {
+            const double d[] = {0.1, 0.25, 0.6, 1.5};
+            for (size_t i = 0; i < 4u; ++i)
+            {
+                g[n][0] = log(d[i]);
+                g[n][1] = 0.0;
+                n++;
+            }
+            break;
+        }
+        case AENL_DIAGNOSE_HYSTERESIS:
+        {
+            const double d[] = {0.15, 0.4, 1.0};
+            const double ab[][2] = {{0.5, 0.5}, {0.25, 1.0}, {1.0, 0.25}};
+            for (size_t i = 0; i < 3u; ++i)
+            {
+                for (size_t k = 0; k < 3u; ++k)
+                {
+                    g[n][0] = log(d[i]);
+                    g[n][1] = ab[k][0];
+                    g[n][2] = ab[k][1];
+                    n++;
+                }
+            }
+            break;
+        }
+        case AENL_DIAGNOSE_POLYNOMIAL:
+        {
+            const double c[] = {-0.1, -0.02, 0.01, 0.04, 0.15, 0.6, 2.5};
+            for (size_t i = 0; i < 7u; ++i)
+            {
+                g[n++][0] = asinh(c[i] / 0.01);
+            }
+            break;
+        }
+        case AENL_DIAGNOSE_PRELOAD:
+            g[n++][0] = sp->p0;
+            g[n++][0] = sp->p0 - 0.5;
+            g[n++][0] = sp->p0 + 0.5;
+            break;
+        case AENL_DIAGNOSE_NONE:
+        default:
+            break;
+    }
+    return n;
+}
+
+/* Nelder-Mead from sp->theta (standard coefficients 1, 2, 1/2, 1/2). */
+static void nelder_mead(obj_t *o, const double *step, unsigned max_evals)
+{
+    const unsigned np = o->sp->n_par;
+    double v[AENL_DIAGNOSE_MAX_PAR + 1][AENL_DIAGNOSE_MAX_PAR] = {{0}};
+    double fv[AENL_DIAGNOSE_MAX_PAR + 1] = {0};
+    const unsigned start = o->sp->n_evals;
+    for (unsigned i = 0; i <= np; ++i)
+    {
+        memcpy(v[i], o->sp->theta, sizeof(double) * np);
+        if (i > 0u)
+        {
+            v[i][i - 1u] += step[i - 1u];
+        }
+        fv[i] = (i == 0u) ? o->sp->best : objective(o, v[i]);
+    }
+    while (o->sp->n_evals - start < max_evals && o->st == AENL_OK)
+    {
+        /* order: best first */
+        for (unsigned i = 1; i <= np; ++i)
+        {
+            for (unsigned k = i; k > 0u && fv[k] < fv[k - 1u]; --k)
+            {
+                double t = fv[k];
+                fv[k] = fv[k - 1u];
+                fv[k - 1u] = t;
+                for (unsigned p = 0; p < np; ++p)
+                {
+                    t = v[k][p];
+                    v[k][p] = v[k - 1u][p];
+                    v[k - 1u][p] = t;
+                }
+            }
+        }
+        if (fabs(fv[np] - fv[0]) <= 1e-4 * fabs(fv[0]) + 1e-12)
+        {
+            break;
+        }
+        double cen[AENL_DIAGNOSE_MAX_PAR] = {0};
+        for (unsigned i = 0; i < np; ++i)
+        {
+            for (unsigned p = 0; p < np; ++p)
+            {
+                cen[p] += v[i][p] / (double)np;
+            }
+        }
+        double xr[AENL_DIAGNOSE_MAX_PAR] = {0}, xc[AENL_DIAGNOSE_MAX_PAR] = {0};
+        for (unsigned p = 0; p < np; ++p)
+        {
+            xr[p] = cen[p] + (cen[p] - v[np][p]);
+        }
+        const double fr = objective(o, xr);
+        if (fr < fv[0])
+        {
+            double xe[AENL_DIAGNOSE_MAX_PAR] = {0};
+            for (unsigned p = 0; p < np; ++p)
+            {
+                xe[p] = cen[p] + 2.0 * (cen[p] - v[np][p]);
+            }
+            const double fe = objective(o, xe);
+            memcpy(v[np], fe < fr ? xe : xr, sizeof(double) * np);
+            fv[np] = fe < fr ? fe : fr;
+            continue;
+        }
+        if (fr < fv[np - 1u])
+        {
+            memcpy(v[np], xr, sizeof(double) * np);
+            fv[np] = fr;
+            continue;
+        }
+        const int outside = fr < fv[np];
+        for (unsigned p = 0; p < np; ++p)
+        {
+            xc[p] = outside ? cen[p] + 0.5 * (xr[p] - cen[p]) : cen[p] + 0.5 * (v[np][p] - cen[p]);
+        }
+        const double fc = objective(o, xc);
+        if (fc < (outside ? fr : fv[np]))
+        {
+            memcpy(v[np], xc, sizeof(double) * np);
+            fv[np] = fc;
+            continue;
+        }
+        for (unsigned i = 1; i <= np; ++i)
+        {
+            for (unsigned p = 0; p < np; ++p)
+            {
+                v[i][p] = v[0][p] + 0.5 * (v[i][p] - v[0][p]);
+            }
+            fv[i] = objective(o, v[i]);
+        }
+    }
+}
+
+static void spec_step(const spec_t *sp, double *step)
+{
+    switch (sp->effect)
+    {
+        case AENL_DIAGNOSE_FREEPLAY:
+            step[0] = 0.4;
+            step[1] = 0.3;
+            break;
+        case AENL_DIAGNOSE_HYSTERESIS:
+            step[0] = 0.4;
+            step[1] = 0.25;
+            step[2] = 0.25;
+            break;
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            step[0] = 0.7;
+            break;
+        case AENL_DIAGNOSE_PRELOAD:
+        case AENL_DIAGNOSE_NONE:
+        default:
+            step[0] = 0.2;
+            break;
+    }
+}
+
+/* ---- the record ----------------------------------------------------------------------------- */
+
+static int is_time_name(const char *s)
+{
+    return strcmp(s, "t") == 0 || strcmp(s, "t_s") == 0 || strcmp(s, "time") == 0 ||
+           strcmp(s, "time_s") == 0 || strcmp(s, "tau") == 0;
+}
+
+static aenl_status_t take_record(const aenl_table_t *t, const aenl_sim_run_t *run,
+                                 aenl_diagnose_result_t *r, const char *const *names,
+                                 aenl_err_t *err)
+{
+    long tc = -1;
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        if (is_time_name(t->names[c]))
+        {
+            tc = (long)c;
+            break;
+        }
+    }
+    if (tc < 0)
+    {
+        aenl_err_set(err, "no time column (t, t_s, time, time_s or tau)");
+        return AENL_E_ARG;
+    }
+    if (t->n_rows < 512u)
+    {
+        aenl_err_set(err, "%zu samples: at least 512 are needed", t->n_rows);
+        return AENL_E_ARG;
+    }
+    for (size_t c = 0; c < r->n_channels; ++c)
+    {
+        if (aenl_table_find(t, names[c]) < 0)
+        {
+            aenl_err_set(err, "no column '%s' (the model's output channels are needed by name)",
+                         names[c]);
+            return AENL_E_ARG;
+        }
+    }
+    const double *tt = aenl_table_col(t, (size_t)tc);
+    const size_t n = t->n_rows;
+    for (size_t i = 0; i + 1u < n; ++i)
+    {
+        const double step = tt[i + 1u] - tt[i];
+        if (!isfinite(step) || fabs(step - run->dt) > 0.05 * run->dt)
+        {
+            aenl_err_set(err,
+                         "time step %g at data row %zu differs from the model's [run] dt = %g "
+                         "(the record must be sampled uniformly at dt, in the model's time unit)",
+                         step, i + 2u, run->dt);
+            return AENL_E_ARG;
+        }
+    }
+    const double dt_mean = (tt[n - 1u] - tt[0]) / (double)(n - 1u);
+    if (fabs(dt_mean - run->dt) > 1e-3 * run->dt)
+    {
+        aenl_err_set(err, "mean time step %.9g differs from the model's [run] dt = %.9g", dt_mean,
+                     run->dt);
+        return AENL_E_ARG;
+    }
+    r->n_samples = n;
+    r->dt = run->dt;
+    r->y_meas = malloc(r->n_channels * n * sizeof(double));
+    if (r->y_meas == NULL)
+    {
+        aenl_err_set(err, "out of memory (record)");
+        return AENL_E_DIM;
+    }
+    for (size_t c = 0; c < r->n_channels; ++c)
+    {
+        const long col = aenl_table_find(t, names[c]);
+        memcpy(r->y_meas + c * n, aenl_table_col(t, (size_t)col), n * sizeof(double));
+        r->names[c] = names[c];
+        aenl_err_t e;
+        aenl_err_clear(&e);
+        const aenl_status_t st = aenl_diagnose_chan_setup(r->y_meas + c * n, n, &r->chan[c], &e);
+        if (st != AENL_OK)
+        {
+            aenl_err_set(err, "channel %s: %s", names[c], e.msg);
+            return st;
+        }
+    }
+    return AENL_OK;
+}
+
+/* ---- disagreements ----------------------------------------------------------------------------
+ */
+
+static void add_disagreements(aenl_diagnose_result_t *r, const double *elem, double ratio)
+{
+    const size_t per_ch = (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE;
+    r->n_dis = 0;
+    for (size_t c = 0; c < r->n_channels; ++c)
+    {
+        const aenl_diagnose_chan_t *ch = &r->chan[c];
+        for (int f = 0; f < N_FAM; ++f)
+        {
+            const double sig = r->sig_before[c][f];
+            if (!(sig > ratio))
+            {
+                continue;
+            }
+            double lo = HUGE_VAL, hi = -HUGE_VAL;
+            const size_t ne = aenl_diagnose_n_elements(ch, (aenl_diagnose_family_t)f);
+            const aenl_diagnose_sig_t *a = &r->sig_meas[c], *b = &r->sig_base[c];
+            for (size_t e = 0; e < ne; ++e)
+            {
+                double w = 0.0;
+                const double d = aenl_diagnose_element(ch, a, b, (aenl_diagnose_family_t)f, e, &w);
+                const double fe = elem[c * per_ch + (size_t)f * AENL_DIAGNOSE_N_CURVE + e];
+                if (!(w > 0.0) || !isfinite(d) || !(fabs(d) > 2.0 * fe + 1e-12))
+                {
+                    continue;
+                }
+                double p0 = 0.0, p1 = 0.0;
+                if (f == AENL_DIAGNOSE_AMPLITUDE && e < AENL_DIAGNOSE_N_QUANT)
+                {
+                    p0 = a->quant[e];
+                    p1 = b->valid ? b->quant[e] : a->quant[e];
+                }
+                else if (f == AENL_DIAGNOSE_AMPLITUDE)
+                {
+                    const size_t k = e - AENL_DIAGNOSE_N_QUANT;
+                    const double env = fmax(a->env[k], b->valid ? b->env[k] : 0.0);
+                    p0 = ch->mean - env;
+                    p1 = ch->mean + env;
+                }
+                else if (f == AENL_DIAGNOSE_SPECTRUM)
+                {
+                    p0 = (double)ch->band_lo[e] / ((double)ch->seg * r->dt);
+                    p1 = (double)ch->band_hi[e] / ((double)ch->seg * r->dt);
+                }
+                else
+                {
+                    const size_t node = e % AENL_DIAGNOSE_N_GRID;
+                    p0 = ch->x_min + (ch->x_max - ch->x_min) * (double)node /
+                                         (double)(AENL_DIAGNOSE_N_GRID - 1u);
+                    p1 = p0;
+                }
+                lo = fmin(lo, fmin(p0, p1));
+                hi = fmax(hi, fmax(p0, p1));
+            }
+            if (!(hi >= lo))
+            {
+                lo = ch->x_min;
+                hi = ch->x_max;
+            }
+            aenl_diagnose_dis_t *dd = &r->dis[r->n_dis++];
+            dd->channel = c;
+            dd->family = (aenl_diagnose_family_t)f;
+            dd->lo = lo;
+            dd->hi = hi;
+            dd->significance = sig;
+        }
+    }
+    /* most significant first */
+    for (size_t i = 1; i < r->n_dis; ++i)
+    {
+        for (size_t k = i; k > 0u && r->dis[k].significance > r->dis[k - 1u].significance; --k)
+        {
+            const aenl_diagnose_dis_t t = r->dis[k];
+            r->dis[k] = r->dis[k - 1u];
+            r->dis[k - 1u] = t;
+        }
+    }
+}
+
+/* ---- main ----------------------------------------------------------------------------------- */
+
+void aenl_diagnose_result_free(aenl_diagnose_result_t *r)
+{
+    if (r == NULL)
+    {
+        return;
+    }
+    free(r->psd_meas);
+    free(r->psd_base);
+    free(r->psd_upd);
+    free(r->y_meas);
+    free(r->y_base);
+    free(r->y_upd);
+    memset(r, 0, sizeof(*r));
+}
+
+static void set_sig(aenl_diagnose_result_t *r, const floor_t *fl, double fam[][N_FAM],
+                    double sig[][N_FAM])
+{
+    for (size_t c = 0; c < r->n_channels; ++c)
+    {
+        for (int f = 0; f < N_FAM; ++f)
+        {
+            /* A family without comparable elements between replicates (the model never reaches the
+             * record's amplitudes) has no floor of its own: the channel's stands in. */
+            const double fl_f = fl->fam[c][f] > 0.0 ? fl->fam[c][f] : fl->ch[c];
+            sig[c][f] = fam[c][f] / fmax(fl_f, AENL_DIAGNOSE_MIN_FLOOR);
+        }
+    }
+}
+
+static void progress(const ctx_t *x, const char *fmt, const char *a, const char *b, double g)
+{
+    if (x->verbose)
+    {
+        fprintf(stderr, "diagnose: ");
+        fprintf(stderr, fmt, a, b, g);
+        fprintf(stderr, " (%u simulations)\n", x->n_sims);
+    }
+}
+
+/* Signal std of a DOF's channel: the measured std with the noise removed. */
+static double signal_std(const aenl_diagnose_chan_t *c)
+{
+    const double v = c->scale * c->scale - c->noise_sd * c->noise_sd;
+    return sqrt(fmax(v, 0.01 * c->scale * c->scale));
+}
+
+static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
+                                    const aenl_diagnose_opts_t *opts, aenl_err_t *err)
+{
+    aenl_diagnose_sig_t *sig = malloc(x->n_ch * sizeof(*sig));
+    if (sig == NULL)
+    {
+        aenl_err_set(err, "out of memory (signatures)");
+        return AENL_E_DIM;
+    }
+    obj_t o = {x, base, NULL, sig, err, AENL_OK};
+    /* Stage 1: coarse grid for every candidate. */
+    for (size_t k = 0; k < n_sp && o.st == AENL_OK; ++k)
+    {
+        double g[16][AENL_DIAGNOSE_MAX_PAR] = {{0}};
+        const size_t ng = spec_grid(&sp[k], g);
+        o.sp = &sp[k];
+        sp[k].best = HUGE_VAL;
+        memcpy(sp[k].theta, g[0], sizeof(g[0]));
+        for (size_t i = 0; i < ng && o.st == AENL_OK; ++i)
+        {
+            (void)objective(&o, g[i]);
+        }
+        progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
+                 aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
+    }
+    /* Stage 2: Nelder-Mead from the best grid point of the most promising candidates. */
+    size_t order[AENL_DIAGNOSE_MAX_CAND];
+    for (size_t k = 0; k < n_sp; ++k)
+    {
+        order[k] = k;
+    }
+    for (size_t i = 1; i < n_sp; ++i)
+    {
+        for (size_t k = i; k > 0u && sp[order[k]].best < sp[order[k - 1u]].best; --k)
+        {
+            const size_t t = order[k];
+            order[k] = order[k - 1u];
+            order[k - 1u] = t;
+        }
+    }
+    for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
+    {
+        spec_t *s = &sp[order[i]];
+        double step[AENL_DIAGNOSE_MAX_PAR];
+        spec_step(s, step);
+        o.sp = s;
+        nelder_mead(&o, step, opts->max_evals);
+        progress(x, "refined %s %s: gap %.4g", aenl_diagnose_effect_name(s->effect),
+                 aenl_diagnose_dof_name(s->dof), sqrt(s->best));
+    }
+    free(sig);
+    return o.st;
+}
+
+static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model_t *base,
+                              const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
+                              aenl_diagnose_result_t *r, aenl_err_t *err)
+{
+    const double t0 = now_s();
+    size_t n_ch = 0;
+    const char *const *names = aenl_diagnose_channel_names(base->type, &n_ch);
+    r->n_channels = n_ch;
+    aenl_status_t st = take_record(measured, run, r, names, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const size_t n = r->n_samples;
+    ctx_t x;
+    memset(&x, 0, sizeof(x));
+    x.run = *run;
+    x.run.duration = (double)(n - 1u) * run->dt;
+    x.run.snr = 0.0;
+    x.n = n;
+    x.n_ch = n_ch;
+    x.res = r;
+    x.noise_seed = opts->noise_seed;
+    x.verbose = opts->verbose;
+    aenl_err_t e;
+    aenl_err_clear(&e);
+    if (aenl_sim_validate(base, &x.run, &e) != AENL_OK)
+    {
+        aenl_err_set(err, "baseline model: %s", e.msg);
+        return AENL_E_ARG;
+    }
+    r->run = x.run;
+    /* Measured signatures; the PSD arrays are strided by the largest Welch segment. */
+    size_t seg_max = 0;
+    for (size_t c = 0; c < n_ch; ++c)
+    {
+        seg_max = r->chan[c].seg > seg_max ? r->chan[c].seg : seg_max;
+    }
+    r->n_bins = seg_max / 2u + 1u;
+    r->psd_meas = calloc(n_ch * r->n_bins, sizeof(double));
+    r->psd_base = calloc(n_ch * r->n_bins, sizeof(double));
+    r->psd_upd = calloc(n_ch * r->n_bins, sizeof(double));
+    r->y_base = malloc(n_ch * n * sizeof(double));
+    r->y_upd = malloc(n_ch * n * sizeof(double));
+    double *elem = malloc(n_ch * (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE * sizeof(double));
+    if (!r->psd_meas || !r->psd_base || !r->psd_upd || !r->y_base || !r->y_upd || !elem)
+    {
+        free(elem);
+        aenl_err_set(err, "out of memory (diagnosis buffers)");
+        return AENL_E_DIM;
+    }
+    for (size_t c = 0; c < n_ch && st == AENL_OK; ++c)
+    {
+        st = aenl_diagnose_signature(r->y_meas + c * n, n, &r->chan[c], &r->sig_meas[c],
+                                     r->psd_meas + c * r->n_bins, err);
+        if (st == AENL_OK && !r->sig_meas[c].valid)
+        {
+            aenl_err_set(err, "channel %s: the record is not finite", names[c]);
+            st = AENL_E_ARG;
+        }
+    }
+    /* Baseline: gap, floor and the significant disagreements. */
+    floor_t fl_base;
+    if (st == AENL_OK)
+    {
+        st = sim_sig(&x, base, 0, r->sig_base, r->y_base, r->psd_base, err);
+    }
+    if (st == AENL_OK)
+    {
+        r->gap_before[n_ch] = gap_of(&x, r->sig_meas, r->sig_base, r->gap_before, r->fam_before);
+        st = floor_of(&x, base, r->sig_base, opts->n_replicates, &fl_base, elem, err);
+    }
+    if (st != AENL_OK)
+    {
+        free(elem);
+        return st;
+    }
+    memcpy(r->floor_before, fl_base.ch, sizeof(r->floor_before));
+    set_sig(r, &fl_base, r->fam_before, r->sig_before);
+    add_disagreements(r, elem, opts->report_ratio);
+    free(elem);
+    progress(&x, "baseline %s%s gap %.4g", "", "", r->gap_before[n_ch]);
+
+    /* Candidates: every effect on every DOF whose baseline law is linear. */
+    spec_t sp[AENL_DIAGNOSE_MAX_CAND];
+    size_t n_sp = 0;
+    const size_t n_dof = base->type == AENL_SIM_AIRFOIL2DOF ? 2u : 3u;
+    const aenl_diagnose_effect_t effects[] = {AENL_DIAGNOSE_FREEPLAY, AENL_DIAGNOSE_HYSTERESIS,
+                                              AENL_DIAGNOSE_POLYNOMIAL, AENL_DIAGNOSE_PRELOAD};
+    const unsigned n_par[] = {2, 3, 1, 1};
+    for (size_t d = 0; d < n_dof; ++d)
+    {
+        if (base->law[d].kind != AENL_SIM_LAW_LINEAR)
+        {
+            continue;
+        }
+        const size_t c = aenl_diagnose_dof_channel(base->type, (aenl_sim_dof_t)d);
+        for (size_t k = 0; k < 4u; ++k)
+        {
+            spec_t *s = &sp[n_sp++];
+            memset(s, 0, sizeof(*s));
+            s->effect = effects[k];
+            s->dof = (aenl_sim_dof_t)d;
+            s->n_par = n_par[k];
+            s->s = signal_std(&r->chan[c]);
+            s->m = r->chan[c].mean;
+            s->p0 = r->sig_base[c].valid
+                        ? -(r->sig_meas[c].quant[4] - r->sig_base[c].quant[4]) / s->s
+                        : 0.0;
+            s->best = HUGE_VAL;
+        }
+    }
+    st = run_candidates(&x, base, sp, n_sp, opts, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    /* Floors of the best few, the common yardstick and the penalised choice. */
+    size_t order[AENL_DIAGNOSE_MAX_CAND];
+    for (size_t k = 0; k < n_sp; ++k)
+    {
+        order[k] = k;
+    }
+    for (size_t i = 1; i < n_sp; ++i)
+    {
+        for (size_t k = i; k > 0u && sp[order[k]].best < sp[order[k - 1u]].best; --k)
+        {
+            const size_t t = order[k];
+            order[k] = order[k - 1u];
+            order[k - 1u] = t;
+        }
+    }
+    floor_t fl_cand[AENL_DIAGNOSE_MAX_CAND];
+    double common = r->floor_before[n_ch];
+    r->n_cand = n_sp;
+    for (size_t i = 0; i < n_sp; ++i)
+    {
+        const spec_t *s = &sp[order[i]];
+        aenl_diagnose_cand_t *cd = &r->cand[i];
+        cd->effect = s->effect;
+        cd->dof = s->dof;
+        cd->n_params = s->n_par;
+        spec_law(s, s->theta, &cd->law);
+        cd->gap = sqrt(s->best);
+        cd->n_evals = s->n_evals;
+        cd->refined = i < opts->n_refine;
+        cd->score = HUGE_VAL;
+        memset(&fl_cand[i], 0, sizeof(fl_cand[i]));
+        if (i < N_FLOOR_CAND && st == AENL_OK)
+        {
+            aenl_sim_model_t m = *base;
+            m.law[s->dof] = cd->law;
+            aenl_diagnose_sig_t *ms = malloc(n_ch * sizeof(*ms));
+            if (ms == NULL)
+            {
+                aenl_err_set(err, "out of memory (signatures)");
+                return AENL_E_DIM;
+            }
+            st = sim_sig(&x, &m, 0, ms, NULL, NULL, err);
+            if (st == AENL_OK)
+            {
+                st = floor_of(&x, &m, ms, opts->n_replicates, &fl_cand[i], NULL, err);
+            }
+            free(ms);
+            cd->floor = fl_cand[i].ch[n_ch];
+            common = fmax(common, cd->floor);
+        }
+    }
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    common = fmax(common, AENL_DIAGNOSE_MIN_FLOOR);
+    size_t best = n_sp;
+    for (size_t i = 0; i < n_sp; ++i)
+    {
+        aenl_diagnose_cand_t *cd = &r->cand[i];
+        cd->score = (cd->gap / common) * (cd->gap / common) + opts->penalty * cd->n_params;
+        if (best == n_sp || cd->score < r->cand[best].score)
+        {
+            best = i;
+        }
+    }
+    const double sig_total =
+        r->gap_before[n_ch] / fmax(r->floor_before[n_ch], AENL_DIAGNOSE_MIN_FLOOR);
+    r->explained = 1;
+    r->chosen = n_sp;
+    r->effect = AENL_DIAGNOSE_NONE;
+    r->dof = AENL_SIM_DOF_PITCH;
+    r->updated = *base;
+    if (sig_total > opts->none_ratio && best < n_sp)
+    {
+        if (r->cand[best].gap < 0.7 * r->gap_before[n_ch])
+        {
+            r->chosen = best;
+            r->effect = r->cand[best].effect;
+            r->dof = r->cand[best].dof;
+            r->updated.law[r->dof] = r->cand[best].law;
+        }
+        else
+        {
+            r->explained = 0;
+        }
+    }
+    /* After: the updated model under the main seeds, and its floor. */
+    st = sim_sig(&x, &r->updated, 0, r->sig_upd, r->y_upd, r->psd_upd, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    r->gap_after[n_ch] = gap_of(&x, r->sig_meas, r->sig_upd, r->gap_after, r->fam_after);
+    const floor_t *fl_after = &fl_base;
+    if (r->chosen < n_sp && r->chosen < N_FLOOR_CAND)
+    {
+        fl_after = &fl_cand[r->chosen];
+    }
+    floor_t fl_extra;
+    if (r->chosen < n_sp && r->chosen >= N_FLOOR_CAND)
+    {
+        st = floor_of(&x, &r->updated, r->sig_upd, opts->n_replicates, &fl_extra, NULL, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        fl_after = &fl_extra;
+    }
+    memcpy(r->floor_after, fl_after->ch, sizeof(r->floor_after));
+    set_sig(r, fl_after, r->fam_after, r->sig_after);
+    /* Measurement SNR of the record against the updated model's clean response. */
+    for (size_t c = 0; c < n_ch; ++c)
+    {
+        const aenl_diagnose_chan_t *ch = &r->chan[c];
+        double m = 0.0, v = 0.0;
+        const double *y = r->y_upd + c * n;
+        int ok = 1;
+        for (size_t i = 0; i < n; ++i)
+        {
+            ok = ok && isfinite(y[i]);
+            m += y[i];
+        }
+        m /= (double)n;
+        for (size_t i = 0; i < n; ++i)
+        {
+            v += (y[i] - m) * (y[i] - m);
+        }
+        v = v / (double)n - ch->noise_sd * ch->noise_sd;
+        r->snr[c] = (ok && v > 0.0 && ch->noise_sd > 0.0) ? sqrt(v) / ch->noise_sd : 0.0;
+    }
+    r->n_sims = x.n_sims;
+    r->seconds = now_s() - t0;
+    return AENL_OK;
+}
+
+aenl_status_t aenl_diagnose_run(const aenl_table_t *measured, const aenl_sim_model_t *base,
+                                const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
+                                aenl_diagnose_result_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    if (measured == NULL || base == NULL || run == NULL || opts == NULL)
+    {
+        aenl_err_set(err, "diagnose: NULL argument");
+        return AENL_E_ARG;
+    }
+    if (opts->n_replicates < 2u || opts->n_replicates > 16u || !(opts->penalty >= 0.0) ||
+        !(opts->none_ratio > 0.0) || !(opts->report_ratio > 0.0) || opts->max_evals < 4u ||
+        opts->n_refine > AENL_DIAGNOSE_MAX_CAND)
+    {
+        aenl_err_set(err, "diagnose: options out of range (replicates 2..16, penalty >= 0, "
+                          "ratios > 0, max_evals >= 4)");
+        return AENL_E_ARG;
+    }
+    const aenl_status_t st = diagnose(measured, base, run, opts, out, err);
+    if (st != AENL_OK)
+    {
+        aenl_diagnose_result_free(out);
+    }
+    return st;
+}
