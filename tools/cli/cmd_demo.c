@@ -6,7 +6,6 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <errno.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -182,10 +181,15 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
             aenl_cli_error(k_cmd, "%s: output path too long", outdir);
             return -1;
         }
-        char a0[] = "identify", a2[] = "--plot";
-        char *args[] = {a0, (char *)(uintptr_t)csv, a2, dir, NULL};
+        char a0[] = "identify", a2[] = "--plot", a1[1200];
+        if (snprintf(a1, sizeof(a1), "%s", csv) >= (int)sizeof(a1))
+        {
+            aenl_cli_error(k_cmd, "%s: path too long", csv);
+            return -1;
+        }
+        char *args[] = {a0, a1, a2, dir, NULL};
         printf("    figures and table (aenl identify %s --plot %s):\n", csv, dir);
-        fflush(stdout);
+        (void)fflush(stdout);
         if (aenl_cmd_identify(4, args) != AENL_EXIT_OK)
         {
             return -1;
