@@ -37,18 +37,6 @@
 static aenl_moments_t g_m;
 static aenl_classifier_t g_c;
 
-static aenl_real_t take_raw_real(input_t *in)
-{
-    uint8_t b[sizeof(aenl_real_t)];
-    aenl_real_t v;
-    for (size_t i = 0; i < sizeof(b); ++i)
-    {
-        b[i] = take_u8(in);
-    }
-    memcpy(&v, b, sizeof(v));
-    return v;
-}
-
 static void check_result(const aenl_classifier_result_t *r)
 {
     CHECK((unsigned)r->cls < AENL_CLASS_COUNT, "class out of range");

@@ -14,6 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aenl/aenl_types.h"
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 /** Abort (a libFuzzer crash, input saved) with "<target>: <what> (line N)" on stderr. */
@@ -53,6 +55,19 @@ static inline uint16_t take_u16(input_t *in)
     const uint16_t lo = take_u8(in);
     const uint16_t hi = take_u8(in);
     return (uint16_t)(lo | (uint16_t)(hi << 8));
+}
+
+/** Next sizeof(aenl_real_t) bytes as a real, bit for bit (any pattern: NaN, Inf, subnormal). */
+static inline aenl_real_t take_raw_real(input_t *in)
+{
+    uint8_t b[sizeof(aenl_real_t)];
+    aenl_real_t v;
+    for (size_t i = 0; i < sizeof(b); ++i)
+    {
+        b[i] = take_u8(in);
+    }
+    memcpy(&v, b, sizeof(v));
+    return v;
 }
 
 #endif /* AENL_FUZZ_COMMON_H */

@@ -34,18 +34,6 @@
 
 #include "aenl/aenl_moments.h"
 
-static aenl_real_t take_raw_real(input_t *in)
-{
-    uint8_t b[sizeof(aenl_real_t)];
-    aenl_real_t v;
-    for (size_t i = 0; i < sizeof(b); ++i)
-    {
-        b[i] = take_u8(in);
-    }
-    memcpy(&v, b, sizeof(v));
-    return v;
-}
-
 static void read_cfg(input_t *in, uint8_t flags, aenl_moments_cfg_t *cfg)
 {
     memset(cfg, 0, sizeof(*cfg));

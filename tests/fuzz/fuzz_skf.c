@@ -42,18 +42,6 @@
 #define NZ AENL_SKF_MAX_Z
 #define NM AENL_SKF_MAX_MODES
 
-static aenl_real_t take_raw_real(input_t *in)
-{
-    uint8_t b[sizeof(aenl_real_t)];
-    aenl_real_t v;
-    for (size_t i = 0; i < sizeof(b); ++i)
-    {
-        b[i] = take_u8(in);
-    }
-    memcpy(&v, b, sizeof(v));
-    return v;
-}
-
 /* A small real from one byte: (int8) / 32, i.e. in [-4, 4). */
 static aenl_real_t take_small(input_t *in)
 {
