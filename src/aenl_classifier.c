@@ -420,6 +420,51 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_set
  * n_shift > 0, the best shift of the kinks between the directions among 0, 1, .., n_shift steps
  * of the mean candidate spacing. Cost: O(n_cand^n_k (n_shift + 1)) fits of O(n_sets log n) each.
  */
+/** A box of the search: shifts js_lo..js_hi, first kinks i_lo..i_hi, second kinks j_lo..j_hi
+ *  (n_k 2; j >= i + 2), each in steps of `step` (shifts of `shift_step`). */
+typedef struct cls_box
+{
+    uint16_t js_lo, js_hi, shift_step, i_lo, i_hi, j_lo, j_hi, step;
+} cls_box_t;
+
+/** Fit every candidate of the box; keep the best in k (and its candidate indices). */
+static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                     const cls_spec_t *base, const aenl_real_t *cand, uint16_t n_cand,
+                     aenl_real_t du, const cls_box_t *bx, cls_kinks_t *k, uint16_t *bi,
+                     uint16_t *bj)
+{
+    cls_spec_t sp = *base;
+    for (uint16_t js = bx->js_lo; js <= bx->js_hi; js = (uint16_t)(js + bx->shift_step))
+    {
+        sp.shift = (aenl_real_t)js * du;
+        for (uint16_t i = bx->i_lo; i <= bx->i_hi && i + 2u < n_cand; i = (uint16_t)(i + bx->step))
+        {
+            sp.b[0] = cand[i];
+            const uint16_t j_lo = (sp.n_k == 2u) ? bx->j_lo : i;
+            const uint16_t j_hi = (sp.n_k == 2u) ? bx->j_hi : i;
+            for (uint16_t j = j_lo; j <= j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? bx->step : 1u)))
+            {
+                if (sp.n_k == 2u && (j < i + 2u || j + 2u >= n_cand))
+                {
+                    continue;
+                }
+                sp.b[1] = cand[j];
+                const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
+                if (rss >= AENL_R(0.0) && rss < k->rss)
+                {
+                    k->rss = rss;
+                    k->b[0] = sp.b[0];
+                    k->b[1] = sp.b[1];
+                    k->shift = sp.shift;
+                    *bi = i;
+                    *bj = j;
+                    k->ok = 1;
+                }
+            }
+        }
+    }
+}
+
 static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
                    const cls_spec_t *base, const aenl_real_t *cand, uint16_t n_cand,
                    uint16_t n_shift, cls_kinks_t *k)
@@ -430,79 +475,34 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     {
         return;
     }
-    cls_spec_t sp = *base;
     const aenl_real_t du = (cand[n_cand - 1u] - cand[0]) / (aenl_real_t)(n_cand - 1u);
     /* bounded work: a coarse pass over at most SEARCH_MAX candidates and SEARCH_MAX_SHIFT
-     * shifts, then the refinement at full resolution around the best */
+     * shifts, then full resolution around the best */
     const uint16_t stride = (uint16_t)((n_cand + SEARCH_MAX - 1u) / SEARCH_MAX);
-    const uint16_t shift_stride = (uint16_t)((n_shift + SEARCH_MAX_SHIFT - 1u) / SEARCH_MAX_SHIFT);
+    uint16_t shift_stride = (uint16_t)((n_shift + SEARCH_MAX_SHIFT - 1u) / SEARCH_MAX_SHIFT);
+    shift_stride = (shift_stride > 0u) ? shift_stride : 1u;
     uint16_t bi = 0u, bj = 0u;
-    for (uint16_t js = 0; js <= n_shift;
-         js = (uint16_t)(js + (shift_stride > 0u ? shift_stride : 1u)))
-    {
-        sp.shift = (aenl_real_t)js * du;
-        for (uint16_t i = 1u; i + 2u < n_cand; i = (uint16_t)(i + stride))
-        {
-            sp.b[0] = cand[i];
-            const uint16_t j_lo = (sp.n_k == 2u) ? (uint16_t)(i + 2u) : i;
-            const uint16_t j_hi = (sp.n_k == 2u) ? (uint16_t)(n_cand - 2u) : (uint16_t)(i + 1u);
-            for (uint16_t j = j_lo; j < j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? stride : 1u)))
-            {
-                sp.b[1] = cand[j];
-                const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
-                if (rss >= AENL_R(0.0) && rss < k->rss)
-                {
-                    k->rss = rss;
-                    k->b[0] = sp.b[0];
-                    k->b[1] = sp.b[1];
-                    k->shift = sp.shift;
-                    bi = i;
-                    bj = j;
-                    k->ok = 1;
-                }
-            }
-        }
-    }
+    const cls_box_t coarse = {
+        0u,    n_shift, shift_stride, 1u, (uint16_t)(n_cand - 1u), 0u, (uint16_t)(n_cand - 1u),
+        stride};
+    scan_box(s, t, n_sets, base, cand, n_cand, du, &coarse, k, &bi, &bj);
     if (!k->ok)
     {
         return;
     }
-    if (stride > 1u || shift_stride > 1u) /* full resolution around the coarse optimum */
+    if (stride > 1u || shift_stride > 1u)
     {
-        const uint16_t ci = bi, cj = bj;
         const uint16_t js0 = (uint16_t)(k->shift / du + AENL_R(0.5));
-        for (uint16_t js = (js0 > shift_stride ? (uint16_t)(js0 - shift_stride) : 0u);
-             js <= js0 + shift_stride && js <= n_shift; ++js)
-        {
-            sp.shift = (aenl_real_t)js * du;
-            for (uint16_t i = (ci > stride ? (uint16_t)(ci - stride) : 1u);
-                 i <= ci + stride && i + 2u < n_cand; ++i)
-            {
-                sp.b[0] = cand[i];
-                const uint16_t j_lo =
-                    (sp.n_k == 2u) ? (cj > stride ? (uint16_t)(cj - stride) : (uint16_t)0u) : i;
-                const uint16_t j_hi =
-                    (sp.n_k == 2u) ? (uint16_t)(cj + stride + 1u) : (uint16_t)(i + 1u);
-                for (uint16_t j = j_lo; j < j_hi; ++j)
-                {
-                    if (sp.n_k == 2u && (j < i + 2u || j + 2u >= n_cand))
-                    {
-                        continue;
-                    }
-                    sp.b[1] = cand[j];
-                    const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
-                    if (rss >= AENL_R(0.0) && rss < k->rss)
-                    {
-                        k->rss = rss;
-                        k->b[0] = sp.b[0];
-                        k->b[1] = sp.b[1];
-                        k->shift = sp.shift;
-                        bi = i;
-                        bj = j;
-                    }
-                }
-            }
-        }
+        const uint16_t js_hi = (uint16_t)(js0 + shift_stride);
+        const cls_box_t fine = {(js0 > shift_stride) ? (uint16_t)(js0 - shift_stride) : 0u,
+                                (js_hi < n_shift) ? js_hi : n_shift,
+                                1u,
+                                (bi > stride + 1u) ? (uint16_t)(bi - stride) : 1u,
+                                (uint16_t)(bi + stride),
+                                (bj > stride) ? (uint16_t)(bj - stride) : 0u,
+                                (uint16_t)(bj + stride),
+                                1u};
+        scan_box(s, t, n_sets, base, cand, n_cand, du, &fine, k, &bi, &bj);
     }
     cls_spec_t best = *base;
     best.b[0] = k->b[0];

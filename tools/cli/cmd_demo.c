@@ -144,10 +144,10 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
         aenl_identify_opts_t o;
         aenl_identify_opts_default(&o);
         st = aenl_identify_run(&src, &o, &r, &err);
-        aenl_identify_csv_free(&ctx);
     }
     if (st != AENL_OK)
     {
+        aenl_identify_csv_free(&ctx); /* safe on the zeroed context of a failed open */
         aenl_cli_error(k_cmd, "%s", err.msg);
         return -1;
     }
@@ -173,6 +173,7 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
     }
     printf("\n");
     aenl_identify_free(&r);
+    aenl_identify_csv_free(&ctx); /* the channel names live in the source */
     if (aenl_plot_available())
     {
         char dir[1200];
