@@ -18,6 +18,7 @@
  * direct sum rounds each 1 − |d|/h), and agrees with aenl_bw_loo_score_brute() to ~1e-14.
  */
 #include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_sort.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -143,13 +144,6 @@ static int cmp_pair(const void *a, const void *b)
         return 1;
     }
     return (p->y < q->y) ? -1 : (p->y > q->y) ? 1 : 0;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    double p = *(const double *)a;
-    double q = *(const double *)b;
-    return (p < q) ? -1 : (p > q) ? 1 : 0;
 }
 
 static void lagset_free(lagset_t *s)
@@ -576,19 +570,6 @@ double aenl_bw_rule_constant(void)
     return 1.06 * pow(48.0 * sqrt_pi, 0.2);
 }
 
-/* Quantile at p of sorted v[0..n-1], linear interpolation at position (n−1)p. */
-static double quantile_sorted(const double *v, size_t n, double p)
-{
-    double pos = p * (double)(n - 1);
-    size_t k = (size_t)pos;
-    double frac = pos - (double)k;
-    if (k + 1 >= n)
-    {
-        return v[n - 1];
-    }
-    return v[k] + frac * (v[k + 1] - v[k]);
-}
-
 /* Rule of thumb from the sorted finite samples (n >= 2, not constant). */
 static double rule_sorted(const double *v, size_t n)
 {
@@ -608,7 +589,7 @@ static double rule_sorted(const double *v, size_t n)
         ss += (v[i] - mean) * (v[i] - mean);
     }
     sd = sqrt(ss / (double)(n - 1));
-    iqr = quantile_sorted(v, n, 0.75) - quantile_sorted(v, n, 0.25);
+    iqr = aenl_quantile_sorted(v, n, 0.75) - aenl_quantile_sorted(v, n, 0.25);
     sigma = (iqr > 0.0 && iqr / 1.349 < sd) ? iqr / 1.349 : sd;
     return aenl_bw_rule_constant() * sigma * pow((double)n, -0.2);
 }
@@ -649,7 +630,7 @@ static aenl_status_t finite_sorted(const double *x, size_t n, double **out, size
         }
         return AENL_E_ARG;
     }
-    qsort(v, m, sizeof *v, cmp_double);
+    qsort(v, m, sizeof *v, aenl_cmp_double);
     if (!(v[m - 1] > v[0]))
     {
         double c = v[0];
@@ -740,7 +721,7 @@ static double median_spacing(const double *v, size_t n, aenl_err_t *err, int *oo
     {
         d[i] = v[i + 1] - v[i];
     }
-    qsort(d, n - 1, sizeof *d, cmp_double);
+    qsort(d, n - 1, sizeof *d, aenl_cmp_double);
     med = d[(n - 1) / 2];
     free(d);
     return med;

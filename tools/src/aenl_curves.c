@@ -13,6 +13,7 @@
 
 #include "aenl/aenl_filter.h"
 #include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_sort.h"
 
 #define DEFAULT_NODES 64u
 #define QUANTILE_LO   0.001
@@ -48,26 +49,6 @@ void aenl_curves_free(aenl_curves_t *c)
     free(c->se_velocity);
     free(c->se_accel);
     memset(c, 0, sizeof(*c));
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a;
-    const double y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Quantile of sorted values by linear interpolation between order statistics. */
-static double quantile_sorted(const double *s, size_t n, double q)
-{
-    const double pos = q * (double)(n - 1u);
-    const size_t i = (size_t)pos;
-    if (i + 1u >= n)
-    {
-        return s[n - 1u];
-    }
-    const double f = pos - (double)i;
-    return s[i] + f * (s[i + 1u] - s[i]);
 }
 
 aenl_status_t aenl_curves_parse_lags(const char *s, aenl_curves_opts_t *opts, aenl_err_t *err)
@@ -374,10 +355,10 @@ static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves
             sorted[j++] = x[i];
         }
     }
-    qsort(sorted, n_fin, sizeof(double), cmp_double);
+    qsort(sorted, n_fin, sizeof(double), aenl_cmp_double);
     const double lo_all = sorted[0], hi_all = sorted[n_fin - 1u];
-    const double lo_q = quantile_sorted(sorted, n_fin, QUANTILE_LO);
-    const double hi_q = quantile_sorted(sorted, n_fin, 1.0 - QUANTILE_LO);
+    const double lo_q = aenl_quantile_sorted(sorted, n_fin, QUANTILE_LO);
+    const double hi_q = aenl_quantile_sorted(sorted, n_fin, 1.0 - QUANTILE_LO);
     free(sorted);
     if (!(hi_all > lo_all) || !(hi_all - lo_all > 1e-12 * (fabs(hi_all) + fabs(lo_all))))
     {

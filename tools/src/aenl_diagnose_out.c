@@ -31,74 +31,6 @@ static int is_offset(const aenl_sim_law_t *law)
 /* ---- updated INI -------------------------------------------------------------------------------
  */
 
-static void write_law(FILE *fp, const aenl_sim_law_t *law, aenl_sim_dof_t d, int named)
-{
-    static const char *const kind[] = {"linear", "polynomial", "freeplay", "hysteresis"};
-    fprintf(fp, "\n[%s]%s\nlaw = %s\n", aenl_diagnose_dof_name(d),
-            named ? "                   ; the effect named by aenl diagnose" : "", kind[law->kind]);
-    const char *unit = is_angular(d) ? "rad" : "DOF unit";
-    if (law->kind == AENL_SIM_LAW_FREEPLAY || law->kind == AENL_SIM_LAW_HYSTERESIS)
-    {
-        fprintf(fp, "delta = %.17g ; %s", law->delta, unit);
-        if (is_angular(d))
-        {
-            fprintf(fp, " (%.4g deg)", law->delta * k_deg);
-        }
-        fprintf(fp, "\nalpha_f = %.17g ; %s", law->x_f, unit);
-        if (is_angular(d))
-        {
-            fprintf(fp, " (%.4g deg)", law->x_f * k_deg);
-        }
-        fprintf(fp, "\npreload = %.17g ; %s", law->preload, unit);
-        if (is_angular(d))
-        {
-            fprintf(fp, " (%.4g deg)", law->preload * k_deg);
-        }
-        fprintf(fp, "\n");
-        if (law->kind == AENL_SIM_LAW_FREEPLAY)
-        {
-            fprintf(fp, "inner_stiffness = %.17g%s\n", law->inner_stiffness,
-                    is_offset(law) ? " ; 1: no gap, a pure preload M = M0 + x" : "");
-        }
-    }
-    else if (law->kind == AENL_SIM_LAW_POLYNOMIAL)
-    {
-        fprintf(fp, "coeffs = ");
-        for (size_t k = 0; k < law->n_coeffs; ++k)
-        {
-            fprintf(fp, "%s%.17g", k ? ", " : "", law->coeffs[k]);
-        }
-        fprintf(fp, " ; R(x) = sum c_k x^k\n");
-    }
-}
-
-static void write_model(FILE *fp, const aenl_sim_model_t *m)
-{
-    fprintf(fp, "[model]\n");
-    if (m->type == AENL_SIM_AIRFOIL2DOF)
-    {
-        const aenl_sim_airfoil_t *p = &m->airfoil;
-        fprintf(fp,
-                "type = airfoil2dof\nmu = %.17g\na_h = %.17g\nx_alpha = %.17g\nr_alpha = %.17g\n"
-                "omega_bar = %.17g\nzeta_alpha = %.17g\nzeta_xi = %.17g\nustar = %.17g\n"
-                "ic_forcing = %s\n",
-                p->mu, p->a_h, p->x_alpha, p->r_alpha, p->omega_bar, p->zeta_alpha, p->zeta_xi,
-                p->ustar, p->ic_forcing ? "true" : "false");
-    }
-    else
-    {
-        const aenl_sim_section_t *p = &m->section;
-        fprintf(fp,
-                "type = section3dof\nb = %.17g\na = %.17g\nc = %.17g\nm = %.17g\nm_t = %.17g\n"
-                "x_alpha = %.17g\nx_beta = %.17g\nr_alpha = %.17g\nr_beta = %.17g\n"
-                "omega_h = %.17g\nomega_alpha = %.17g\nomega_beta = %.17g\nzeta_h = %.17g\n"
-                "zeta_alpha = %.17g\nzeta_beta = %.17g\nrho = %.17g\nvelocity = %.17g\n",
-                p->b, p->a, p->c, p->m, p->m_t, p->x_alpha, p->x_beta, p->r_alpha, p->r_beta,
-                p->omega_h, p->omega_alpha, p->omega_beta, p->zeta_h, p->zeta_alpha, p->zeta_beta,
-                p->rho, p->velocity);
-    }
-}
-
 aenl_status_t aenl_diagnose_write_ini(const aenl_diagnose_result_t *r, const char *source,
                                       const char *path, aenl_err_t *err)
 {
@@ -126,42 +58,22 @@ aenl_status_t aenl_diagnose_write_ini(const aenl_diagnose_result_t *r, const cha
             "%.4g.\n",
             r->gap_before[r->n_channels], r->gap_after[r->n_channels],
             r->floor_after[r->n_channels]);
-    write_model(fp, m);
-    const size_t n_dof = m->type == AENL_SIM_AIRFOIL2DOF ? 2u : 3u;
-    for (size_t d = 0; d < n_dof; ++d)
+    if (r->effect != AENL_DIAGNOSE_NONE)
     {
-        if (m->law[d].kind != AENL_SIM_LAW_LINEAR)
+        const aenl_sim_law_t *l = &m->law[r->dof];
+        if (is_angular(r->dof) &&
+            (l->kind == AENL_SIM_LAW_FREEPLAY || l->kind == AENL_SIM_LAW_HYSTERESIS))
         {
-            write_law(fp, &m->law[d], (aenl_sim_dof_t)d,
-                      r->effect != AENL_DIAGNOSE_NONE && (size_t)r->dof == d);
+            fprintf(fp, "; [%s] in degrees: delta %.4g, alpha_f %.4g, preload %.4g%s\n",
+                    aenl_diagnose_dof_name(r->dof), l->delta * k_deg, l->x_f * k_deg,
+                    l->preload * k_deg,
+                    is_offset(l) ? " (inner stiffness 1: no gap, a pure preload M = M0 + x)" : "");
         }
     }
-    fprintf(fp, "\n[initial]                ; radians, plunge in its unit; rates per time unit\n");
-    if (m->type == AENL_SIM_AIRFOIL2DOF)
-    {
-        fprintf(fp, "alpha = %.17g\nalpha_dot = %.17g\nxi = %.17g\nxi_dot = %.17g\n",
-                m->x0[AENL_SIM_DOF_PITCH], m->v0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_PLUNGE],
-                m->v0[AENL_SIM_DOF_PLUNGE]);
-    }
-    else
-    {
-        fprintf(fp,
-                "h = %.17g\nh_dot = %.17g\nalpha = %.17g\nalpha_dot = %.17g\nbeta = %.17g\n"
-                "beta_dot = %.17g\n",
-                m->x0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PLUNGE], m->x0[AENL_SIM_DOF_PITCH],
-                m->v0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_FLAP], m->v0[AENL_SIM_DOF_FLAP]);
-    }
-    const aenl_sim_run_t *run = &r->run;
-    if (run->turbulence)
-    {
-        fprintf(fp,
-                "\n[excitation]\ntype = turbulence\nintensity = %.17g\nlength_scale = %.17g\n"
-                "seed = %llu\n",
-                run->turb_intensity, run->turb_length, (unsigned long long)run->turb_seed);
-    }
-    fprintf(fp, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n",
-            run->duration, run->dt, run->rtol, run->atol);
     /* One SNR for every channel (the INI contract): the geometric mean of the record's. */
+    aenl_sim_run_t run = r->run;
+    run.snr = 0.0;
+    run.noise_seed = 1u;
     double ls = 0.0;
     size_t n_ok = 0;
     for (size_t c = 0; c < r->n_channels; ++c)
@@ -174,13 +86,15 @@ aenl_status_t aenl_diagnose_write_ini(const aenl_diagnose_result_t *r, const cha
     }
     if (n_ok > 0u)
     {
-        fprintf(fp, "\n[noise]                  ; the record's measurement noise; per channel:");
+        fprintf(fp, "; the record's measurement noise, SNR per channel:");
         for (size_t c = 0; c < r->n_channels; ++c)
         {
             fprintf(fp, " %s %.3g", r->names[c], r->snr[c]);
         }
-        fprintf(fp, "\nsnr = %.6g\nseed = 1\n", exp(ls / (double)n_ok));
+        fprintf(fp, " ([noise] holds their geometric mean)\n");
+        run.snr = exp(ls / (double)n_ok);
     }
+    aenl_sim_write_ini(fp, m, &run);
     return aenl_outfile_commit(&of, err);
 }
 

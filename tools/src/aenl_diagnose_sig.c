@@ -12,31 +12,12 @@
 #include "aenl/aenl_filter.h"
 #include "aenl_diagnose_internal.h"
 #include "aenl_tools/aenl_curves.h"
+#include "aenl_tools/aenl_sort.h"
 
 const double aenl_diagnose_quant_p[AENL_DIAGNOSE_N_QUANT] = {0.01, 0.05, 0.1,  0.25, 0.5,
                                                              0.75, 0.9,  0.95, 0.99};
 
 static const double k_pi = 3.14159265358979323846;
-
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a;
-    const double y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Quantile p of sorted s[0..n-1], linear interpolation. */
-static double quantile_sorted(const double *s, size_t n, double p)
-{
-    const double pos = p * (double)(n - 1u);
-    const size_t i = (size_t)floor(pos);
-    if (i + 1u >= n)
-    {
-        return s[n - 1u];
-    }
-    const double f = pos - (double)i;
-    return s[i] + f * (s[i + 1u] - s[i]);
-}
 
 /* ---- FFT and Welch ------------------------------------------------------------------------ */
 
@@ -216,14 +197,14 @@ static aenl_status_t noise_std(const double *x, size_t n, double *out, aenl_err_
     {
         d[i] = x[i + 3u] - 3.0 * x[i + 2u] + 3.0 * x[i + 1u] - x[i];
     }
-    qsort(d, m, sizeof(double), cmp_double);
-    const double med = quantile_sorted(d, m, 0.5);
+    qsort(d, m, sizeof(double), aenl_cmp_double);
+    const double med = aenl_quantile_sorted(d, m, 0.5);
     for (size_t i = 0; i < m; ++i)
     {
         d[i] = fabs(d[i] - med);
     }
-    qsort(d, m, sizeof(double), cmp_double);
-    *out = 1.482602218505602 * quantile_sorted(d, m, 0.5) / sqrt(20.0);
+    qsort(d, m, sizeof(double), aenl_cmp_double);
+    *out = 1.482602218505602 * aenl_quantile_sorted(d, m, 0.5) / sqrt(20.0);
     free(d);
     return AENL_OK;
 }
@@ -350,9 +331,9 @@ aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_
         ym += s[i];
     }
     c->mean = ym / (double)m;
-    qsort(s, m, sizeof(double), cmp_double);
-    c->x_min = quantile_sorted(s, m, 0.01);
-    c->x_max = quantile_sorted(s, m, 0.99);
+    qsort(s, m, sizeof(double), aenl_cmp_double);
+    c->x_min = aenl_quantile_sorted(s, m, 0.01);
+    c->x_max = aenl_quantile_sorted(s, m, 0.99);
     free(y);
     if (!(c->x_max > c->x_min))
     {
@@ -465,10 +446,10 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
         else
         {
             memcpy(sorted, ys, m * sizeof(double));
-            qsort(sorted, m, sizeof(double), cmp_double);
+            qsort(sorted, m, sizeof(double), aenl_cmp_double);
             for (size_t q = 0; q < AENL_DIAGNOSE_N_QUANT; ++q)
             {
-                s->quant[q] = quantile_sorted(sorted, m, aenl_diagnose_quant_p[q]);
+                s->quant[q] = aenl_quantile_sorted(sorted, m, aenl_diagnose_quant_p[q]);
             }
             s->amp = 0.5 * (s->quant[AENL_DIAGNOSE_N_QUANT - 1u] - s->quant[0]);
             free(sorted);

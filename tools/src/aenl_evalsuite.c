@@ -13,6 +13,7 @@
 
 #include "aenl_tools/aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
+#include "aenl_tools/aenl_sort.h"
 
 #define PI       3.14159265358979323846
 #define DEG      (PI / 180.0)
@@ -812,12 +813,6 @@ static double flutter_ratio(const design_t *d)
     return aenl_sim_velocity(&d->c->model) / v;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static void fill_truth(design_t *d)
 {
     aenl_eval_case_t *c = d->c;
@@ -853,7 +848,7 @@ static void fill_truth(design_t *d)
             /* Kinks of M+ at α_f, α_f + δ and of M− at −α_f − δ, −α_f (MODELS.md §1.5). */
             double p[4] = {-l->x_f - l->delta, 0.0 - l->x_f, l->x_f, l->x_f + l->delta};
             size_t n = 0;
-            qsort(p, 4, sizeof(double), cmp_double);
+            qsort(p, 4, sizeof(double), aenl_cmp_double);
             for (size_t i = 0; i < 4; ++i)
             {
                 if (n == 0 || p[i] - c->switch_points[n - 1] > 1e-9 * l->delta)
@@ -1085,7 +1080,7 @@ static aenl_status_t quantiles(const double *y, size_t n, double *q01, double *q
         return AENL_E_IO;
     }
     memcpy(s, y, n * sizeof(double));
-    qsort(s, n, sizeof(double), cmp_double);
+    qsort(s, n, sizeof(double), aenl_cmp_double);
     *q01 = s[(size_t)(0.01 * (double)(n - 1))];
     *q99 = s[(size_t)(0.99 * (double)(n - 1))];
     free(s);
@@ -1113,7 +1108,7 @@ static double release_decay(const aenl_eval_case_t *c, const double *x)
     {
         return 1.0;
     }
-    qsort(r, m, sizeof(double), cmp_double);
+    qsort(r, m, sizeof(double), aenl_cmp_double);
     return r[m / 2];
 }
 
@@ -1589,65 +1584,6 @@ static const char *truth_class_name(aenl_class_t cls)
     }
 }
 
-static void ini_law(FILE *f, const char *section, const aenl_sim_law_t *l)
-{
-    static const char *const k_kind[4] = {"linear", "polynomial", "freeplay", "hysteresis"};
-    if (l->kind == AENL_SIM_LAW_LINEAR)
-    {
-        return;
-    }
-    fprintf(f, "\n[%s]\nlaw = %s\n", section, k_kind[l->kind]);
-    if (l->kind == AENL_SIM_LAW_POLYNOMIAL)
-    {
-        fprintf(f, "coeffs = ");
-        for (size_t k = 0; k < l->n_coeffs; ++k)
-        {
-            fprintf(f, "%s%.17g", k > 0 ? ", " : "", l->coeffs[k]);
-        }
-        fprintf(f, "\n");
-        return;
-    }
-    fprintf(f, "delta = %.17g\nalpha_f = %.17g\npreload = %.17g\ninner_stiffness = %.17g\n",
-            l->delta, l->x_f, l->preload, l->inner_stiffness);
-}
-
-static void ini_model(FILE *f, const aenl_sim_model_t *m)
-{
-    if (m->type == AENL_SIM_AIRFOIL2DOF)
-    {
-        const aenl_sim_airfoil_t *p = &m->airfoil;
-        fprintf(f,
-                "[model]\ntype = airfoil2dof\nmu = %.17g\na_h = %.17g\nx_alpha = %.17g\n"
-                "r_alpha = %.17g\nomega_bar = %.17g\nzeta_alpha = %.17g\nzeta_xi = %.17g\n"
-                "ustar = %.17g\nic_forcing = %s\n",
-                p->mu, p->a_h, p->x_alpha, p->r_alpha, p->omega_bar, p->zeta_alpha, p->zeta_xi,
-                p->ustar, p->ic_forcing ? "true" : "false");
-        ini_law(f, "pitch", &m->law[AENL_SIM_DOF_PITCH]);
-        ini_law(f, "plunge", &m->law[AENL_SIM_DOF_PLUNGE]);
-        fprintf(f, "\n[initial]\nalpha = %.17g\nxi = %.17g\nalpha_dot = %.17g\nxi_dot = %.17g\n",
-                m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH],
-                m->v0[AENL_SIM_DOF_PLUNGE]);
-        return;
-    }
-    const aenl_sim_section_t *p = &m->section;
-    fprintf(f,
-            "[model]\ntype = section3dof\nvelocity = %.17g\nb = %.17g\na = %.17g\nc = %.17g\n"
-            "m = %.17g\nm_t = %.17g\nx_alpha = %.17g\nx_beta = %.17g\nr_alpha = %.17g\n"
-            "r_beta = %.17g\nomega_h = %.17g\nomega_alpha = %.17g\nomega_beta = %.17g\n"
-            "zeta_h = %.17g\nzeta_alpha = %.17g\nzeta_beta = %.17g\nrho = %.17g\n",
-            p->velocity, p->b, p->a, p->c, p->m, p->m_t, p->x_alpha, p->x_beta, p->r_alpha,
-            p->r_beta, p->omega_h, p->omega_alpha, p->omega_beta, p->zeta_h, p->zeta_alpha,
-            p->zeta_beta, p->rho);
-    ini_law(f, "pitch", &m->law[AENL_SIM_DOF_PITCH]);
-    ini_law(f, "plunge", &m->law[AENL_SIM_DOF_PLUNGE]);
-    ini_law(f, "flap", &m->law[AENL_SIM_DOF_FLAP]);
-    fprintf(f,
-            "\n[initial]\nh = %.17g\nalpha = %.17g\nbeta = %.17g\nh_dot = %.17g\n"
-            "alpha_dot = %.17g\nbeta_dot = %.17g\n",
-            m->x0[AENL_SIM_DOF_PLUNGE], m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_FLAP],
-            m->v0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH], m->v0[AENL_SIM_DOF_FLAP]);
-}
-
 aenl_status_t aenl_eval_case_write_ini(const aenl_eval_case_t *c, const char *path, aenl_err_t *err)
 {
     aenl_outfile_t of;
@@ -1692,20 +1628,8 @@ aenl_status_t aenl_eval_case_write_ini(const aenl_eval_case_t *c, const char *pa
         const size_t end = c->n_releases > 1 ? c->releases[1].start : c->n_samples - 1;
         duration = (double)end * c->run.dt;
     }
-    ini_model(f, &m);
-    if (c->run.turbulence)
-    {
-        fprintf(f,
-                "\n[excitation]\ntype = turbulence\nintensity = %.17g\nlength_scale = %.17g\n"
-                "seed = %llu\n",
-                c->run.turb_intensity, c->run.turb_length, (unsigned long long)c->run.turb_seed);
-    }
-    fprintf(f, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n", duration,
-            c->run.dt, c->run.rtol, c->run.atol);
-    if (c->run.snr > 0.0)
-    {
-        fprintf(f, "\n[noise]\nsnr = %.17g\nseed = %llu\n", c->run.snr,
-                (unsigned long long)c->run.noise_seed);
-    }
+    aenl_sim_run_t run = c->run;
+    run.duration = duration;
+    aenl_sim_write_ini(f, &m, &run);
     return aenl_outfile_commit(&of, err);
 }

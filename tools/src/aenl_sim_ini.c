@@ -810,3 +810,84 @@ aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_
     free_entries(&c);
     return st;
 }
+
+/* ---- writer -------------------------------------------------------------------------------- */
+
+static void write_law(FILE *fp, const char *section, const aenl_sim_law_t *l)
+{
+    static const char *const k_kind[4] = {"linear", "polynomial", "freeplay", "hysteresis"};
+    if (l->kind == AENL_SIM_LAW_LINEAR)
+    {
+        return;
+    }
+    fprintf(fp, "\n[%s]\nlaw = %s\n", section, k_kind[l->kind]);
+    if (l->kind == AENL_SIM_LAW_POLYNOMIAL)
+    {
+        fprintf(fp, "coeffs = ");
+        for (size_t k = 0; k < l->n_coeffs; ++k)
+        {
+            fprintf(fp, "%s%.17g", k > 0 ? ", " : "", l->coeffs[k]);
+        }
+        fprintf(fp, "\n");
+        return;
+    }
+    fprintf(fp, "delta = %.17g\nalpha_f = %.17g\npreload = %.17g\n", l->delta, l->x_f, l->preload);
+    if (l->kind == AENL_SIM_LAW_FREEPLAY)
+    {
+        fprintf(fp, "inner_stiffness = %.17g\n", l->inner_stiffness);
+    }
+}
+
+void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_t *run)
+{
+    if (m->type == AENL_SIM_AIRFOIL2DOF)
+    {
+        const aenl_sim_airfoil_t *p = &m->airfoil;
+        fprintf(fp,
+                "[model]\ntype = airfoil2dof\nmu = %.17g\na_h = %.17g\nx_alpha = %.17g\n"
+                "r_alpha = %.17g\nomega_bar = %.17g\nzeta_alpha = %.17g\nzeta_xi = %.17g\n"
+                "ustar = %.17g\nic_forcing = %s\n",
+                p->mu, p->a_h, p->x_alpha, p->r_alpha, p->omega_bar, p->zeta_alpha, p->zeta_xi,
+                p->ustar, p->ic_forcing ? "true" : "false");
+        write_law(fp, "pitch", &m->law[AENL_SIM_DOF_PITCH]);
+        write_law(fp, "plunge", &m->law[AENL_SIM_DOF_PLUNGE]);
+        fprintf(fp, "\n[initial]\nalpha = %.17g\nxi = %.17g\nalpha_dot = %.17g\nxi_dot = %.17g\n",
+                m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH],
+                m->v0[AENL_SIM_DOF_PLUNGE]);
+    }
+    else
+    {
+        const aenl_sim_section_t *p = &m->section;
+        fprintf(fp,
+                "[model]\ntype = section3dof\nvelocity = %.17g\nb = %.17g\na = %.17g\n"
+                "c = %.17g\nm = %.17g\nm_t = %.17g\nx_alpha = %.17g\nx_beta = %.17g\n"
+                "r_alpha = %.17g\nr_beta = %.17g\nomega_h = %.17g\nomega_alpha = %.17g\n"
+                "omega_beta = %.17g\nzeta_h = %.17g\nzeta_alpha = %.17g\nzeta_beta = %.17g\n"
+                "rho = %.17g\n",
+                p->velocity, p->b, p->a, p->c, p->m, p->m_t, p->x_alpha, p->x_beta, p->r_alpha,
+                p->r_beta, p->omega_h, p->omega_alpha, p->omega_beta, p->zeta_h, p->zeta_alpha,
+                p->zeta_beta, p->rho);
+        write_law(fp, "pitch", &m->law[AENL_SIM_DOF_PITCH]);
+        write_law(fp, "plunge", &m->law[AENL_SIM_DOF_PLUNGE]);
+        write_law(fp, "flap", &m->law[AENL_SIM_DOF_FLAP]);
+        fprintf(fp,
+                "\n[initial]\nh = %.17g\nalpha = %.17g\nbeta = %.17g\nh_dot = %.17g\n"
+                "alpha_dot = %.17g\nbeta_dot = %.17g\n",
+                m->x0[AENL_SIM_DOF_PLUNGE], m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_FLAP],
+                m->v0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH], m->v0[AENL_SIM_DOF_FLAP]);
+    }
+    if (run->turbulence)
+    {
+        fprintf(fp,
+                "\n[excitation]\ntype = turbulence\nintensity = %.17g\nlength_scale = %.17g\n"
+                "seed = %llu\n",
+                run->turb_intensity, run->turb_length, (unsigned long long)run->turb_seed);
+    }
+    fprintf(fp, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n",
+            run->duration, run->dt, run->rtol, run->atol);
+    if (run->snr > 0.0)
+    {
+        fprintf(fp, "\n[noise]\nsnr = %.17g\nseed = %llu\n", run->snr,
+                (unsigned long long)run->noise_seed);
+    }
+}

@@ -49,6 +49,7 @@
 #define AENL_TOOLS_SIM_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdint.h>
 
 #include "aenl_tools/aenl_io.h"
@@ -241,6 +242,13 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  */
 aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_sim_run_t *run,
                                 aenl_err_t *err);
+
+/**
+ * @brief Write a model and run as an INI of the contract above (angles and gaps in radians,
+ *        17 significant digits, linear laws omitted): aenl_sim_load_ini reads it back to the same
+ *        model and run. The caller owns fp and may write comment lines before it.
+ */
+void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *model, const aenl_sim_run_t *run);
 
 /* ---- simulation --------------------------------------------------------------------------- */
 

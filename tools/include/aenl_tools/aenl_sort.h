@@ -1,0 +1,21 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_sort.h
+ * @brief Host helpers on sorted samples: the qsort comparator of doubles and the interpolated
+ *        quantile, shared by the bandwidth, curves, diagnose and evaluation-suite modules.
+ */
+#ifndef AENL_TOOLS_SORT_H
+#define AENL_TOOLS_SORT_H
+
+#include <stddef.h>
+
+/** qsort comparator of doubles, ascending (no NaN expected). */
+int aenl_cmp_double(const void *a, const void *b);
+
+/**
+ * @brief Quantile p in [0, 1] of sorted s[0..n-1] (n >= 1) by linear interpolation between the
+ *        order statistics at position (n - 1) p.
+ */
+double aenl_quantile_sorted(const double *s, size_t n, double p);
+
+#endif /* AENL_TOOLS_SORT_H */
