@@ -642,42 +642,54 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
 }
 
 /**
- * Normalised autocorrelation rho(L) of white noise through the pre-filter, at the lags: from the
- * impulse response, run until it has decayed (its tail below 1e-12 of the energy so far).
+ * Normalised autocorrelation rho(L) of white noise through the pre-filter, at the lags:
+ * sum_k h_k h_{k+L} / sum_k h_k^2 over the impulse response h, run until it has decayed (its tail
+ * below 1e-14 of the energy so far). Only the last L_max + 1 values of h are kept (a ring).
+ * Returns 0 when out of memory (no correlation then).
  */
-static void filter_acf(const aenl_filter_t *proto, const uint16_t *lags, uint16_t n_lags,
-                       double *rho)
+static int filter_acf(const aenl_filter_t *proto, const uint16_t *lags, uint16_t n_lags,
+                      double *rho)
 {
-    enum
+    uint16_t max_lag = 0;
+    for (uint16_t i = 0; i < n_lags; ++i)
     {
-        N_IMP = 1 << 15
-    };
-    static double imp[N_IMP];
+        max_lag = lags[i] > max_lag ? lags[i] : max_lag;
+    }
+    const size_t len = (size_t)max_lag + 1u;
+    double *ring = calloc(len, sizeof(double));
+    if (ring == NULL)
+    {
+        return 0;
+    }
     aenl_filter_t f = *proto;
     aenl_filter_reset(&f);
-    double y = 0.0;
+    double y = 0.0, prev = 0.0, e = 0.0;
     (void)aenl_filter_push(&f, 0.0, &y); /* primes at rest */
-    size_t n = 0;
-    double e = 0.0;
-    for (; n < N_IMP; ++n)
+    double s[AENL_MOMENTS_MAX_LAGS] = {0.0};
+    for (size_t n = 0; n < ((size_t)1 << 22); ++n)
     {
         (void)aenl_filter_push(&f, n == 0 ? 1.0 : 0.0, &y);
-        imp[n] = y;
+        for (uint16_t i = 0; i < n_lags; ++i)
+        {
+            if (n >= lags[i])
+            {
+                s[i] += y * ring[(n - lags[i]) % len];
+            }
+        }
+        ring[n % len] = y;
         e += y * y;
-        if (n > 64u && y * y < 1e-14 * e && imp[n - 1] * imp[n - 1] < 1e-14 * e)
+        if (n > 64u && y * y < 1e-14 * e && prev * prev < 1e-14 * e)
         {
             break;
         }
+        prev = y;
     }
     for (uint16_t i = 0; i < n_lags; ++i)
     {
-        double s = 0.0;
-        for (size_t k = 0; k + lags[i] < n; ++k)
-        {
-            s += imp[k] * imp[k + lags[i]];
-        }
-        rho[i] = s / e;
+        rho[i] = s[i] / e;
     }
+    free(ring);
+    return 1;
 }
 
 /** Read the display curves and the restoring-force points out of the moments. */
@@ -787,9 +799,8 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
         cc.taylor_order = ID_TAYLOR_ORDER;
         if (run.ch[k].cutoff > 0.0)
         {
-            double rho[AENL_MOMENTS_MAX_LAGS];
-            filter_acf(&run.ch[k].filter, c->lags, c->n_lags, rho);
-            cc.use_noise_acf = 1;
+            double rho[AENL_MOMENTS_MAX_LAGS] = {0.0};
+            cc.use_noise_acf = (uint8_t)filter_acf(&run.ch[k].filter, c->lags, c->n_lags, rho);
             for (uint16_t i = 0; i < c->n_lags; ++i)
             {
                 cc.noise_acf[i] = rho[i];
