@@ -558,11 +558,12 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
         aenl_err_set(err, "channel %s: constant signal after the pre-filter's start-up", name);
         return AENL_E_ARG;
     }
-    /* The grid covers the whole record (pass 1's range; raw samples, so noise widens it a little),
-     * not only the block: a record whose amplitude grows or sweeps after the block still falls
-     * on the grid. */
-    lo = c->lo < lo ? c->lo : lo;
-    hi = c->hi > hi ? c->hi : hi;
+    /* The grid covers the whole record (pass 1's raw range less three noise standard deviations
+     * each side, where the filtered signal cannot reach), not only the block: a record whose
+     * amplitude grows or sweeps after the block still falls on the grid. */
+    const double margin = 3.0 * out->noise_std; /* the raw extremes are mostly noise beyond */
+    lo = c->lo + margin < lo ? c->lo + margin : lo;
+    hi = c->hi - margin > hi ? c->hi - margin : hi;
     const double range = hi - lo;
     double h = opts->bandwidth;
     if (h > 0.0)
