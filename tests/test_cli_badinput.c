@@ -62,11 +62,13 @@ static const char *write_binary(const char *name)
     return path;
 }
 
-/* t,alpha,xi: 300 rows of a two-tone signal; `edit` rewrites row `row` (0-based) when not NULL. */
+static size_t g_rows = 300; /* rows signal_csv() writes (diagnose needs a longer record) */
+
+/* t,alpha,xi: g_rows rows of a two-tone signal; `edit` rewrites row `row` (0-based) when not NULL. */
 static const char *signal_csv(const char *name, const char *header, size_t row, const char *edit)
 {
     size_t pos = (size_t)snprintf(g_text, sizeof(g_text), "%s\n", header);
-    for (size_t i = 0; i < 300; ++i)
+    for (size_t i = 0; i < g_rows; ++i)
     {
         const double t = 0.01 * (double)i;
         if (edit != NULL && i == row)
@@ -530,6 +532,136 @@ static void test_cli_badinput_flutter(void)
     run_cases(cases, sizeof(cases) / sizeof(cases[0]));
 }
 
+static void test_cli_badinput_fit(void)
+{
+    const csv_set_t s = make_csv_set();
+    const char *good = signal_csv("b_good.csv", "t,alpha,xi", 0, NULL);
+#define FIT(file)                                                                                  \
+    {                                                                                              \
+        "fit", file, "--thresholds", "alpha:0", "-o", "bad_out.ini", NULL                          \
+    }
+    const bad_case_t cases[] = {
+        {"truncated", FIT(s.truncated), "b_trunc.csv:", NULL},
+        {"binary", FIT(s.binary), "binary file", NULL},
+        {"empty", FIT(s.empty), "b_empty.csv: empty file", NULL},
+        {"header-only", FIT(s.header), "b_header.csv: fewer than 2 data rows", NULL},
+        {"ragged row", FIT(s.ragged), "b_ragged.csv:42:4: extra cell", NULL},
+        {"non-numeric cell", FIT(s.nonnum), "b_nonnum.csv:12:2 (alpha): not a number", NULL},
+        {"all NaN", FIT(s.allnan), "alpha", NULL},
+        {"Inf cell", FIT(s.inf), "b_inf.csv:12:2 (alpha): infinite", NULL},
+        {"duplicated column", FIT(s.dup), "b_dup.csv:1:3 (alpha): duplicate column", NULL},
+        {"non-monotonic time", FIT(s.nonmono), "b_nonmono.csv: column 't', data row 21", NULL},
+        {"repeated time", FIT(s.reptime), "b_reptime.csv: column 't', data row 21", NULL},
+        {"NaN time", FIT(s.nantime), "b_nantime.csv: column 't', data row 31", NULL},
+        {"huge value", FIT(s.huge), "b_huge.csv: column 'alpha', data row 31", NULL},
+        {"unknown option",
+         {"fit", good, "--thresholds", "alpha:0", "--bogus", NULL},
+         "unknown option --bogus",
+         NULL},
+        {"missing file argument", {"fit", "--thresholds", "alpha:0", NULL}, "no data file", NULL},
+        {"missing --thresholds", {"fit", good, "-o", "bad_out.ini", NULL}, "--thresholds", NULL},
+        {"missing option value", {"fit", good, "--thresholds", NULL}, "--thresholds", NULL},
+        {"unknown threshold channel",
+         {"fit", good, "--thresholds", "beta:0", "-o", "bad_out.ini", NULL},
+         "beta",
+         NULL},
+        {"bad --states",
+         {"fit", good, "--thresholds", "alpha:0", "--states", "0", "-o", "bad_out.ini", NULL},
+         "--states",
+         NULL},
+        {"absurd --iter",
+         {"fit", good, "--thresholds", "alpha:0", "--iter", "1e12", "-o", "bad_out.ini", NULL},
+         "--iter",
+         NULL},
+        {"missing input file", FIT("/nonexistent/in.csv"), "/nonexistent/in.csv", NULL},
+        {"unwritable output",
+         {"fit", good, "--thresholds", "alpha:0", "-o", "/nonexistent/dir/bad_out.ini", NULL},
+         "/nonexistent/dir",
+         NULL},
+        {"unwritable header",
+         {"fit", good, "--thresholds", "alpha:0", "-o", "bad_out.ini", "--c-header",
+          "/nonexistent/dir/bad_out.h", NULL},
+         "/nonexistent/dir",
+         NULL},
+    };
+#undef FIT
+    run_cases(cases, sizeof(cases) / sizeof(cases[0]));
+}
+
+static void test_cli_badinput_diagnose(void)
+{
+    const csv_set_t s = make_csv_set();
+    const ini_set_t m = make_ini_set();
+    const char *good_model = put_file("m_good.ini", MODEL_OK);
+    g_rows = 2000; /* long enough for diagnose: the errors below are the ones named, not length */
+    const char *good = signal_csv("b_dgood.csv", "t,alpha,xi", 0, NULL);
+    const char *wrong_ch = signal_csv("b_wrongch.csv", "t,pitch,heave", 0, NULL);
+    g_rows = 300;
+#define DIA(file)                                                                                  \
+    {                                                                                              \
+        "diagnose", "--measured", file, "--model", good_model, "--out", "bad_out_diag",           \
+            "--no-plots", NULL                                                                     \
+    }
+#define DIAM(file)                                                                                 \
+    {                                                                                              \
+        "diagnose", "--measured", good, "--model", file, "--out", "bad_out_diag", "--no-plots",   \
+            NULL                                                                                   \
+    }
+    const bad_case_t cases[] = {
+        {"truncated", DIA(s.truncated), "b_trunc.csv:", NULL},
+        {"binary", DIA(s.binary), "binary file", NULL},
+        {"empty", DIA(s.empty), "b_empty.csv: empty file", NULL},
+        {"header-only", DIA(s.header), "b_header.csv: 0 samples", NULL},
+        {"ragged row", DIA(s.ragged), "b_ragged.csv:42:4: extra cell", NULL},
+        {"non-numeric cell", DIA(s.nonnum), "b_nonnum.csv:12:2 (alpha): not a number", NULL},
+        {"all NaN", DIA(s.allnan), "alpha", NULL},
+        {"Inf cell", DIA(s.inf), "b_inf.csv:12:2 (alpha): infinite", NULL},
+        {"duplicated column", DIA(s.dup), "b_dup.csv:1:3 (alpha): duplicate column", NULL},
+        {"non-monotonic time", DIA(s.nonmono), "b_nonmono.csv: column 't', data row 21", NULL},
+        {"repeated time", DIA(s.reptime), "b_reptime.csv: column 't', data row 21", NULL},
+        {"NaN time", DIA(s.nantime), "b_nantime.csv: column 't', data row 31", NULL},
+        {"huge value", DIA(s.huge), "b_huge.csv: column 'alpha', data row 31", NULL},
+        {"channels unlike the model's", DIA(wrong_ch), "b_wrongch.csv", NULL},
+        {"model: truncated", DIAM(m.truncated), "m_trunc.ini:3", NULL},
+        {"model: binary", DIAM(m.binary), "m_binary.ini:1", NULL},
+        {"model: empty", DIAM(m.empty), "m_empty.ini: missing section [model]", NULL},
+        {"model: non-numeric value", DIAM(m.nonnum), "m_nonnum.ini:3: [model] ustar", NULL},
+        {"model: NaN value", DIAM(m.nan), "m_nan.ini:3: [model] ustar", NULL},
+        {"model: duplicated key", DIAM(m.dupkey), "m_dupkey.ini:4: [model] ustar given twice",
+         NULL},
+        {"model: unknown key", DIAM(m.unknown_key), "m_ukey.ini:4: unknown key 'speed'", NULL},
+        {"model: huge mass ratio", DIAM(m.huge_mu), "[model] mu", NULL},
+        {"unknown option",
+         {"diagnose", "--measured", good, "--model", good_model, "--bogus", NULL},
+         "--bogus",
+         NULL},
+        {"missing --measured", {"diagnose", "--model", good_model, NULL}, "--measured", NULL},
+        {"missing --model", {"diagnose", "--measured", good, NULL}, "--model", NULL},
+        {"missing option value",
+         {"diagnose", "--measured", good, "--model", NULL},
+         "--model needs a value",
+         NULL},
+        {"bad --replicates",
+         {"diagnose", "--measured", good, "--model", good_model, "--replicates", "0", NULL},
+         "--replicates",
+         NULL},
+        {"negative --penalty",
+         {"diagnose", "--measured", good, "--model", good_model, "--penalty", "-1", NULL},
+         "--penalty",
+         NULL},
+        {"missing measured file", DIA("/nonexistent/in.csv"), "/nonexistent/in.csv", NULL},
+        {"missing model file", DIAM("/nonexistent/m.ini"), "/nonexistent/m.ini", NULL},
+        {"unwritable output folder",
+         {"diagnose", "--measured", good, "--model", good_model, "--out", "/proc/bad_out/d",
+          "--no-plots", NULL},
+         "/proc/bad_out",
+         NULL},
+    };
+#undef DIA
+#undef DIAM
+    run_cases(cases, sizeof(cases) / sizeof(cases[0]));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -539,6 +671,8 @@ int main(void)
     RUN_TEST(test_cli_badinput_plot_moments);
     RUN_TEST(test_cli_badinput_simulate);
     RUN_TEST(test_cli_badinput_flutter);
+    RUN_TEST(test_cli_badinput_fit);
+    RUN_TEST(test_cli_badinput_diagnose);
     printf("bad-input matrix: %d KNOWN failure(s) guarded\n", g_known_failing);
     return UNITY_END();
 }

@@ -539,8 +539,12 @@ int aenl_cmd_fit(int argc, char **argv)
     long cols[AENL_EM_MAX_X];
     size_t n_out = 0, sw = 0;
     double dt = 0.0;
-    if (t.n_rows < 2 || time_step(&t, a.data, &dt) != 0 ||
-        pick_outputs(&t, &a, thr, cols, &n_out, &sw) != 0)
+    int bad = t.n_rows < 2 || pick_outputs(&t, &a, thr, cols, &n_out, &sw) != 0;
+    for (size_t i = 0; i < n_out && !bad; ++i)
+    {
+        bad = aenl_cli_check_record(k_cmd, &t, a.data, cols[i]) != 0; /* NaN time, huge, all NaN */
+    }
+    if (bad || time_step(&t, a.data, &dt) != 0)
     {
         if (t.n_rows < 2)
         {
