@@ -662,6 +662,26 @@ static void test_cli_badinput_diagnose(void)
     run_cases(cases, sizeof(cases) / sizeof(cases[0]));
 }
 
+/* The subcommands that read no file: their arguments, and demo's output folder. */
+static void test_cli_badinput_bench_demo(void)
+{
+    const bad_case_t cases[] = {
+        {"unknown benchmark", {"bench", "nothing", NULL}, "unknown benchmark 'nothing'", NULL},
+        {"bench: unknown option", {"bench", "moments", "--bogus", NULL}, "takes no options", NULL},
+        {"bench stream: bad count", {"bench", "stream", "-5", NULL}, "stream", NULL},
+        {"demo: unknown argument", {"demo", "--bogus", NULL}, "unknown argument --bogus", NULL},
+        {"demo: missing option value", {"demo", "--out", NULL}, "--out needs a value", NULL},
+        {"demo: data folder absent",
+         {"demo", "--data", "/nonexistent/data", "--out", "bad_out_demo", NULL},
+         "--data /nonexistent/data",
+         NULL},
+        {"demo: unwritable output folder", {"demo", "--out", "/proc/bad_out/demo", NULL},
+         "/proc/bad_out",
+         NULL},
+    };
+    run_cases(cases, sizeof(cases) / sizeof(cases[0]));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -673,6 +693,7 @@ int main(void)
     RUN_TEST(test_cli_badinput_flutter);
     RUN_TEST(test_cli_badinput_fit);
     RUN_TEST(test_cli_badinput_diagnose);
+    RUN_TEST(test_cli_badinput_bench_demo);
     printf("bad-input matrix: %d KNOWN failure(s) guarded\n", g_known_failing);
     return UNITY_END();
 }

@@ -298,6 +298,15 @@ int aenl_cmd_demo(int argc, char **argv)
     {
         datadir = AENL_SOURCE_DIR "/../shared/data";
     }
+    else
+    {
+        struct stat sb; /* a folder the user named must exist; the default one may be absent */
+        if (stat(datadir, &sb) != 0 || !S_ISDIR(sb.st_mode))
+        {
+            aenl_cli_error(k_cmd, "--data %s: not a folder", datadir);
+            return AENL_EXIT_USAGE;
+        }
+    }
     if (make_dir(outdir) != 0)
     {
         aenl_cli_error(k_cmd, "cannot create the output folder %s: %s", outdir, strerror(errno));
