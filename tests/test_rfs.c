@@ -1,0 +1,402 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_rfs.c
+ * @brief The restoring-force regression (aenl_rfs.h): its cross-validated gain against a brute
+ *        force refit of explicit design matrices, and its verdicts on two coupled oscillators
+ *        (written here) that are linear, carry a freeplay gap, or a hardening cubic in one of them.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_rfs.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+#define N_ROWS 60000u
+#define DT 0.05
+
+static uint64_t g_rng;
+
+static double uni(void)
+{
+    g_rng = g_rng * 6364136223846793005ull + 1442695040888963407ull;
+    return ((double)(g_rng >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+static double gauss(void)
+{
+    return sqrt(-2.0 * log(uni())) * cos(6.283185307179586 * uni());
+}
+
+typedef enum
+{
+    LAW_LINEAR,
+    LAW_GAP,  /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
+    LAW_CUBIC /* hardening cubic on oscillator 1 */
+} law_t;
+
+#define GAP 0.4
+
+/* Two oscillators coupled by a spring, white-noise forcing on both, symplectic Euler. */
+static double *simulate(law_t law, uint64_t seed)
+{
+    double *x = malloc((size_t)2 * N_ROWS * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    g_rng = seed;
+    double p0 = 0.0, p1 = 0.0, v0 = 0.0, v1 = 0.0;
+    for (size_t n = 0; n < N_ROWS + 2000u; ++n)
+    {
+        double f0 = p0, f1 = 2.0 * p1;
+        if (law == LAW_GAP)
+        {
+            f0 = p0 - (p0 < -GAP ? -GAP : (p0 > GAP ? GAP : p0));
+        }
+        if (law == LAW_CUBIC)
+        {
+            f1 += 3.0 * p1 * p1 * p1;
+        }
+        const double a0 = -f0 - 0.3 * (p0 - p1) - 0.06 * v0 + 0.25 * gauss() / sqrt(DT);
+        const double a1 = -f1 - 0.3 * (p1 - p0) - 0.08 * v1 + 0.25 * gauss() / sqrt(DT);
+        v0 += DT * a0;
+        v1 += DT * a1;
+        p0 += DT * v0;
+        p1 += DT * v1;
+        if (n >= 2000u) /* past the start-up */
+        {
+            x[n - 2000u] = p0;
+            x[N_ROWS + n - 2000u] = p1;
+        }
+    }
+    return x;
+}
+
+static void config(const double *x, aenl_rfs_cfg_t *c, uint16_t nodes)
+{
+    memset(c, 0, sizeof(*c));
+    c->n_ch = 2;
+    c->n_nodes = nodes;
+    c->n_total = N_ROWS;
+    c->n_lags = 2;
+    c->lags[0] = 2;
+    c->lags[1] = 3;
+    for (size_t j = 0; j < 2; ++j)
+    {
+        double m = 0.0, m2 = 0.0, lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (size_t n = 0; n < N_ROWS; ++n)
+        {
+            const double v = x[j * N_ROWS + n];
+            m += v;
+            m2 += v * v;
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+        }
+        m /= N_ROWS;
+        c->center[j] = m;
+        c->scale[j] = sqrt(m2 / N_ROWS - m * m);
+        c->lo[j] = lo;
+        c->hi[j] = hi;
+    }
+}
+
+static void run(const double *x, const aenl_rfs_cfg_t *c, aenl_rfs_fit_t fit[2])
+{
+    aenl_rfs_t *r = NULL;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_rfs_create(&r, c, &err), err.msg);
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double row[2] = {x[n], x[N_ROWS + n]};
+        aenl_rfs_push(r, row);
+    }
+    for (size_t ch = 0; ch < 2; ++ch)
+    {
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_rfs_analyse(r, ch, &fit[ch], &err), err.msg);
+    }
+    aenl_rfs_free(r);
+}
+
+/* ---- brute force: explicit design matrices, blocked refits -------------------------------- */
+
+#define MAX_COLS 24
+
+/* Solve the normal equations (Gauss-Jordan with partial pivoting) of X'X b = X'y. */
+static void normal_solve(double (*xtx)[MAX_COLS], const double *xty, size_t m, double *b)
+{
+    double a[MAX_COLS][MAX_COLS + 1];
+    for (size_t i = 0; i < m; ++i)
+    {
+        memcpy(a[i], xtx[i], m * sizeof(double));
+        a[i][m] = xty[i];
+    }
+    for (size_t c = 0; c < m; ++c)
+    {
+        size_t piv = c;
+        for (size_t i = c + 1u; i < m; ++i)
+        {
+            piv = fabs(a[i][c]) > fabs(a[piv][c]) ? i : piv;
+        }
+        for (size_t k = 0; k <= m; ++k)
+        {
+            const double t = a[c][k];
+            a[c][k] = a[piv][k];
+            a[piv][k] = t;
+        }
+        for (size_t i = 0; i < m; ++i)
+        {
+            if (i != c)
+            {
+                const double f = a[i][c] / a[c][c];
+                for (size_t k = c; k <= m; ++k)
+                {
+                    a[i][k] -= f * a[c][k];
+                }
+            }
+        }
+    }
+    for (size_t i = 0; i < m; ++i)
+    {
+        b[i] = a[i][m] / a[i][i];
+    }
+}
+
+/* One regression row of channel ch at centre n: the linear regressors, the law's column(s) for
+ * a two-kink gap [ga, gb] (standardised) through the tents, and y. Returns the column count. */
+static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size_t n, int with_law,
+                         double ga, double gb, double *row, double *y)
+{
+    size_t m = 0;
+    row[m++] = 1.0;
+    for (size_t j = 0; j < 2; ++j)
+    {
+        const double *s = &x[j * N_ROWS];
+        const double z0 = (s[n] - c->center[j]) / c->scale[j];
+        const double zp = (s[n + 1u] - c->center[j]) / c->scale[j];
+        const double zm = (s[n - 1u] - c->center[j]) / c->scale[j];
+        row[m++] = z0;
+        row[m++] = 0.5 * (zp - zm);
+        if (j == ch)
+        {
+            *y = zp - 2.0 * z0 + zm;
+        }
+        else
+        {
+            row[m++] = zp - 2.0 * z0 + zm;
+        }
+        for (size_t l = 0; l < c->n_lags; ++l)
+        {
+            row[m++] = (s[n - c->lags[l]] - c->center[j]) / c->scale[j];
+        }
+    }
+    if (with_law)
+    {
+        /* the gap law's node values, interpolated by the tents (linear within a cell) */
+        const double u = (x[ch * N_ROWS + n] - c->center[ch]) / c->scale[ch];
+        const double lo = (c->lo[ch] - c->center[ch]) / c->scale[ch];
+        const double hi = (c->hi[ch] - c->center[ch]) / c->scale[ch];
+        const double cell = (hi - lo) / (double)(c->n_nodes - 1u);
+        double k = floor((u - lo) / cell);
+        k = k < 0.0 ? 0.0 : (k > (double)(c->n_nodes - 2u) ? (double)(c->n_nodes - 2u) : k);
+        const double w1 = (u - lo) / cell - k;
+        const double x0 = lo + k * cell, x1 = x0 + cell;
+        const double c0 = x0 < ga ? ga : (x0 > gb ? gb : x0);
+        const double c1 = x1 < ga ? ga : (x1 > gb ? gb : x1);
+        row[m++] = (1.0 - w1) * c0 + w1 * c1;
+    }
+    return m;
+}
+
+/* Cross-validated gain of the gap law over the linear one, by explicit refits. */
+static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch, double ga,
+                            double gb)
+{
+    static double xtx[2][AENL_RFS_BLOCKS][MAX_COLS][MAX_COLS];
+    static double xty[2][AENL_RFS_BLOCKS][MAX_COLS];
+    static double yy[AENL_RFS_BLOCKS];
+    memset(xtx, 0, sizeof(xtx));
+    memset(xty, 0, sizeof(xty));
+    memset(yy, 0, sizeof(yy));
+    size_t m[2] = {0, 0};
+    const size_t first = c->lags[c->n_lags - 1u]; /* the first row aenl_rfs forms */
+    for (size_t n = first; n + 1u < N_ROWS; ++n)
+    {
+        const size_t b = (size_t)(((double)n * AENL_RFS_BLOCKS) / (double)N_ROWS);
+        double row[MAX_COLS], y = 0.0;
+        for (int w = 0; w < 2; ++w)
+        {
+            m[w] = design_row(x, c, ch, n, w, ga, gb, row, &y);
+            for (size_t i = 0; i < m[w]; ++i)
+            {
+                for (size_t k = 0; k < m[w]; ++k)
+                {
+                    xtx[w][b][i][k] += row[i] * row[k];
+                }
+                xty[w][b][i] += row[i] * y;
+            }
+        }
+        yy[b] += y * y;
+    }
+    double gain = 0.0, base = 0.0;
+    for (size_t f = 0; f < AENL_RFS_BLOCKS; ++f)
+    {
+        double rss[2];
+        for (int w = 0; w < 2; ++w)
+        {
+            double a[MAX_COLS][MAX_COLS], v[MAX_COLS], beta[MAX_COLS];
+            for (size_t i = 0; i < m[w]; ++i)
+            {
+                v[i] = 0.0;
+                for (size_t k = 0; k < m[w]; ++k)
+                {
+                    a[i][k] = 0.0;
+                }
+            }
+            for (size_t b = 0; b < AENL_RFS_BLOCKS; ++b)
+            {
+                for (size_t i = 0; b != f && i < m[w]; ++i)
+                {
+                    for (size_t k = 0; k < m[w]; ++k)
+                    {
+                        a[i][k] += xtx[w][b][i][k];
+                    }
+                    v[i] += xty[w][b][i];
+                }
+            }
+            normal_solve(a, v, m[w], beta);
+            double r = yy[f];
+            for (size_t i = 0; i < m[w]; ++i)
+            {
+                double s = 0.0;
+                for (size_t k = 0; k < m[w]; ++k)
+                {
+                    s += xtx[w][f][i][k] * beta[k];
+                }
+                r += beta[i] * (s - 2.0 * xty[w][f][i]);
+            }
+            rss[w] = r;
+        }
+        base += rss[0];
+        gain += rss[0] - rss[1];
+    }
+    return gain / base;
+}
+
+/* ---- tests ----------------------------------------------------------------------------------- */
+
+static void test_rfs_cv_gain_matches_brute_force(void)
+{
+    double *x = simulate(LAW_GAP, 11u);
+    aenl_rfs_cfg_t c;
+    config(x, &c, 12);
+    aenl_rfs_fit_t fit[2];
+    run(x, &c, fit);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(AENL_RFS_GAP, fit[0].law);
+    TEST_ASSERT_EQUAL_size_t(2, fit[0].n_points);
+    const double ga = (fit[0].points[0] - c.center[0]) / c.scale[0];
+    const double gb = (fit[0].points[1] - c.center[0]) / c.scale[0];
+    const double ref = brute_cv_gain(x, &c, 0, ga, gb);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6 * fabs(ref) + 1e-12, ref, fit[0].gain[AENL_RFS_GAP]);
+    free(x);
+}
+
+static void test_rfs_linear_oscillators_are_linear(void)
+{
+    for (uint64_t seed = 1; seed <= 3; ++seed)
+    {
+        double *x = simulate(LAW_LINEAR, seed);
+        aenl_rfs_cfg_t c;
+        config(x, &c, 24);
+        aenl_rfs_fit_t fit[2];
+        run(x, &c, fit);
+        for (size_t ch = 0; ch < 2; ++ch)
+        {
+            TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[ch].cls);
+            TEST_ASSERT_TRUE(fit[ch].evidence < AENL_RFS_T_CRIT);
+            TEST_ASSERT_EQUAL_size_t(0, fit[ch].n_points);
+        }
+        free(x);
+    }
+}
+
+static void test_rfs_names_the_freeplay_channel_and_its_gap(void)
+{
+    double *x = simulate(LAW_GAP, 5u);
+    aenl_rfs_cfg_t c;
+    config(x, &c, 24);
+    aenl_rfs_fit_t fit[2];
+    run(x, &c, fit);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, fit[0].cls);
+    TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls); /* coupled, driven, but linear */
+    TEST_ASSERT_EQUAL_size_t(2, fit[0].n_points);
+    TEST_ASSERT_DOUBLE_WITHIN(0.2 * GAP, -GAP, fit[0].points[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.2 * GAP, GAP, fit[0].points[1]);
+    TEST_ASSERT_TRUE(fit[0].point_std[0] > 0.0 && fit[0].point_std[0] < 0.2 * GAP);
+    free(x);
+}
+
+static void test_rfs_names_the_cubic_channel_hardening(void)
+{
+    double *x = simulate(LAW_CUBIC, 7u);
+    aenl_rfs_cfg_t c;
+    config(x, &c, 24);
+    aenl_rfs_fit_t fit[2];
+    run(x, &c, fit);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[1].cls);
+    TEST_ASSERT_EQUAL_INT(1, fit[1].hardening);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[0].cls);
+    free(x);
+}
+
+static void test_rfs_bad_configuration_and_short_records(void)
+{
+    double *x = simulate(LAW_LINEAR, 2u);
+    aenl_rfs_cfg_t c;
+    config(x, &c, 24);
+    aenl_rfs_t *r = NULL;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_rfs_cfg_t bad = c;
+    bad.n_nodes = 4;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_create(&r, &bad, &err));
+    bad = c;
+    bad.scale[1] = 0.0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_create(&r, &bad, &err));
+    bad = c;
+    bad.lags[0] = 1;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_create(&r, &bad, &err));
+    TEST_ASSERT_NULL(r);
+    /* 300 rows: too few per block -> insufficient, not an error; NaN rows leave no trace */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_create(&r, &c, &err));
+    for (size_t n = 0; n < 300u; ++n)
+    {
+        const double row[2] = {n % 7u == 3u ? (double)NAN : x[n], x[N_ROWS + n]};
+        aenl_rfs_push(r, row);
+    }
+    aenl_rfs_fit_t fit;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_analyse(r, 0, &fit, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_INSUFFICIENT, fit.cls);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_analyse(r, 2, &fit, &err));
+    aenl_rfs_free(r);
+    free(x);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_rfs_cv_gain_matches_brute_force);
+    RUN_TEST(test_rfs_linear_oscillators_are_linear);
+    RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);
+    RUN_TEST(test_rfs_names_the_cubic_channel_hardening);
+    RUN_TEST(test_rfs_bad_configuration_and_short_records);
+    return UNITY_END();
+}

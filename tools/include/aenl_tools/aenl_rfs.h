@@ -1,0 +1,114 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_rfs.h
+ * @brief Multi-channel restoring-force regression with blocked cross-validation: which channel
+ *        carries a nonlinear stiffness law, which law, and where it switches.
+ *
+ * The equation of motion of channel i, in discrete time on the pre-filtered record,
+ *
+ *     d2_i[n] = z[n]' beta + f_i(x_i[n], direction) + e[n]
+ *
+ * where d2 is the second difference, z holds every channel's position, central first difference
+ * and (other channels only) second difference at n, every channel's position at a few longer lags
+ * (the aerodynamic and turbulence memory), and a constant; f_i is the law to identify. Coupling to
+ * the other degrees of freedom is linear in z, so a linear channel driven by a nonlinear one
+ * shows no f: that is what names the channel. f_i is represented on a grid of tent (linear
+ * B-spline) functions of x_i, separately for rising and falling motion; a law is a linear map T
+ * from a few coefficients onto the tents (cubic, one kink, a freeplay gap, a direction-shifted
+ * hysteresis gap), so every candidate is a small projection on accumulated cross-products.
+ *
+ * For a linear system driven by Gaussian turbulence the conditional mean of d2_i given z is
+ * exactly linear, so no f is expected; for decays it is linear when the regressors span the
+ * state. Evidence is not a threshold on a fit statistic but out-of-sample: the record is cut into
+ * AENL_RFS_BLOCKS contiguous blocks, each law (its switching points chosen on all data) is fitted
+ * with one block left out and scored on that block, and the per-block gains over the linear law
+ * give a batch-means t statistic that carries the residual correlation, the kicks of decay
+ * trains and non-stationarity with it.
+ *
+ * Streaming: aenl_rfs_push() takes one filtered row at a time; memory is fixed at creation
+ * (cross-products per block), independent of the record's length.
+ */
+#ifndef AENL_TOOLS_RFS_H
+#define AENL_TOOLS_RFS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "aenl/aenl.h"
+#include "aenl_tools/aenl_io.h"
+
+#define AENL_RFS_MAX_CH 8
+#define AENL_RFS_MAX_NODES 48 /**< tents per direction */
+#define AENL_RFS_MAX_LAGS 12  /**< extra position lags */
+#define AENL_RFS_BLOCKS 16    /**< cross-validation blocks */
+/** Batch-means t statistic (15 degrees of freedom) a nonlinear law must reach: a one-sided 1 %
+ *  level, Bonferroni-corrected for the 4 laws of up to 3 channels (12 tests). */
+#define AENL_RFS_T_CRIT 4.0
+
+/** Laws of f (the class each belongs to in parentheses). */
+typedef enum aenl_rfs_law
+{
+    AENL_RFS_LINEAR = 0,   /**< no f (linear) */
+    AENL_RFS_CUBIC = 1,    /**< a x^2 + b x^3 (polynomial) */
+    AENL_RFS_KINK = 2,     /**< one kink: preload or one-sided contact (freeplay) */
+    AENL_RFS_GAP = 3,      /**< two kinks, the same in both directions (freeplay) */
+    AENL_RFS_HYSTERESIS = 4 /**< a gap shifted between rising and falling motion, plus a
+                                 rising-motion offset (hysteresis) */
+} aenl_rfs_law_t;
+
+#define AENL_RFS_N_LAWS 5
+
+/** Configuration, copied by aenl_rfs_create(). */
+typedef struct aenl_rfs_cfg
+{
+    size_t n_ch;                    /**< channels, 1..AENL_RFS_MAX_CH */
+    double center[AENL_RFS_MAX_CH]; /**< standardisation (x - center) / scale */
+    double scale[AENL_RFS_MAX_CH];  /**< > 0 */
+    double lo[AENL_RFS_MAX_CH];     /**< tent grid ends per channel (input units); the law is */
+    double hi[AENL_RFS_MAX_CH];     /**< extrapolated linearly beyond them */
+    uint16_t n_nodes;               /**< tents per direction, 8..AENL_RFS_MAX_NODES */
+    uint16_t n_lags;                /**< extra position lags, 0..AENL_RFS_MAX_LAGS */
+    uint16_t lags[AENL_RFS_MAX_LAGS]; /**< samples, each >= 2 */
+    size_t n_total;                 /**< rows that will be pushed (assigns the blocks) */
+} aenl_rfs_cfg_t;
+
+/** Result for one channel. */
+typedef struct aenl_rfs_fit
+{
+    aenl_class_t cls;               /**< insufficient, linear, polynomial, freeplay, hysteresis */
+    aenl_rfs_law_t law;             /**< the law chosen (linear when cls is linear) */
+    double t[AENL_RFS_N_LAWS];      /**< batch-means t of each law's CV gain over linear */
+    double gain[AENL_RFS_N_LAWS];   /**< CV gain as a fraction of the linear CV residual */
+    double prob[AENL_CLASS_COUNT];  /**< class weights from paired t against the best law */
+    double confidence;              /**< prob of cls */
+    double evidence;                /**< max over laws of t; >= AENL_RFS_T_CRIT is nonlinear */
+    int hardening;                  /**< cubic law: +1 hardening, -1 softening */
+    size_t n_points;                /**< switching points of the law chosen (0..4) */
+    double points[4];               /**< ascending, input units */
+    double point_std[4];            /**< block-jackknife standard errors, input units */
+    size_t n_used;                  /**< samples in the regression */
+} aenl_rfs_fit_t;
+
+typedef struct aenl_rfs aenl_rfs_t;
+
+/**
+ * @brief Allocate and clear an accumulator.
+ * @return AENL_OK; AENL_E_ARG (message in err) for a bad configuration; AENL_E_IO out of memory.
+ */
+aenl_status_t aenl_rfs_create(aenl_rfs_t **out, const aenl_rfs_cfg_t *cfg, aenl_err_t *err);
+
+/** @brief One row of filtered samples (n_ch values, input units); a NaN/Inf value is a missing
+ *  sample: no regression row is formed whose window contains it. */
+void aenl_rfs_push(aenl_rfs_t *r, const double *row);
+
+/**
+ * @brief Choose the law of channel ch from what was pushed.
+ * @return AENL_OK (out->cls insufficient when a block has too few rows); AENL_E_ARG for a bad
+ *         channel; AENL_E_NUMERIC when the linear regressors are degenerate (message in err).
+ */
+aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out,
+                               aenl_err_t *err);
+
+void aenl_rfs_free(aenl_rfs_t *r);
+
+#endif /* AENL_TOOLS_RFS_H */

@@ -1,0 +1,1161 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_rfs.c
+ * @brief Multi-channel restoring-force regression with blocked cross-validation (aenl_rfs.h).
+ *
+ * Notation: z the linear regressors of the target channel (every regressor but its own second
+ * difference), y its second difference, B the 2K tents (rising motion first). Per block the
+ * accumulator holds G = sum w w' over all regressors w (the y of every channel is among them),
+ * Z'B and the tridiagonal B'B of every target. With A = Z'Z, the Frisch-Waugh projection
+ * M = B'B - B'Z A^-1 Z'B, r = B'y - B'Z A^-1 Z'y turns a law with tent map T (2K x q) into the
+ * q x q problem (T'MT) g = T'r, its in-sample gain g'T'r over the linear fit.
+ */
+#include "aenl_tools/aenl_rfs.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define RFS_B AENL_RFS_BLOCKS
+/** Kinks are searched where at least this fraction of the samples lies on each side. */
+#define RFS_TAIL 0.02
+/** Refinement step of a switching point, in grid cells. */
+#define RFS_FINE 0.25
+/** Paired t by which a more specific law must beat the simpler one (one-sided 0.5 %, 15 df). */
+#define RFS_T_PAIR 3.0
+/** Columns of a law at most. */
+#define RFS_MAX_Q 2
+
+struct aenl_rfs
+{
+    aenl_rfs_cfg_t cfg;
+    size_t p;        /* regressors incl. every channel's second difference and the constant */
+    size_t per_ch;   /* 3 + n_lags */
+    size_t k2;       /* 2 * n_nodes */
+    size_t hist_len; /* longest lag + 2 */
+    size_t max_lag;
+    double *hist;  /* [hist_len][n_ch], standardised, NaN missing */
+    double *w;     /* one regressor row [p] */
+    size_t pushed; /* rows pushed */
+    size_t rows[RFS_B];
+    double *G;   /* [B][p][p], upper triangle */
+    double *ZB;  /* [B][n_ch][p][k2] */
+    double *BBd; /* [B][n_ch][k2] */
+    double *BBo; /* [B][n_ch][k2]: (k, k+1) inside one direction */
+};
+
+/* ---- accumulation ------------------------------------------------------------------------ */
+
+aenl_status_t aenl_rfs_create(aenl_rfs_t **out, const aenl_rfs_cfg_t *cfg, aenl_err_t *err)
+{
+    if (out == NULL || cfg == NULL || cfg->n_ch == 0 || cfg->n_ch > AENL_RFS_MAX_CH ||
+        cfg->n_nodes < 8 || cfg->n_nodes > AENL_RFS_MAX_NODES || cfg->n_lags > AENL_RFS_MAX_LAGS ||
+        cfg->n_total == 0)
+    {
+        aenl_err_set(err, "restoring-force regression: bad configuration");
+        return AENL_E_ARG;
+    }
+    size_t max_lag = 1;
+    for (size_t j = 0; j < cfg->n_ch; ++j)
+    {
+        if (!(cfg->scale[j] > 0.0) || !isfinite(cfg->center[j]) || !isfinite(cfg->scale[j]) ||
+            !(cfg->hi[j] > cfg->lo[j]) || !isfinite(cfg->lo[j]) || !isfinite(cfg->hi[j]))
+        {
+            aenl_err_set(err, "restoring-force regression: bad range or scale of channel %zu", j);
+            return AENL_E_ARG;
+        }
+    }
+    for (size_t l = 0; l < cfg->n_lags; ++l)
+    {
+        if (cfg->lags[l] < 2)
+        {
+            aenl_err_set(err, "restoring-force regression: lag %u below 2", cfg->lags[l]);
+            return AENL_E_ARG;
+        }
+        max_lag = cfg->lags[l] > max_lag ? cfg->lags[l] : max_lag;
+    }
+    aenl_rfs_t *r = calloc(1, sizeof(*r));
+    if (r == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    r->cfg = *cfg;
+    r->per_ch = 3u + cfg->n_lags;
+    r->p = 1u + cfg->n_ch * r->per_ch;
+    r->k2 = 2u * (size_t)cfg->n_nodes;
+    r->max_lag = max_lag;
+    r->hist_len = max_lag + 2u;
+    r->hist = malloc(r->hist_len * cfg->n_ch * sizeof(double));
+    r->w = malloc(r->p * sizeof(double));
+    r->G = calloc(RFS_B * r->p * r->p, sizeof(double));
+    r->ZB = calloc(RFS_B * cfg->n_ch * r->p * r->k2, sizeof(double));
+    r->BBd = calloc(RFS_B * cfg->n_ch * r->k2, sizeof(double));
+    r->BBo = calloc(RFS_B * cfg->n_ch * r->k2, sizeof(double));
+    if (r->hist == NULL || r->w == NULL || r->G == NULL || r->ZB == NULL || r->BBd == NULL ||
+        r->BBo == NULL)
+    {
+        aenl_rfs_free(r);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    *out = r;
+    return AENL_OK;
+}
+
+void aenl_rfs_free(aenl_rfs_t *r)
+{
+    if (r != NULL)
+    {
+        free(r->hist);
+        free(r->w);
+        free(r->G);
+        free(r->ZB);
+        free(r->BBd);
+        free(r->BBo);
+        free(r);
+    }
+}
+
+/* Sample `back` rows before the newest of channel j (standardised). */
+static double hist_at(const aenl_rfs_t *r, size_t back, size_t j)
+{
+    const size_t slot = (r->pushed - 1u - back) % r->hist_len;
+    return r->hist[slot * r->cfg.n_ch + j];
+}
+
+/* Position of x (standardised) on channel j's tent grid: cell k and weight of node k+1. */
+static void tent(const aenl_rfs_t *r, size_t j, double x, size_t *k, double *w1)
+{
+    const double lo = (r->cfg.lo[j] - r->cfg.center[j]) / r->cfg.scale[j];
+    const double hi = (r->cfg.hi[j] - r->cfg.center[j]) / r->cfg.scale[j];
+    const size_t K = r->cfg.n_nodes;
+    const double s = (x - lo) / (hi - lo) * (double)(K - 1u);
+    double c = floor(s);
+    c = c < 0.0 ? 0.0 : (c > (double)(K - 2u) ? (double)(K - 2u) : c);
+    *k = (size_t)c;
+    *w1 = s - c; /* outside [0, 1] beyond the grid ends: linear extrapolation */
+}
+
+void aenl_rfs_push(aenl_rfs_t *r, const double *row)
+{
+    if (r == NULL || row == NULL)
+    {
+        return;
+    }
+    const size_t nc = r->cfg.n_ch;
+    double *slot = &r->hist[(r->pushed % r->hist_len) * nc];
+    for (size_t j = 0; j < nc; ++j)
+    {
+        slot[j] = isfinite(row[j]) ? (row[j] - r->cfg.center[j]) / r->cfg.scale[j] : (double)NAN;
+    }
+    r->pushed++;
+    if (r->pushed < r->hist_len)
+    {
+        return;
+    }
+    /* the regression row is centred on n = newest - 1 */
+    double *w = r->w;
+    w[0] = 1.0;
+    for (size_t j = 0; j < nc; ++j)
+    {
+        const double xp = hist_at(r, 0, j), x0 = hist_at(r, 1, j), xm = hist_at(r, 2, j);
+        double *wj = &w[1u + j * r->per_ch];
+        wj[0] = x0;
+        wj[1] = 0.5 * (xp - xm);
+        wj[2] = xp - 2.0 * x0 + xm;
+        for (size_t l = 0; l < r->cfg.n_lags; ++l)
+        {
+            wj[3u + l] = hist_at(r, 1u + r->cfg.lags[l], j);
+        }
+    }
+    for (size_t a = 0; a < r->p; ++a)
+    {
+        if (!isfinite(w[a]))
+        {
+            return; /* a gap inside the window */
+        }
+    }
+    const size_t n = r->pushed - 2u; /* index of the centre row */
+    size_t b = (size_t)(((double)n * RFS_B) / (double)r->cfg.n_total);
+    b = b >= RFS_B ? RFS_B - 1u : b;
+    r->rows[b]++;
+    const size_t p = r->p;
+    double *G = &r->G[b * p * p];
+    for (size_t a = 0; a < p; ++a)
+    {
+        const double wa = w[a];
+        double *ga = &G[a * p];
+        for (size_t c = a; c < p; ++c)
+        {
+            ga[c] += wa * w[c];
+        }
+    }
+    const size_t K = r->cfg.n_nodes;
+    for (size_t i = 0; i < nc; ++i)
+    {
+        const double *wi = &w[1u + i * r->per_ch];
+        size_t k;
+        double w1;
+        tent(r, i, wi[0], &k, &w1);
+        const size_t col = (wi[1] > 0.0 ? 0u : K) + k; /* rising first */
+        const double w0 = 1.0 - w1;
+        double *zb = &r->ZB[(b * nc + i) * p * r->k2];
+        for (size_t a = 0; a < p; ++a)
+        {
+            zb[a * r->k2 + col] += w[a] * w0;
+            zb[a * r->k2 + col + 1u] += w[a] * w1;
+        }
+        double *bd = &r->BBd[(b * nc + i) * r->k2];
+        double *bo = &r->BBo[(b * nc + i) * r->k2];
+        bd[col] += w0 * w0;
+        bd[col + 1u] += w1 * w1;
+        bo[col] += w0 * w1;
+    }
+}
+
+/* ---- small dense linear algebra ------------------------------------------------------------ */
+
+/* In-place Cholesky of the m x m symmetric a (lower triangle used); 0 or -1 if not positive. */
+static int chol(double *a, size_t m)
+{
+    for (size_t j = 0; j < m; ++j)
+    {
+        double d = a[j * m + j];
+        for (size_t k = 0; k < j; ++k)
+        {
+            d -= a[j * m + k] * a[j * m + k];
+        }
+        if (!(d > 0.0))
+        {
+            return -1;
+        }
+        d = sqrt(d);
+        a[j * m + j] = d;
+        for (size_t i = j + 1u; i < m; ++i)
+        {
+            double s = a[i * m + j];
+            for (size_t k = 0; k < j; ++k)
+            {
+                s -= a[i * m + k] * a[j * m + k];
+            }
+            a[i * m + j] = s / d;
+        }
+    }
+    return 0;
+}
+
+/* Solve (L L') x = b in place for one right-hand side of stride `st`. */
+static void chol_solve(const double *l, size_t m, double *b, size_t st)
+{
+    for (size_t i = 0; i < m; ++i)
+    {
+        double s = b[i * st];
+        for (size_t k = 0; k < i; ++k)
+        {
+            s -= l[i * m + k] * b[k * st];
+        }
+        b[i * st] = s / l[i * m + i];
+    }
+    for (size_t i = m; i-- > 0;)
+    {
+        double s = b[i * st];
+        for (size_t k = i + 1u; k < m; ++k)
+        {
+            s -= l[k * m + i] * b[k * st];
+        }
+        b[i * st] = s / l[i * m + i];
+    }
+}
+
+/* Solve the q x q (q <= RFS_MAX_Q) system Q g = h by Cholesky; 0, or -1 when a pivot falls
+ * below 1e-10 of its diagonal (the columns are collinear). */
+static int solve_small(const double *Q, const double *h, size_t q, double *g)
+{
+    double L[RFS_MAX_Q * RFS_MAX_Q];
+    memcpy(L, Q, q * q * sizeof(double));
+    for (size_t j = 0; j < q; ++j)
+    {
+        double d = L[j * q + j];
+        for (size_t k = 0; k < j; ++k)
+        {
+            d -= L[j * q + k] * L[j * q + k];
+        }
+        if (!(d > 1e-10 * Q[j * q + j]))
+        {
+            return -1;
+        }
+        L[j * q + j] = sqrt(d);
+        for (size_t i = j + 1u; i < q; ++i)
+        {
+            double v = L[i * q + j];
+            for (size_t k = 0; k < j; ++k)
+            {
+                v -= L[i * q + k] * L[j * q + k];
+            }
+            L[i * q + j] = v / L[j * q + j];
+        }
+    }
+    memcpy(g, h, q * sizeof(double));
+    chol_solve(L, q, g, 1);
+    return 0;
+}
+
+/* ---- sums over blocks and the projection ------------------------------------------------- */
+
+typedef struct
+{
+    size_t m; /* linear regressors of the target */
+    double *A, *c, yy, *ZB, *By, *BBd, *BBo;
+} rfs_gram_t;
+
+typedef struct
+{
+    double *L, *W; /* Cholesky of A; W = A^-1 [Z'B | Z'y], m x (k2 + 1) */
+    double *M, *r; /* k2 x k2, k2 */
+    double rss_lin;
+} rfs_proj_t;
+
+typedef struct
+{
+    const aenl_rfs_t *rfs;
+    size_t ch, m, k2, K;
+    size_t idx[1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS)]; /* z -> regressor index */
+    size_t iy;                                                    /* y's regressor index */
+    double node[AENL_RFS_MAX_NODES];                              /* standardised node positions */
+    double lo_q, hi_q; /* where kinks may lie (standardised) */
+    double cell;
+    rfs_gram_t all, one, tr;
+    rfs_proj_t pj;
+    double *tmp; /* k2 x RFS_MAX_Q */
+} rfs_work_t;
+
+static int gram_alloc(rfs_gram_t *g, size_t m, size_t k2)
+{
+    g->m = m;
+    g->A = calloc(m * m, sizeof(double));
+    g->c = calloc(m, sizeof(double));
+    g->ZB = calloc(m * k2, sizeof(double));
+    g->By = calloc(k2, sizeof(double));
+    g->BBd = calloc(k2, sizeof(double));
+    g->BBo = calloc(k2, sizeof(double));
+    return (g->A && g->c && g->ZB && g->By && g->BBd && g->BBo) ? 0 : -1;
+}
+
+static void gram_free(rfs_gram_t *g)
+{
+    free(g->A);
+    free(g->c);
+    free(g->ZB);
+    free(g->By);
+    free(g->BBd);
+    free(g->BBo);
+}
+
+/* Sum the blocks b with (only < 0 ? b != skip : b == only) into g. */
+static void gram_sum(const rfs_work_t *wk, int skip, int only, rfs_gram_t *g)
+{
+    const aenl_rfs_t *r = wk->rfs;
+    const size_t m = wk->m, k2 = wk->k2, p = r->p, nc = r->cfg.n_ch;
+    memset(g->A, 0, m * m * sizeof(double));
+    memset(g->c, 0, m * sizeof(double));
+    memset(g->ZB, 0, m * k2 * sizeof(double));
+    memset(g->By, 0, k2 * sizeof(double));
+    memset(g->BBd, 0, k2 * sizeof(double));
+    memset(g->BBo, 0, k2 * sizeof(double));
+    g->yy = 0.0;
+    for (int b = 0; b < RFS_B; ++b)
+    {
+        if ((only < 0 && b == skip) || (only >= 0 && b != only))
+        {
+            continue;
+        }
+        const double *G = &r->G[(size_t)b * p * p];
+        const double *zb = &r->ZB[((size_t)b * nc + wk->ch) * p * k2];
+        for (size_t a = 0; a < m; ++a)
+        {
+            const size_t ia = wk->idx[a];
+            for (size_t c = 0; c < m; ++c)
+            {
+                const size_t ic = wk->idx[c];
+                g->A[a * m + c] += ia <= ic ? G[ia * p + ic] : G[ic * p + ia];
+            }
+            g->c[a] += ia <= wk->iy ? G[ia * p + wk->iy] : G[wk->iy * p + ia];
+            for (size_t k = 0; k < k2; ++k)
+            {
+                g->ZB[a * k2 + k] += zb[ia * k2 + k];
+            }
+        }
+        g->yy += G[wk->iy * p + wk->iy];
+        for (size_t k = 0; k < k2; ++k)
+        {
+            g->By[k] += zb[wk->iy * k2 + k];
+            g->BBd[k] += r->BBd[((size_t)b * nc + wk->ch) * k2 + k];
+            g->BBo[k] += r->BBo[((size_t)b * nc + wk->ch) * k2 + k];
+        }
+    }
+}
+
+/* out = B'B t for the tridiagonal-by-direction B'B of g. */
+static void bb_mul(const rfs_work_t *wk, const rfs_gram_t *g, const double *t, double *out)
+{
+    const size_t K = wk->K;
+    for (size_t k = 0; k < wk->k2; ++k)
+    {
+        const size_t in_dir = k % K;
+        double s = g->BBd[k] * t[k];
+        if (in_dir + 1u < K)
+        {
+            s += g->BBo[k] * t[k + 1u];
+        }
+        if (in_dir > 0)
+        {
+            s += g->BBo[k - 1u] * t[k - 1u];
+        }
+        out[k] = s;
+    }
+}
+
+/* Project g: p->W, p->M, p->r, p->rss_lin. -1 when A is not positive definite. */
+static int project(rfs_work_t *wk, const rfs_gram_t *g, rfs_proj_t *pj)
+{
+    const size_t m = wk->m, k2 = wk->k2, st = k2 + 1u;
+    memcpy(pj->L, g->A, m * m * sizeof(double));
+    double tr = 0.0;
+    for (size_t a = 0; a < m; ++a)
+    {
+        tr += g->A[a * m + a];
+    }
+    for (size_t a = 0; a < m; ++a)
+    {
+        pj->L[a * m + a] += 1e-12 * tr / (double)m; /* rounding guard, not a prior */
+    }
+    if (chol(pj->L, m) != 0)
+    {
+        return -1;
+    }
+    for (size_t a = 0; a < m; ++a)
+    {
+        memcpy(&pj->W[a * st], &g->ZB[a * k2], k2 * sizeof(double));
+        pj->W[a * st + k2] = g->c[a];
+    }
+    for (size_t col = 0; col < st; ++col)
+    {
+        chol_solve(pj->L, m, &pj->W[col], st);
+    }
+    double rss = g->yy;
+    for (size_t a = 0; a < m; ++a)
+    {
+        rss -= g->c[a] * pj->W[a * st + k2];
+    }
+    pj->rss_lin = rss;
+    for (size_t k = 0; k < k2; ++k)
+    {
+        double rk = g->By[k];
+        for (size_t a = 0; a < m; ++a)
+        {
+            rk -= g->ZB[a * k2 + k] * pj->W[a * st + k2];
+        }
+        pj->r[k] = rk;
+        for (size_t l = k; l < k2; ++l)
+        {
+            double s = 0.0;
+            for (size_t a = 0; a < m; ++a)
+            {
+                s -= g->ZB[a * k2 + k] * pj->W[a * st + l];
+            }
+            pj->M[k * k2 + l] = s;
+            pj->M[l * k2 + k] = s;
+        }
+    }
+    const size_t K = wk->K;
+    for (size_t k = 0; k < k2; ++k)
+    {
+        pj->M[k * k2 + k] += g->BBd[k];
+        if (k % K + 1u < K)
+        {
+            pj->M[k * k2 + k + 1u] += g->BBo[k];
+            pj->M[(k + 1u) * k2 + k] += g->BBo[k];
+        }
+    }
+    return 0;
+}
+
+/* ---- laws ---------------------------------------------------------------------------------- */
+
+typedef struct
+{
+    aenl_rfs_law_t law;
+    double a, b, s; /* kinks (standardised): kink a; gap [a, b]; hysteresis gap [a, b] +- s/2 */
+} rfs_law_t;
+
+static double clip(double x, double a, double b)
+{
+    return x < a ? a : (x > b ? b : x);
+}
+
+/* Tent map T (k2 x q, column-major: T[c * k2 + k]); returns q (0 for the linear law). */
+static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
+{
+    const size_t K = wk->K, k2 = wk->k2;
+    double *t1 = T, *t2 = &T[k2];
+    for (size_t k = 0; k < k2; ++k)
+    {
+        const double x = wk->node[k % K];
+        const int rising = k < K;
+        switch (lw->law)
+        {
+        case AENL_RFS_CUBIC:
+            t1[k] = x * x;
+            t2[k] = x * x * x;
+            break;
+        case AENL_RFS_KINK:
+            t1[k] = x > lw->a ? x - lw->a : 0.0;
+            break;
+        case AENL_RFS_GAP:
+            t1[k] = clip(x, lw->a, lw->b);
+            break;
+        case AENL_RFS_HYSTERESIS:
+        {
+            const double sh = rising ? 0.5 * lw->s : -0.5 * lw->s;
+            t1[k] = clip(x, lw->a + sh, lw->b + sh);
+            t2[k] = rising ? 1.0 : 0.0;
+            break;
+        }
+        case AENL_RFS_LINEAR:
+            break;
+        }
+    }
+    switch (lw->law)
+    {
+    case AENL_RFS_CUBIC:
+    case AENL_RFS_HYSTERESIS:
+        return 2u;
+    case AENL_RFS_KINK:
+    case AENL_RFS_GAP:
+        return 1u;
+    case AENL_RFS_LINEAR:
+        return 0u;
+    }
+    return 0u;
+}
+
+/* In-sample gain of law lw on projection pj (g: its coefficients); -1 if degenerate. */
+static double law_gain(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw, double *g)
+{
+    double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES];
+    const size_t q = law_map(wk, lw, T), k2 = wk->k2;
+    double Q[RFS_MAX_Q * RFS_MAX_Q], h[RFS_MAX_Q] = {0.0, 0.0};
+    if (q == 0)
+    {
+        return 0.0;
+    }
+    for (size_t c = 0; c < q; ++c)
+    {
+        double *mt = &wk->tmp[c * k2];
+        for (size_t k = 0; k < k2; ++k)
+        {
+            double s = 0.0;
+            const double *mk = &pj->M[k * k2];
+            for (size_t l = 0; l < k2; ++l)
+            {
+                s += mk[l] * T[c * k2 + l];
+            }
+            mt[k] = s;
+            h[c] += T[c * k2 + k] * pj->r[k];
+        }
+    }
+    for (size_t c = 0; c < q; ++c)
+    {
+        for (size_t d = 0; d < q; ++d)
+        {
+            double s = 0.0;
+            for (size_t k = 0; k < k2; ++k)
+            {
+                s += T[c * k2 + k] * wk->tmp[d * k2 + k];
+            }
+            Q[c * q + d] = s;
+        }
+    }
+    if (solve_small(Q, h, q, g) != 0)
+    {
+        return -1.0;
+    }
+    double gain = 0.0;
+    for (size_t c = 0; c < q; ++c)
+    {
+        gain += g[c] * h[c];
+    }
+    return gain;
+}
+
+static int kink_ok(const rfs_work_t *wk, double x)
+{
+    return x >= wk->lo_q && x <= wk->hi_q;
+}
+
+static int law_ok(const rfs_work_t *wk, const rfs_law_t *lw)
+{
+    switch (lw->law)
+    {
+    case AENL_RFS_KINK:
+        return kink_ok(wk, lw->a);
+    case AENL_RFS_GAP:
+        return lw->b - lw->a >= 0.999 * wk->cell && kink_ok(wk, lw->a) && kink_ok(wk, lw->b);
+    case AENL_RFS_HYSTERESIS:
+        return lw->b - lw->a >= 0.999 * wk->cell && fabs(lw->s) >= 0.999 * wk->cell &&
+               kink_ok(wk, lw->a - 0.5 * fabs(lw->s)) && kink_ok(wk, lw->b + 0.5 * fabs(lw->s));
+    case AENL_RFS_LINEAR:
+    case AENL_RFS_CUBIC:
+        return 1;
+    }
+    return 1;
+}
+
+/* Best law of a family on pj: a box scan of half-width `span` cells and step `step` cells
+ * around *lw (or the whole interior when span <= 0); *lw is updated; returns its gain. */
+static double law_search(rfs_work_t *wk, const rfs_proj_t *pj, rfs_law_t *lw, double span,
+                         double step)
+{
+    double g[RFS_MAX_Q];
+    if (lw->law == AENL_RFS_CUBIC)
+    {
+        return law_gain(wk, pj, lw, g);
+    }
+    const double h = wk->cell;
+    double a0, a1, b0 = 0.0, b1 = 0.0, s0 = 0.0, s1 = 0.0;
+    if (span > 0.0)
+    {
+        a0 = lw->a - span * h;
+        a1 = lw->a + span * h;
+        b0 = lw->b - span * h;
+        b1 = lw->b + span * h;
+        s0 = lw->s - span * h;
+        s1 = lw->s + span * h;
+    }
+    else
+    {
+        a0 = b0 = wk->lo_q;
+        a1 = b1 = wk->hi_q;
+        s0 = -(wk->hi_q - wk->lo_q);
+        s1 = -s0;
+    }
+    if (lw->law != AENL_RFS_HYSTERESIS)
+    {
+        s0 = s1 = lw->s;
+    }
+    if (lw->law == AENL_RFS_KINK)
+    {
+        b0 = b1 = lw->b;
+    }
+    rfs_law_t best = *lw, c = *lw;
+    double best_gain = -1.0;
+    const double d = step * h;
+    const long na = (long)floor((a1 - a0) / d + 1e-9), nb = (long)floor((b1 - b0) / d + 1e-9);
+    const long ns = (long)floor((s1 - s0) / d + 1e-9);
+    for (long ia = 0; ia <= na; ++ia)
+    {
+        c.a = a0 + (double)ia * d;
+        for (long ib = 0; ib <= nb; ++ib)
+        {
+            c.b = b0 + (double)ib * d;
+            for (long is = 0; is <= ns; ++is)
+            {
+                c.s = s0 + (double)is * d;
+                if (!law_ok(wk, &c))
+                {
+                    continue;
+                }
+                const double gn = law_gain(wk, pj, &c, g);
+                if (gn > best_gain)
+                {
+                    best_gain = gn;
+                    best = c;
+                }
+            }
+        }
+    }
+    *lw = best;
+    return best_gain;
+}
+
+/* Full search of one family on all data: coarse, then two refinements. */
+static double law_fit_all(rfs_work_t *wk, rfs_law_t *lw)
+{
+    const double coarse = lw->law == AENL_RFS_HYSTERESIS ? 2.0 : 1.0;
+    const double gn = law_search(wk, &wk->pj, lw, 0.0, coarse);
+    if (lw->law == AENL_RFS_CUBIC || gn < 0.0)
+    {
+        return gn;
+    }
+    if (coarse > 1.0)
+    {
+        (void)law_search(wk, &wk->pj, lw, coarse, 1.0);
+    }
+    return law_search(wk, &wk->pj, lw, 1.0, RFS_FINE);
+}
+
+/* Residual sum of squares on block set `te` of the law lw fitted on the projection pj. */
+static double test_rss(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw,
+                       const rfs_gram_t *te, int *ok)
+{
+    const size_t m = wk->m, k2 = wk->k2, st = k2 + 1u;
+    double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES] = {0.0};
+    double g[RFS_MAX_Q] = {0.0, 0.0};
+    *ok = 1;
+    const size_t q = law_map(wk, lw, T);
+    if (law_gain(wk, pj, lw, g) < 0.0)
+    {
+        *ok = 0;
+        return 0.0;
+    }
+    /* beta = W_y - W_B T g */
+    double beta[1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS)];
+    double tg[2 * AENL_RFS_MAX_NODES] = {0.0};
+    for (size_t k = 0; k < k2; ++k)
+    {
+        tg[k] = 0.0;
+        for (size_t c = 0; c < q; ++c)
+        {
+            tg[k] += T[c * k2 + k] * g[c];
+        }
+    }
+    for (size_t a = 0; a < m; ++a)
+    {
+        double s = pj->W[a * st + k2];
+        for (size_t k = 0; k < k2; ++k)
+        {
+            s -= pj->W[a * st + k] * tg[k];
+        }
+        beta[a] = s;
+    }
+    /* rss = yy - 2 theta' X'y + theta' X'X theta on the test blocks, X = [Z, B T] */
+    double rss = te->yy;
+    double btg[2 * AENL_RFS_MAX_NODES] = {0.0};
+    bb_mul(wk, te, tg, btg);
+    for (size_t k = 0; k < k2; ++k)
+    {
+        rss += -2.0 * tg[k] * te->By[k] + tg[k] * btg[k];
+    }
+    for (size_t a = 0; a < m; ++a)
+    {
+        double az = 0.0, zbt = 0.0;
+        for (size_t c = 0; c < m; ++c)
+        {
+            az += te->A[a * m + c] * beta[c];
+        }
+        for (size_t k = 0; k < k2; ++k)
+        {
+            zbt += te->ZB[a * k2 + k] * tg[k];
+        }
+        rss += beta[a] * (az - 2.0 * te->c[a] + 2.0 * zbt);
+    }
+    return rss;
+}
+
+/* mean / (sd / sqrt(n)) of d[0..n-1]; +-1e6 for a constant non-zero series. */
+static double batch_t(const double *d, size_t n)
+{
+    double mean = 0.0, m2 = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        mean += d[i];
+    }
+    mean /= (double)n;
+    for (size_t i = 0; i < n; ++i)
+    {
+        m2 += (d[i] - mean) * (d[i] - mean);
+    }
+    const double sd = sqrt(m2 / (double)(n - 1u));
+    if (!(sd > 1e-300))
+    {
+        return mean > 0.0 ? 1e6 : (mean < 0.0 ? -1e6 : 0.0);
+    }
+    return mean / (sd / sqrt((double)n));
+}
+
+static aenl_class_t law_class(aenl_rfs_law_t law)
+{
+    switch (law)
+    {
+    case AENL_RFS_CUBIC:
+        return AENL_CLASS_POLYNOMIAL;
+    case AENL_RFS_KINK:
+    case AENL_RFS_GAP:
+        return AENL_CLASS_FREEPLAY;
+    case AENL_RFS_HYSTERESIS:
+        return AENL_CLASS_HYSTERESIS;
+    case AENL_RFS_LINEAR:
+        return AENL_CLASS_LINEAR;
+    }
+    return AENL_CLASS_LINEAR;
+}
+
+/* Switching points of a law, standardised, ascending; returns their count. */
+static size_t law_points(const rfs_law_t *lw, double *pt)
+{
+    switch (lw->law)
+    {
+    case AENL_RFS_KINK:
+        pt[0] = lw->a;
+        return 1;
+    case AENL_RFS_GAP:
+        pt[0] = lw->a;
+        pt[1] = lw->b;
+        return 2;
+    case AENL_RFS_HYSTERESIS:
+    {
+        const double h = 0.5 * fabs(lw->s);
+        pt[0] = lw->a - h;
+        pt[1] = lw->a + h;
+        pt[2] = lw->b - h;
+        pt[3] = lw->b + h;
+        for (size_t i = 1; i < 4; ++i) /* insertion sort of four */
+        {
+            for (size_t j = i; j > 0 && pt[j] < pt[j - 1u]; --j)
+            {
+                const double t = pt[j];
+                pt[j] = pt[j - 1u];
+                pt[j - 1u] = t;
+            }
+        }
+        return 4;
+    }
+    case AENL_RFS_LINEAR:
+    case AENL_RFS_CUBIC:
+        return 0;
+    }
+    return 0;
+}
+
+/* ---- analysis ------------------------------------------------------------------------------ */
+
+static int work_alloc(rfs_work_t *wk)
+{
+    const size_t m = wk->m, k2 = wk->k2;
+    wk->pj.L = malloc(m * m * sizeof(double));
+    wk->pj.W = malloc(m * (k2 + 1u) * sizeof(double));
+    wk->pj.M = malloc(k2 * k2 * sizeof(double));
+    wk->pj.r = malloc(k2 * sizeof(double));
+    wk->tmp = malloc(RFS_MAX_Q * k2 * sizeof(double));
+    return (wk->pj.L && wk->pj.W && wk->pj.M && wk->pj.r && wk->tmp &&
+            gram_alloc(&wk->all, m, k2) == 0 && gram_alloc(&wk->one, m, k2) == 0 &&
+            gram_alloc(&wk->tr, m, k2) == 0)
+               ? 0
+               : -1;
+}
+
+static void work_free(rfs_work_t *wk)
+{
+    free(wk->pj.L);
+    free(wk->pj.W);
+    free(wk->pj.M);
+    free(wk->pj.r);
+    free(wk->tmp);
+    gram_free(&wk->all);
+    gram_free(&wk->one);
+    gram_free(&wk->tr);
+}
+
+/* Where kinks may lie: between the RFS_TAIL and 1 - RFS_TAIL quantiles of the tent mass. */
+static void interior(rfs_work_t *wk)
+{
+    const rfs_gram_t *g = &wk->all;
+    const size_t K = wk->K;
+    double mass[AENL_RFS_MAX_NODES], tot = 0.0;
+    for (size_t k = 0; k < K; ++k)
+    {
+        mass[k] = 0.0;
+        for (size_t d = 0; d < 2u; ++d)
+        {
+            const size_t i = d * K + k;
+            mass[k] += g->BBd[i] + (k + 1u < K ? g->BBo[i] : 0.0) + (k > 0 ? g->BBo[i - 1u] : 0.0);
+        }
+        mass[k] = mass[k] > 0.0 ? mass[k] : 0.0;
+        tot += mass[k];
+    }
+    double cum = 0.0;
+    wk->lo_q = wk->node[0];
+    wk->hi_q = wk->node[K - 1u];
+    int have_lo = 0;
+    for (size_t k = 0; k < K; ++k)
+    {
+        cum += mass[k];
+        if (!have_lo && cum >= RFS_TAIL * tot)
+        {
+            wk->lo_q = wk->node[k];
+            have_lo = 1;
+        }
+        if (cum <= (1.0 - RFS_TAIL) * tot)
+        {
+            wk->hi_q = wk->node[k + 1u < K ? k + 1u : k];
+        }
+    }
+}
+
+/* Paired batch-means t of law a's fold gains over law b's. */
+static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
+{
+    double diff[RFS_B];
+    for (int f = 0; f < RFS_B; ++f)
+    {
+        diff[f] = d[a][f] - d[b][f];
+    }
+    return batch_t(diff, RFS_B);
+}
+
+/*
+ * The law, from the fold gains d: linear unless a law the same in both directions reaches
+ * AENL_RFS_T_CRIT. Among those, the smooth cubic stands unless the best kinked law beats it by
+ * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a cubic over a
+ * bounded range, so kinks must earn their place); hysteresis replaces it only when the
+ * direction-dependent law beats it by RFS_T_PAIR as well.
+ */
+static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const double *t,
+                      const double *D)
+{
+    double top = 0.0;
+    for (int l = AENL_RFS_CUBIC; l <= AENL_RFS_GAP; ++l)
+    {
+        top = usable[l] && t[l] > top ? t[l] : top;
+    }
+    if (top < AENL_RFS_T_CRIT)
+    {
+        return AENL_RFS_LINEAR;
+    }
+    int kinked = -1;
+    for (int l = AENL_RFS_KINK; l <= AENL_RFS_GAP; ++l)
+    {
+        if (usable[l] && (kinked < 0 || D[l] > D[kinked]))
+        {
+            kinked = l;
+        }
+    }
+    int law;
+    if (kinked < 0)
+    {
+        law = AENL_RFS_CUBIC;
+    }
+    else if (!usable[AENL_RFS_CUBIC] || t[AENL_RFS_CUBIC] < AENL_RFS_T_CRIT)
+    {
+        law = kinked;
+    }
+    else
+    {
+        law = paired_t(d, kinked, AENL_RFS_CUBIC) >= RFS_T_PAIR ? kinked : AENL_RFS_CUBIC;
+    }
+    if (usable[AENL_RFS_HYSTERESIS] && paired_t(d, AENL_RFS_HYSTERESIS, law) >= RFS_T_PAIR)
+    {
+        law = AENL_RFS_HYSTERESIS;
+    }
+    return law;
+}
+
+aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out,
+                               aenl_err_t *err)
+{
+    if (r == NULL || out == NULL || ch >= r->cfg.n_ch)
+    {
+        aenl_err_set(err, "restoring-force regression: bad channel");
+        return AENL_E_ARG;
+    }
+    memset(out, 0, sizeof(*out));
+    out->cls = AENL_CLASS_INSUFFICIENT;
+    rfs_work_t wk;
+    memset(&wk, 0, sizeof(wk));
+    wk.rfs = r;
+    wk.ch = ch;
+    wk.K = r->cfg.n_nodes;
+    wk.k2 = r->k2;
+    wk.iy = 1u + ch * r->per_ch + 2u;
+    for (size_t a = 0; a < r->p; ++a)
+    {
+        if (a != wk.iy)
+        {
+            wk.idx[wk.m++] = a;
+        }
+    }
+    const double lo = (r->cfg.lo[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
+    const double hi = (r->cfg.hi[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
+    wk.cell = (hi - lo) / (double)(wk.K - 1u);
+    for (size_t k = 0; k < wk.K; ++k)
+    {
+        wk.node[k] = lo + wk.cell * (double)k;
+    }
+    size_t n_used = 0, min_rows = (size_t)-1;
+    for (size_t b = 0; b < RFS_B; ++b)
+    {
+        n_used += r->rows[b];
+        min_rows = r->rows[b] < min_rows ? r->rows[b] : min_rows;
+    }
+    out->n_used = n_used;
+    if (min_rows < 2u * (wk.m + wk.k2))
+    {
+        return AENL_OK; /* insufficient */
+    }
+    aenl_status_t st = AENL_OK;
+    if (work_alloc(&wk) != 0)
+    {
+        aenl_err_set(err, "out of memory");
+        work_free(&wk);
+        return AENL_E_IO;
+    }
+    gram_sum(&wk, -1, -1, &wk.all);
+    if (project(&wk, &wk.all, &wk.pj) != 0)
+    {
+        aenl_err_set(err, "restoring-force regression: the linear regressors of channel %zu are "
+                          "degenerate",
+                     ch);
+        work_free(&wk);
+        return AENL_E_NUMERIC;
+    }
+    interior(&wk);
+    rfs_law_t law[AENL_RFS_N_LAWS];
+    int usable[AENL_RFS_N_LAWS];
+    for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
+    {
+        law[l].law = (aenl_rfs_law_t)l;
+        law[l].a = law[l].b = law[l].s = 0.0;
+        usable[l] = law_fit_all(&wk, &law[l]) >= 0.0;
+    }
+    /* cross-validation: each block out in turn; the same projection buffers are reused */
+    double d[AENL_RFS_N_LAWS][RFS_B];
+    double rss_lin_cv = 0.0;
+    for (int f = 0; f < RFS_B && st == AENL_OK; ++f)
+    {
+        gram_sum(&wk, f, -1, &wk.tr);
+        gram_sum(&wk, -1, f, &wk.one);
+        if (project(&wk, &wk.tr, &wk.pj) != 0)
+        {
+            st = AENL_E_NUMERIC;
+            break;
+        }
+        int ok = 1;
+        const double base = test_rss(&wk, &wk.pj, &law[0], &wk.one, &ok);
+        rss_lin_cv += base;
+        for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
+        {
+            d[l][f] = 0.0;
+            if (l > 0 && usable[l])
+            {
+                const double v = test_rss(&wk, &wk.pj, &law[l], &wk.one, &ok);
+                d[l][f] = ok ? base - v : 0.0;
+                usable[l] = usable[l] && ok;
+            }
+        }
+    }
+    if (st != AENL_OK)
+    {
+        aenl_err_set(err, "restoring-force regression: degenerate regressors in a fold of "
+                          "channel %zu",
+                     ch);
+        work_free(&wk);
+        return st;
+    }
+    double D[AENL_RFS_N_LAWS];
+    for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
+    {
+        D[l] = 0.0;
+        for (int f = 0; f < RFS_B; ++f)
+        {
+            D[l] += d[l][f];
+        }
+        out->t[l] = (l > 0 && usable[l]) ? batch_t(d[l], RFS_B) : 0.0;
+        out->gain[l] = rss_lin_cv > 0.0 ? D[l] / rss_lin_cv : 0.0;
+    }
+    const int best = choose_law(d, usable, out->t, D);
+    /* the evidence is that of the laws the same in both directions: a direction-dependent
+     * offset alone also fits excitation that follows the motion (the kicks of a decay train) */
+    out->evidence = 0.0;
+    for (int l = AENL_RFS_CUBIC; l <= AENL_RFS_GAP; ++l)
+    {
+        out->evidence = out->t[l] > out->evidence ? out->t[l] : out->evidence;
+    }
+    out->law = (aenl_rfs_law_t)best;
+    out->cls = law_class(out->law);
+    /* class weights: paired t of each law against the chosen one */
+    double wsum = 0.0;
+    for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
+    {
+        double tp;
+        if (l == best)
+        {
+            tp = 0.0;
+        }
+        else if (!usable[l] && l != AENL_RFS_LINEAR)
+        {
+            continue;
+        }
+        else
+        {
+            double diff[RFS_B];
+            for (int f = 0; f < RFS_B; ++f)
+            {
+                diff[f] = d[best][f] - d[l][f];
+            }
+            tp = batch_t(diff, RFS_B);
+            if (best == AENL_RFS_LINEAR)
+            {
+                tp = AENL_RFS_T_CRIT - out->t[l]; /* how far the law is from being accepted */
+            }
+        }
+        tp = tp > 0.0 ? tp : 0.0;
+        const double wgt = exp(-0.5 * (tp > 30.0 ? 900.0 : tp * tp));
+        const aenl_class_t c = law_class((aenl_rfs_law_t)l);
+        out->prob[c] = wgt > out->prob[c] ? wgt : out->prob[c];
+    }
+    for (int c = 0; c < AENL_CLASS_COUNT; ++c)
+    {
+        wsum += out->prob[c];
+    }
+    for (int c = 0; c < AENL_CLASS_COUNT; ++c)
+    {
+        out->prob[c] = wsum > 0.0 ? out->prob[c] / wsum : 0.0;
+    }
+    out->confidence = out->prob[out->cls];
+    if (out->law == AENL_RFS_CUBIC)
+    {
+        double g[RFS_MAX_Q];
+        (void)project(&wk, &wk.all, &wk.pj);
+        (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_CUBIC], g);
+        out->hardening = g[1] < 0.0 ? 1 : -1; /* d2 = -f: a negative cubic stiffens */
+    }
+    /* switching points and their block-jackknife errors */
+    double pt[4];
+    out->n_points = law_points(&law[best], pt);
+    if (out->n_points > 0)
+    {
+        double acc[4] = {0.0, 0.0, 0.0, 0.0}, acc2[4] = {0.0, 0.0, 0.0, 0.0};
+        for (int f = 0; f < RFS_B; ++f)
+        {
+            gram_sum(&wk, f, -1, &wk.tr);
+            if (project(&wk, &wk.tr, &wk.pj) != 0)
+            {
+                continue;
+            }
+            rfs_law_t lf = law[best];
+            (void)law_search(&wk, &wk.pj, &lf, 2.0, RFS_FINE * 2.0);
+            (void)law_search(&wk, &wk.pj, &lf, 0.5, RFS_FINE * 0.5);
+            double pf[4];
+            (void)law_points(&lf, pf);
+            for (size_t i = 0; i < out->n_points; ++i)
+            {
+                acc[i] += pf[i];
+                acc2[i] += pf[i] * pf[i];
+            }
+        }
+        for (size_t i = 0; i < out->n_points; ++i)
+        {
+            const double mean = acc[i] / RFS_B;
+            const double var = acc2[i] / RFS_B - mean * mean;
+            out->points[i] = r->cfg.center[ch] + r->cfg.scale[ch] * pt[i];
+            /* the jackknife variance, plus that of the search grid's quantisation (a uniform
+             * error over one step), which a jackknife on a grid cannot see */
+            const double q = RFS_FINE * 0.5 * wk.cell;
+            out->point_std[i] = r->cfg.scale[ch] *
+                                sqrt((double)(RFS_B - 1) * (var > 0.0 ? var : 0.0) + q * q / 12.0);
+        }
+    }
+    work_free(&wk);
+    return AENL_OK;
+}
