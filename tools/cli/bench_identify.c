@@ -75,6 +75,9 @@ typedef struct tally
     size_t by_cell[AENL_EVAL_N_VARIANTS][AENL_EVAL_N_REGIMES][3];
     size_t rejections, cases_rejected, gen_failures, id_failures;
     double t_gen, t_id;
+    /* each analysis alone: [0] core classifier, [1] restoring-force regression;
+     * [SNR] x (class ok, channel ok) */
+    size_t alone[2][N_SNR][2];
 } tally_t;
 
 typedef struct args
@@ -163,6 +166,35 @@ static int push_err(tally_t *t, unsigned lvl, double e)
     }
     t->err[lvl][t->n_err[lvl]++] = e;
     return 0;
+}
+
+/* Verdict of one analysis alone (0 the core classifier, 1 the restoring-force regression): the
+ * nonlinear channel with the largest evidence, as aenl_identify_run names one. */
+static void score_alone(const aenl_eval_case_t *c, const aenl_identify_result_t *r, int which,
+                        tally_t *t)
+{
+    long v = -1;
+    int cls = (int)AENL_CLASS_INSUFFICIENT;
+    double best = 0.0;
+    for (size_t k = 0; r != NULL && k < r->n_channels; ++k)
+    {
+        const aenl_identify_channel_t *ch = &r->ch[k];
+        const int ck = which == 0 ? (int)ch->onboard.cls : (int)ch->rfs.cls;
+        const double ev = which == 0 ? (double)ch->onboard.evidence : ch->rfs.evidence;
+        if (ck == (int)AENL_CLASS_LINEAR && v < 0)
+        {
+            cls = ck;
+        }
+        if (ck > (int)AENL_CLASS_LINEAR && ev > best)
+        {
+            best = ev;
+            v = (long)k;
+            cls = ck;
+        }
+    }
+    const unsigned l = c->stratum.snr_level;
+    t->alone[which][l][0] += (size_t)(cls == (int)c->cls);
+    t->alone[which][l][1] += (size_t)(c->channel_index < 0 ? v < 0 : v == c->channel_index);
 }
 
 /* Score the identification of one case. */
@@ -565,6 +597,18 @@ static void print_summary(tally_t *t)
         all_ch += t->channel_ok[l];
     }
     printf("  all         %6.1f %%         %6.1f %%\n", pct(all_ok, all_c), pct(all_ch, all_c));
+    printf("\neach analysis alone (class / channel)   SNR inf        SNR 10         SNR 3          "
+           "SNR 2\n");
+    for (int w = 0; w < 2; ++w)
+    {
+        printf("  %-36s", w == 0 ? "core classifier (moments, onboard)" : "restoring-force regression");
+        for (unsigned l = 0; l < N_SNR; ++l)
+        {
+            printf(" %5.1f / %5.1f", pct(t->alone[w][l][0], t->cases[l]),
+                   pct(t->alone[w][l][1], t->cases[l]));
+        }
+        printf("\n");
+    }
     printf("\nper regime    cases  class  channel\n");
     for (int r = 0; r < (int)AENL_EVAL_N_REGIMES; ++r)
     {
@@ -639,6 +683,8 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
         printf("  case %zu: identify failed: %s\n", i, err.msg);
     }
     score(&c, sti == AENL_OK ? &res : NULL, &o);
+    score_alone(&c, sti == AENL_OK ? &res : NULL, 0, t);
+    score_alone(&c, sti == AENL_OK ? &res : NULL, 1, t);
     int rc = tally_add(t, &o);
     if (a->verbose)
     {

@@ -544,7 +544,7 @@ int aenl_cmd_fit(int argc, char **argv)
     {
         bad = aenl_cli_check_record(k_cmd, &t, a.data, cols[i]) != 0; /* NaN time, huge, all NaN */
     }
-    if (bad || time_step(&t, a.data, &dt) != 0)
+    if (bad || n_out == 0 || time_step(&t, a.data, &dt) != 0)
     {
         if (t.n_rows < 2)
         {

@@ -11,6 +11,7 @@
 
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_rfs.h"
 
 /** Classification lags at most (geometric from 1 to period / 8). */
 #define ID_MAX_LAGS 8
@@ -26,6 +27,13 @@
 #define ID_TAYLOR_ORDER 3u
 /** Grid nodes at least. */
 #define ID_MIN_GRID 60
+/** Restoring-force regression: common pre-filter cutoff in cycles of the shortest dominant
+ *  period (every channel through the same filter keeps the coupling linear). */
+#define ID_RFS_CUTOFF_CYCLES 5.0
+/** Restoring-force regression: consecutive position lags from 2. */
+#define ID_RFS_DENSE_LAGS 8u
+/** Restoring-force regression: tents per direction. */
+#define ID_RFS_NODES 32u
 
 /* ---- sources ----------------------------------------------------------------------------- */
 
@@ -417,6 +425,11 @@ typedef struct id_run
     size_t n_ch;
     size_t *col; /**< source column of each analysed channel */
     id_chan_t *ch;
+    /* restoring-force regression over every analysed channel at once */
+    aenl_rfs_t *rfs;
+    aenl_filter_t *rfs_filter; /**< n_ch, one common design */
+    double *rfs_row;
+    size_t rfs_settle, rfs_pushed;
 } id_run_t;
 
 static aenl_status_t pass1_row(void *ctx, const double *row, aenl_err_t *err)
@@ -470,6 +483,17 @@ static aenl_status_t pass2_row(void *ctx, const double *row, aenl_err_t *err)
         c->pushed++;
         (void)aenl_moments_push(c->mom, y); /* NaN: a missing sample, alignment kept */
         (void)aenl_moments_push(c->disp, y);
+    }
+    if (run->rfs != NULL)
+    {
+        for (size_t k = 0; k < run->n_ch; ++k)
+        {
+            double y = row[run->col[k]];
+            (void)aenl_filter_push(&run->rfs_filter[k], y, &y);
+            run->rfs_row[k] = run->rfs_pushed < run->rfs_settle ? (double)NAN : y;
+        }
+        run->rfs_pushed++;
+        aenl_rfs_push(run->rfs, run->rfs_row);
     }
     return AENL_OK;
 }
@@ -732,6 +756,133 @@ static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *ou
     return AENL_OK;
 }
 
+/**
+ * Set up the restoring-force regression after pass 1 (aenl_rfs.h): one low-pass for every
+ * channel at ID_RFS_CUTOFF_CYCLES / (shortest dominant period), position lags at 1/2 .. 1/16 of
+ * the longest period, tents over each channel's grid. Left off (NULL) when no channel oscillates
+ * or there are more channels than it takes; the core classifier's verdict then stands.
+ */
+static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out, aenl_err_t *err)
+{
+    double p_min = 0.0, p_max = 0.0;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        const double p = out->ch[k].period;
+        if (p > 0.0)
+        {
+            p_min = (p_min <= 0.0 || p < p_min) ? p : p_min;
+            p_max = p > p_max ? p : p_max;
+        }
+    }
+    if (p_min <= 0.0 || run->n_ch > AENL_RFS_MAX_CH)
+    {
+        return AENL_OK;
+    }
+    aenl_rfs_cfg_t rc;
+    memset(&rc, 0, sizeof(rc));
+    rc.n_ch = run->n_ch;
+    rc.n_nodes = ID_RFS_NODES;
+    rc.n_total = run->ch[0].n + run->ch[0].n_missing;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        const id_chan_t *c = &run->ch[k];
+        rc.center[k] = c->mean;
+        rc.scale[k] = c->n > 1u ? sqrt(c->m2 / (double)(c->n - 1u)) : 0.0;
+        rc.lo[k] = out->ch[k].x_min;
+        rc.hi[k] = out->ch[k].x_max;
+    }
+    /* every lag from 2 to 9 (the states of the structure, the aerodynamics and the pre-filter
+     * as a linear function of the past), then a quarter and a half of the longest period */
+    for (uint16_t l = 2; l <= ID_RFS_DENSE_LAGS + 1u; ++l)
+    {
+        rc.lags[rc.n_lags++] = l;
+    }
+    for (unsigned div = 4; div >= 2u; div /= 2u)
+    {
+        const double l = floor(p_max / (double)div + 0.5);
+        if (l > (double)rc.lags[rc.n_lags - 1u] && l < 65535.0)
+        {
+            rc.lags[rc.n_lags++] = (uint16_t)l;
+        }
+    }
+    aenl_filter_cfg_t fc;
+    fc.order = ID_FILTER_ORDER;
+    fc.cutoff = ID_RFS_CUTOFF_CYCLES / p_min;
+    fc.cutoff = fc.cutoff < 0.35 ? fc.cutoff : 0.35;
+    run->rfs_settle = (size_t)ceil(4.0 / fc.cutoff);
+    run->rfs_filter = calloc(run->n_ch, sizeof(aenl_filter_t));
+    run->rfs_row = calloc(run->n_ch, sizeof(double));
+    if (run->rfs_filter == NULL || run->rfs_row == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        if (aenl_filter_init(&run->rfs_filter[k], &fc) != AENL_OK)
+        {
+            aenl_err_set(err, "restoring-force regression: cannot design the pre-filter");
+            return AENL_E_ARG;
+        }
+    }
+    return aenl_rfs_create(&run->rfs, &rc, err);
+}
+
+/* Copy a restoring-force fit into a classifier-style result (class, weights, points). */
+static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
+{
+    r->cls = f->cls;
+    r->confidence = (aenl_real_t)f->confidence;
+    for (int i = 0; i < AENL_CLASS_COUNT; ++i)
+    {
+        r->prob[i] = (aenl_real_t)f->prob[i];
+    }
+    r->hardening = (int8_t)(f->cls == AENL_CLASS_POLYNOMIAL ? f->hardening : 0);
+    r->n_switch = (uint8_t)f->n_points;
+    for (size_t i = 0; i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
+    {
+        r->switch_points[i] = (aenl_real_t)(i < f->n_points ? f->points[i] : 0.0);
+        r->switch_std[i] = (aenl_real_t)(i < f->n_points ? f->point_std[i] : 0.0);
+    }
+    r->evidence = (aenl_real_t)f->evidence;
+}
+
+/*
+ * The host verdict from both analyses. The restoring-force regression partials the other
+ * channels' motion out, so it says which channels carry a law of their own: when one reaches
+ * AENL_RFS_T_CRIT, every channel that does is nonlinear and the others are linear (with its
+ * weights). A nonlinear channel keeps the core classifier's law when that one is nonlinear too
+ * (the conditional moments resolve the shape better than the regression's model choice on the
+ * evaluation suite), else the regression's. When no channel reaches it (a pure limit cycle is
+ * periodic, so a linear recursion on the lagged samples predicts it exactly and the regression
+ * is blind), the core classifier's verdicts stand.
+ */
+static void combine_verdicts(aenl_identify_result_t *out, int have_rfs)
+{
+    int decisive = 0;
+    for (size_t k = 0; have_rfs && k < out->n_channels; ++k)
+    {
+        decisive |= out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
+    }
+    for (size_t k = 0; decisive && k < out->n_channels; ++k)
+    {
+        aenl_identify_channel_t *c = &out->ch[k];
+        if (c->rfs.cls <= AENL_CLASS_LINEAR)
+        {
+            rfs_to_result(&c->rfs, &c->res);
+            c->evidence = 0.0;
+        }
+        else
+        {
+            if (c->onboard.cls <= AENL_CLASS_LINEAR)
+            {
+                rfs_to_result(&c->rfs, &c->res);
+            }
+            c->evidence = c->rfs.evidence;
+        }
+    }
+}
+
 aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
                                 aenl_identify_result_t *out, aenl_err_t *err)
 {
@@ -790,6 +941,10 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     }
     if (st == AENL_OK)
     {
+        st = rfs_setup(&run, out, err);
+    }
+    if (st == AENL_OK)
+    {
         st = for_rows(src, row, pass2_row, &run, err);
     }
     for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
@@ -824,12 +979,21 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
             st = AENL_E_ARG;
             break;
         }
-        c->res = *aenl_classifier_result(cls);
+        c->onboard = *aenl_classifier_result(cls);
+        c->res = c->onboard;
         c->evidence = c->res.cls > AENL_CLASS_LINEAR ? c->res.evidence : 0.0;
-        st = chan_export(&run.ch[k], c, cc.taylor_order, err);
+        if (run.rfs != NULL)
+        {
+            st = aenl_rfs_analyse(run.rfs, k, &c->rfs, err);
+        }
+        if (st == AENL_OK)
+        {
+            st = chan_export(&run.ch[k], c, cc.taylor_order, err);
+        }
     }
     if (st == AENL_OK)
     {
+        combine_verdicts(out, run.rfs != NULL);
         out->verdict = -1;
         out->verdict_class = AENL_CLASS_INSUFFICIENT;
         double best = 0.0;
@@ -854,6 +1018,9 @@ done:
         chan_free(&run.ch[k]);
     }
     free(cls);
+    aenl_rfs_free(run.rfs);
+    free(run.rfs_filter);
+    free(run.rfs_row);
     free(run.ch);
     free(run.col);
     free(row);

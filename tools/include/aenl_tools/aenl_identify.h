@@ -12,9 +12,13 @@
  * given, grid spacing = bandwidth over the range of the filtered signal.
  * Pass 2 (streaming): filter and push every sample into the channel's moments (direction split on)
  * and into a display estimator with the paper's lags 1, 10, 30; the classifier reads the former.
+ * The same pass feeds the multi-channel restoring-force regression (aenl_rfs.h) through one
+ * common low-pass at 5 / (shortest period).
  * Memory does not grow with the record's length.
- * The verdict names the channel whose nonlinear evidence (BIC gain of the best nonlinear model
- * over the linear one, per independent point) is the largest; linear when every channel is linear.
+ * Verdict: when the regression finds a law in some channel, the channels where it finds none are
+ * linear and the others keep the core classifier's class if nonlinear (else the regression's);
+ * when it finds none anywhere (a periodic limit cycle leaves it blind) the core classifier's
+ * verdicts stand. The channel named is the nonlinear one with the largest evidence.
  */
 #ifndef AENL_TOOLS_IDENTIFY_H
 #define AENL_TOOLS_IDENTIFY_H
@@ -24,6 +28,7 @@
 
 #include "aenl/aenl.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_rfs.h"
 
 /** A record read twice, one row at a time (a CSV file or arrays in memory). */
 typedef struct aenl_identify_source
@@ -72,8 +77,12 @@ typedef struct aenl_identify_opts
 typedef struct aenl_identify_channel
 {
     const char *name;
-    aenl_classifier_result_t res; /**< class, switching points, confidence, evidence */
-    double evidence;     /**< (BIC linear - min BIC nonlinear) / independent points; <= 0 linear */
+    aenl_classifier_result_t res; /**< the host verdict: class, switching points, confidence */
+    aenl_classifier_result_t onboard; /**< the core classifier on this channel's moments alone
+                                           (what a data-acquisition unit computes) */
+    aenl_rfs_fit_t rfs; /**< the multi-channel restoring-force regression behind res */
+    double evidence;     /**< the regression's t when it decided, else the core classifier's
+                              (BIC linear - min BIC nonlinear) / independent points; 0 linear */
     double bandwidth;    /**< kernel half-width used, channel units */
     int bw_method;       /**< AENL_BW_CV, AENL_BW_RULE or -1 given */
     double period;       /**< dominant period, samples (0 when none was found) */
