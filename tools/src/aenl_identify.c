@@ -32,6 +32,8 @@
 #define ID_RFS_CUTOFF_CYCLES 5.0
 /** Restoring-force regression: consecutive position lags from 2. */
 #define ID_RFS_DENSE_LAGS 8u
+/** Periods at which the autocorrelation tells a sustained (limit-cycle) oscillation. */
+#define ID_SUSTAINED_PERIODS 10.0
 /** Restoring-force regression: tents per direction. */
 #define ID_RFS_NODES 32u
 
@@ -243,6 +245,27 @@ typedef struct id_chan
  * lag 0, so the first maximum after the first zero crossing is the period even at SNR 2. 0 when
  * the autocorrelation never turns (no oscillation in the block).
  */
+/* Normalised autocorrelation of the block at `lag` (0 when the block is too short). */
+static double acf_at(const double *x, size_t n, double mean, size_t lag)
+{
+    double r0 = 0.0, rl = 0.0;
+    size_t n0 = 0, nl = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            r0 += (x[i] - mean) * (x[i] - mean);
+            n0++;
+            if (i >= lag && isfinite(x[i - lag]))
+            {
+                rl += (x[i] - mean) * (x[i - lag] - mean);
+                nl++;
+            }
+        }
+    }
+    return (lag < n / 2u && nl > 0 && r0 > 0.0) ? (rl / (double)nl) / (r0 / (double)n0) : 0.0;
+}
+
 static double acf_period(const double *x, size_t n, double mean)
 {
     const size_t max_lag = n / 3u;
@@ -520,6 +543,9 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
     out->n_missing = c->n_missing;
     out->noise_std = noise_level(c->block, c->n_block);
     out->period = acf_period(c->block, c->n_block, c->mean);
+    out->sustained = out->period > 0.0 ? acf_at(c->block, c->n_block, c->mean,
+                                                (size_t)floor(ID_SUSTAINED_PERIODS * out->period + 0.5))
+                                       : 0.0;
     out->bw_method = -1;
     /* pre-filter */
     c->cutoff = 0.0;
@@ -758,9 +784,12 @@ static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *ou
 
 /**
  * Set up the restoring-force regression after pass 1 (aenl_rfs.h): one low-pass for every
- * channel at ID_RFS_CUTOFF_CYCLES / (shortest dominant period), position lags at 1/2 .. 1/16 of
- * the longest period, tents over each channel's grid. Left off (NULL) when no channel oscillates
- * or there are more channels than it takes; the core classifier's verdict then stands.
+ * channel at ID_RFS_CUTOFF_CYCLES / (shortest dominant period), position lags 2..9 and 1/4, 1/2 of
+ * the longest period, tents over each channel's grid. Left off (NULL) for a single channel, when
+ * no channel oscillates, when one oscillates in a sustained, periodic way (autocorrelation at
+ * ID_SUSTAINED_PERIODS periods >= 0.5, closer to a limit cycle's ~1 than to the damped response's
+ * ~0: a linear recursion predicts a periodic record exactly, so the regression would be blind)
+ * or when there are more channels than it takes; the core classifier's verdict then stands.
  */
 static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out, aenl_err_t *err)
 {
@@ -774,9 +803,15 @@ static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out,
             p_max = p > p_max ? p : p_max;
         }
     }
-    if (p_min <= 0.0 || run->n_ch > AENL_RFS_MAX_CH)
+    int periodic = 0;
+    for (size_t k = 0; k < run->n_ch; ++k)
     {
-        return AENL_OK;
+        periodic |= out->ch[k].sustained >= 0.5;
+    }
+    if (p_min <= 0.0 || periodic || run->n_ch < 2u || run->n_ch > AENL_RFS_MAX_CH)
+    {
+        return AENL_OK; /* one channel: no coupling to partial out, and its excitation (often a
+                           deterministic input: multisine, sweep) is the equation error itself */
     }
     aenl_rfs_cfg_t rc;
     memset(&rc, 0, sizeof(rc));
@@ -849,22 +884,30 @@ static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
 
 /*
  * The host verdict from both analyses. The restoring-force regression partials the other
- * channels' motion out, so it says which channels carry a law of their own: when one reaches
- * AENL_RFS_T_CRIT, every channel that does is nonlinear and the others are linear (with its
- * weights). A nonlinear channel keeps the core classifier's law when that one is nonlinear too
- * (the conditional moments resolve the shape better than the regression's model choice on the
- * evaluation suite), else the regression's. When no channel reaches it (a pure limit cycle is
- * periodic, so a linear recursion on the lagged samples predicts it exactly and the regression
- * is blind), the core classifier's verdicts stand.
+ * channels' motion out, so it says which channels can carry a law of their own: when it finds
+ * one in some channel (t >= AENL_RFS_T_CRIT), every channel where it finds none is linear (with
+ * its weights). Among the channels left, the core classifier's verdict decides (its evidence
+ * weighs how much the law matters per independent point, where the regression's t grows with
+ * the record's length for any small departure, as in real rigs); a channel that only the
+ * regression finds nonlinear takes the regression's law and is named only when the core
+ * classifier finds no law in any of them. When the regression finds no law anywhere (a pure
+ * limit cycle is periodic, so a linear recursion on the lagged samples predicts it exactly and
+ * the regression is blind), the core classifier's verdicts stand. Returns 1 when it named the
+ * verdict (out->verdict, out->verdict_class set), 0 to leave it to the core's evidence.
  */
-static void combine_verdicts(aenl_identify_result_t *out, int have_rfs)
+static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
 {
     int decisive = 0;
     for (size_t k = 0; have_rfs && k < out->n_channels; ++k)
     {
         decisive |= out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
     }
-    for (size_t k = 0; decisive && k < out->n_channels; ++k)
+    if (!decisive)
+    {
+        return 0;
+    }
+    long by_core = -1, by_rfs = -1;
+    for (size_t k = 0; k < out->n_channels; ++k)
     {
         aenl_identify_channel_t *c = &out->ch[k];
         if (c->rfs.cls <= AENL_CLASS_LINEAR)
@@ -872,15 +915,26 @@ static void combine_verdicts(aenl_identify_result_t *out, int have_rfs)
             rfs_to_result(&c->rfs, &c->res);
             c->evidence = 0.0;
         }
+        else if (c->onboard.cls > AENL_CLASS_LINEAR)
+        {
+            if (by_core < 0 || c->evidence > out->ch[by_core].evidence)
+            {
+                by_core = (long)k;
+            }
+        }
         else
         {
-            if (c->onboard.cls <= AENL_CLASS_LINEAR)
-            {
-                rfs_to_result(&c->rfs, &c->res);
-            }
+            rfs_to_result(&c->rfs, &c->res);
             c->evidence = c->rfs.evidence;
+            if (by_rfs < 0 || c->rfs.evidence > out->ch[by_rfs].rfs.evidence)
+            {
+                by_rfs = (long)k;
+            }
         }
     }
+    out->verdict = by_core >= 0 ? by_core : by_rfs;
+    out->verdict_class = out->ch[out->verdict].res.cls;
+    return 1;
 }
 
 aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
@@ -991,9 +1045,8 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
             st = chan_export(&run.ch[k], c, cc.taylor_order, err);
         }
     }
-    if (st == AENL_OK)
+    if (st == AENL_OK && !combine_verdicts(out, run.rfs != NULL))
     {
-        combine_verdicts(out, run.rfs != NULL);
         out->verdict = -1;
         out->verdict_class = AENL_CLASS_INSUFFICIENT;
         double best = 0.0;

@@ -86,6 +86,7 @@ typedef struct aenl_identify_channel
     double bandwidth;    /**< kernel half-width used, channel units */
     int bw_method;       /**< AENL_BW_CV, AENL_BW_RULE or -1 given */
     double period;       /**< dominant period, samples (0 when none was found) */
+    double sustained;    /**< autocorrelation at 10 periods (near 1: a limit cycle; 0 none) */
     double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
     double noise_std;    /**< white-noise level estimated from differences, channel units */
     double x_min, x_max; /**< grid ends */
