@@ -64,7 +64,8 @@ static const char *write_binary(const char *name)
 
 static size_t g_rows = 300; /* rows signal_csv() writes (diagnose needs a longer record) */
 
-/* t,alpha,xi: g_rows rows of a two-tone signal; `edit` rewrites row `row` (0-based) when not NULL. */
+/* t,alpha,xi: g_rows rows of a two-tone signal; `edit` rewrites row `row` (0-based) when not NULL.
+ */
 static const char *signal_csv(const char *name, const char *header, size_t row, const char *edit)
 {
     size_t pos = (size_t)snprintf(g_text, sizeof(g_text), "%s\n", header);
@@ -599,12 +600,12 @@ static void test_cli_badinput_diagnose(void)
     g_rows = 300;
 #define DIA(file)                                                                                  \
     {                                                                                              \
-        "diagnose", "--measured", file, "--model", good_model, "--out", "bad_out_diag",           \
+        "diagnose", "--measured", file, "--model", good_model, "--out", "bad_out_diag",            \
             "--no-plots", NULL                                                                     \
     }
 #define DIAM(file)                                                                                 \
     {                                                                                              \
-        "diagnose", "--measured", good, "--model", file, "--out", "bad_out_diag", "--no-plots",   \
+        "diagnose", "--measured", good, "--model", file, "--out", "bad_out_diag", "--no-plots",    \
             NULL                                                                                   \
     }
     const bad_case_t cases[] = {
@@ -675,7 +676,8 @@ static void test_cli_badinput_bench_demo(void)
          {"demo", "--data", "/nonexistent/data", "--out", "bad_out_demo", NULL},
          "--data /nonexistent/data",
          NULL},
-        {"demo: unwritable output folder", {"demo", "--out", "/proc/bad_out/demo", NULL},
+        {"demo: unwritable output folder",
+         {"demo", "--out", "/proc/bad_out/demo", NULL},
          "/proc/bad_out",
          NULL},
     };

@@ -21,7 +21,7 @@ void tearDown(void)
 }
 
 #define N_ROWS 60000u
-#define DT 0.05
+#define DT     0.05
 
 static uint64_t g_rng;
 
@@ -124,6 +124,16 @@ static void run(const double *x, const aenl_rfs_cfg_t *c, aenl_rfs_fit_t fit[2])
     aenl_rfs_free(r);
 }
 
+/* Simulate `law`, configure (`nodes` tents) and analyse both channels; returns the record. */
+static double *fit_record(law_t law, uint64_t seed, uint16_t nodes, aenl_rfs_cfg_t *c,
+                          aenl_rfs_fit_t fit[2])
+{
+    double *x = simulate(law, seed);
+    config(x, c, nodes);
+    run(x, c, fit);
+    return x;
+}
+
 /* ---- brute force: explicit design matrices, blocked refits -------------------------------- */
 
 #define MAX_COLS 24
@@ -170,8 +180,8 @@ static void normal_solve(double (*xtx)[MAX_COLS], const double *xty, size_t m, d
 
 /* One regression row of channel ch at centre n: the linear regressors, the law's column(s) for
  * a two-kink gap [ga, gb] (standardised) through the tents, and y. Returns the column count. */
-static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size_t n, int with_law,
-                         double ga, double gb, double *row, double *y)
+static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size_t n,
+                         int with_law, double ga, double gb, double *row, double *y)
 {
     size_t m = 0;
     row[m++] = 1.0;
@@ -293,11 +303,9 @@ static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch,
 
 static void test_rfs_cv_gain_matches_brute_force(void)
 {
-    double *x = simulate(LAW_GAP, 11u);
     aenl_rfs_cfg_t c;
-    config(x, &c, 12);
     aenl_rfs_fit_t fit[2];
-    run(x, &c, fit);
+    double *x = fit_record(LAW_GAP, 11u, 12, &c, fit);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, fit[0].cls);
     TEST_ASSERT_EQUAL_INT(AENL_RFS_GAP, fit[0].law);
     TEST_ASSERT_EQUAL_size_t(2, fit[0].n_points);
@@ -312,11 +320,9 @@ static void test_rfs_linear_oscillators_are_linear(void)
 {
     for (uint64_t seed = 1; seed <= 3; ++seed)
     {
-        double *x = simulate(LAW_LINEAR, seed);
         aenl_rfs_cfg_t c;
-        config(x, &c, 24);
         aenl_rfs_fit_t fit[2];
-        run(x, &c, fit);
+        double *x = fit_record(LAW_LINEAR, seed, 24, &c, fit);
         for (size_t ch = 0; ch < 2; ++ch)
         {
             TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[ch].cls);
@@ -329,11 +335,9 @@ static void test_rfs_linear_oscillators_are_linear(void)
 
 static void test_rfs_names_the_freeplay_channel_and_its_gap(void)
 {
-    double *x = simulate(LAW_GAP, 5u);
     aenl_rfs_cfg_t c;
-    config(x, &c, 24);
     aenl_rfs_fit_t fit[2];
-    run(x, &c, fit);
+    double *x = fit_record(LAW_GAP, 5u, 24, &c, fit);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, fit[0].cls);
     TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls); /* coupled, driven, but linear */
@@ -346,11 +350,9 @@ static void test_rfs_names_the_freeplay_channel_and_its_gap(void)
 
 static void test_rfs_names_the_cubic_channel_hardening(void)
 {
-    double *x = simulate(LAW_CUBIC, 7u);
     aenl_rfs_cfg_t c;
-    config(x, &c, 24);
     aenl_rfs_fit_t fit[2];
-    run(x, &c, fit);
+    double *x = fit_record(LAW_CUBIC, 7u, 24, &c, fit);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[1].cls);
     TEST_ASSERT_EQUAL_INT(1, fit[1].hardening);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[0].cls);

@@ -601,7 +601,8 @@ static void print_summary(tally_t *t)
            "SNR 2\n");
     for (int w = 0; w < 2; ++w)
     {
-        printf("  %-36s", w == 0 ? "core classifier (moments, onboard)" : "restoring-force regression");
+        printf("  %-36s",
+               w == 0 ? "core classifier (moments, onboard)" : "restoring-force regression");
         for (unsigned l = 0; l < N_SNR; ++l)
         {
             printf(" %5.1f / %5.1f", pct(t->alone[w][l][0], t->cases[l]),

@@ -844,6 +844,24 @@ static double signal_std(const aenl_diagnose_chan_t *c)
     return sqrt(fmax(v, 0.01 * c->scale * c->scale));
 }
 
+/* order[0..n) = the candidates by ascending best gap (insertion sort: n is a handful). */
+static void order_by_best(const spec_t *sp, size_t n, size_t *order)
+{
+    for (size_t k = 0; k < n; ++k)
+    {
+        order[k] = k;
+    }
+    for (size_t i = 1; i < n; ++i)
+    {
+        for (size_t k = i; k > 0u && sp[order[k]].best < sp[order[k - 1u]].best; --k)
+        {
+            const size_t t = order[k];
+            order[k] = order[k - 1u];
+            order[k - 1u] = t;
+        }
+    }
+}
+
 static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
                                     const aenl_diagnose_opts_t *opts, aenl_err_t *err)
 {
@@ -871,19 +889,7 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
     }
     /* Stage 2: Nelder-Mead from the best grid point of the most promising candidates. */
     size_t order[AENL_DIAGNOSE_MAX_CAND];
-    for (size_t k = 0; k < n_sp; ++k)
-    {
-        order[k] = k;
-    }
-    for (size_t i = 1; i < n_sp; ++i)
-    {
-        for (size_t k = i; k > 0u && sp[order[k]].best < sp[order[k - 1u]].best; --k)
-        {
-            const size_t t = order[k];
-            order[k] = order[k - 1u];
-            order[k - 1u] = t;
-        }
-    }
+    order_by_best(sp, n_sp, order);
     for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
     {
         spec_t *s = &sp[order[i]];
@@ -1017,19 +1023,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     }
     /* Floors of the best few, the common yardstick and the penalised choice. */
     size_t order[AENL_DIAGNOSE_MAX_CAND];
-    for (size_t k = 0; k < n_sp; ++k)
-    {
-        order[k] = k;
-    }
-    for (size_t i = 1; i < n_sp; ++i)
-    {
-        for (size_t k = i; k > 0u && sp[order[k]].best < sp[order[k - 1u]].best; --k)
-        {
-            const size_t t = order[k];
-            order[k] = order[k - 1u];
-            order[k - 1u] = t;
-        }
-    }
+    order_by_best(sp, n_sp, order);
     floor_t fl_cand[AENL_DIAGNOSE_MAX_CAND];
     double common = r->floor_before[n_ch];
     r->n_cand = n_sp;

@@ -245,60 +245,61 @@ typedef struct id_chan
  * lag 0, so the first maximum after the first zero crossing is the period even at SNR 2. 0 when
  * the autocorrelation never turns (no oscillation in the block).
  */
-/* Normalised autocorrelation of the block at `lag` (0 when the block is too short). */
-static double acf_at(const double *x, size_t n, double mean, size_t lag)
+/* Variance of the block's finite samples about `mean`; *n0 their count. */
+static double block_var(const double *x, size_t n, double mean, size_t *n0)
 {
-    double r0 = 0.0, rl = 0.0;
-    size_t n0 = 0, nl = 0;
+    double r0 = 0.0;
+    *n0 = 0;
     for (size_t i = 0; i < n; ++i)
     {
         if (isfinite(x[i]))
         {
             r0 += (x[i] - mean) * (x[i] - mean);
-            n0++;
-            if (i >= lag && isfinite(x[i - lag]))
-            {
-                rl += (x[i] - mean) * (x[i - lag] - mean);
-                nl++;
-            }
+            (*n0)++;
         }
     }
-    return (lag < n / 2u && nl > 0 && r0 > 0.0) ? (rl / (double)nl) / (r0 / (double)n0) : 0.0;
+    return *n0 > 0 ? r0 / (double)*n0 : 0.0;
+}
+
+/* Autocorrelation of the block at `lag`, normalised by the variance r0 (> 0), over the pairs of
+ * finite samples. */
+static double block_acf(const double *x, size_t n, double mean, size_t lag, double r0)
+{
+    double s = 0.0;
+    size_t k = 0;
+    for (size_t i = 0; i + lag < n; ++i)
+    {
+        if (isfinite(x[i]) && isfinite(x[i + lag]))
+        {
+            s += (x[i] - mean) * (x[i + lag] - mean);
+            k++;
+        }
+    }
+    return k > 0 ? s / (double)k / r0 : 0.0;
+}
+
+/* Autocorrelation at `lag` (0 when the block is shorter than two lags or constant). */
+static double acf_at(const double *x, size_t n, double mean, size_t lag)
+{
+    size_t n0;
+    const double r0 = block_var(x, n, mean, &n0);
+    return (lag < n / 2u && r0 > 0.0) ? block_acf(x, n, mean, lag, r0) : 0.0;
 }
 
 static double acf_period(const double *x, size_t n, double mean)
 {
     const size_t max_lag = n / 3u;
-    double r0 = 0.0;
-    size_t n0 = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        if (isfinite(x[i]))
-        {
-            r0 += (x[i] - mean) * (x[i] - mean);
-            n0++;
-        }
-    }
+    size_t n0;
+    const double r0 = block_var(x, n, mean, &n0);
     if (n0 < 16u || !(r0 > 0.0))
     {
         return 0.0;
     }
-    r0 /= (double)n0;
     double prev2 = 1.0, prev = 1.0;
     int crossed = 0;
     for (size_t lag = 1; lag <= max_lag; ++lag)
     {
-        double s = 0.0;
-        size_t k = 0;
-        for (size_t i = 0; i + lag < n; ++i)
-        {
-            if (isfinite(x[i]) && isfinite(x[i + lag]))
-            {
-                s += (x[i] - mean) * (x[i + lag] - mean);
-                k++;
-            }
-        }
-        const double r = k > 0 ? s / (double)k / r0 : 0.0;
+        const double r = block_acf(x, n, mean, lag, r0);
         if (r < 0.0)
         {
             crossed = 1;
@@ -543,9 +544,10 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
     out->n_missing = c->n_missing;
     out->noise_std = noise_level(c->block, c->n_block);
     out->period = acf_period(c->block, c->n_block, c->mean);
-    out->sustained = out->period > 0.0 ? acf_at(c->block, c->n_block, c->mean,
-                                                (size_t)floor(ID_SUSTAINED_PERIODS * out->period + 0.5))
-                                       : 0.0;
+    out->sustained = out->period > 0.0
+                         ? acf_at(c->block, c->n_block, c->mean,
+                                  (size_t)floor(ID_SUSTAINED_PERIODS * out->period + 0.5))
+                         : 0.0;
     out->bw_method = -1;
     /* pre-filter */
     c->cutoff = 0.0;

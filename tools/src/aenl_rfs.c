@@ -16,6 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <lapacke.h>
+
 #define RFS_B AENL_RFS_BLOCKS
 /** Kinks are searched where at least this fraction of the samples lies on each side. */
 #define RFS_TAIL 0.02
@@ -216,88 +218,51 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
 
 /* ---- small dense linear algebra ------------------------------------------------------------ */
 
-/* In-place Cholesky of the m x m symmetric a (lower triangle used); 0 or -1 if not positive. */
-static int chol(double *a, size_t m)
+/** Regressors at most (the constant, then per channel: position, first and second difference,
+ *  lags). */
+#define RFS_MAX_P (1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS))
+
+/* Cholesky factor (LAPACK, row-major, lower) of the m x m symmetric a in place; 0, or -1 when it
+ * is not positive definite or a pivot falls to `rel` of its diagonal or below (collinear). */
+static int spd_factor(double *a, size_t m, double rel)
 {
+    double diag[RFS_MAX_P];
     for (size_t j = 0; j < m; ++j)
     {
-        double d = a[j * m + j];
-        for (size_t k = 0; k < j; ++k)
-        {
-            d -= a[j * m + k] * a[j * m + k];
-        }
-        if (!(d > 0.0))
+        diag[j] = a[j * m + j];
+    }
+    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, a, (lapack_int)m) != 0)
+    {
+        return -1;
+    }
+    for (size_t j = 0; j < m; ++j)
+    {
+        if (!(a[j * m + j] * a[j * m + j] > rel * diag[j]))
         {
             return -1;
-        }
-        d = sqrt(d);
-        a[j * m + j] = d;
-        for (size_t i = j + 1u; i < m; ++i)
-        {
-            double s = a[i * m + j];
-            for (size_t k = 0; k < j; ++k)
-            {
-                s -= a[i * m + k] * a[j * m + k];
-            }
-            a[i * m + j] = s / d;
         }
     }
     return 0;
 }
 
-/* Solve (L L') x = b in place for one right-hand side of stride `st`. */
-static void chol_solve(const double *l, size_t m, double *b, size_t st)
+/* Solve (L L') X = B in place for the nrhs columns of the row-major B (leading dimension ldb). */
+static void spd_solve(const double *l, size_t m, double *b, size_t nrhs, size_t ldb)
 {
-    for (size_t i = 0; i < m; ++i)
-    {
-        double s = b[i * st];
-        for (size_t k = 0; k < i; ++k)
-        {
-            s -= l[i * m + k] * b[k * st];
-        }
-        b[i * st] = s / l[i * m + i];
-    }
-    for (size_t i = m; i-- > 0;)
-    {
-        double s = b[i * st];
-        for (size_t k = i + 1u; k < m; ++k)
-        {
-            s -= l[k * m + i] * b[k * st];
-        }
-        b[i * st] = s / l[i * m + i];
-    }
+    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, (lapack_int)nrhs, l, (lapack_int)m,
+                         b, (lapack_int)ldb);
 }
 
-/* Solve the q x q (q <= RFS_MAX_Q) system Q g = h by Cholesky; 0, or -1 when a pivot falls
- * below 1e-10 of its diagonal (the columns are collinear). */
+/* Solve the q x q (q <= RFS_MAX_Q) system Q g = h; 0, or -1 when its columns are collinear. */
 static int solve_small(const double *Q, const double *h, size_t q, double *g)
 {
     double L[RFS_MAX_Q * RFS_MAX_Q];
     memcpy(L, Q, q * q * sizeof(double));
-    for (size_t j = 0; j < q; ++j)
+    if (spd_factor(L, q, 1e-10) != 0)
     {
-        double d = L[j * q + j];
-        for (size_t k = 0; k < j; ++k)
-        {
-            d -= L[j * q + k] * L[j * q + k];
-        }
-        if (!(d > 1e-10 * Q[j * q + j]))
-        {
-            return -1;
-        }
-        L[j * q + j] = sqrt(d);
-        for (size_t i = j + 1u; i < q; ++i)
-        {
-            double v = L[i * q + j];
-            for (size_t k = 0; k < j; ++k)
-            {
-                v -= L[i * q + k] * L[j * q + k];
-            }
-            L[i * q + j] = v / L[j * q + j];
-        }
+        return -1;
     }
     memcpy(g, h, q * sizeof(double));
-    chol_solve(L, q, g, 1);
+    spd_solve(L, q, g, 1, 1);
     return 0;
 }
 
@@ -320,14 +285,15 @@ typedef struct
 {
     const aenl_rfs_t *rfs;
     size_t ch, m, k2, K;
-    size_t idx[1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS)]; /* z -> regressor index */
-    size_t iy;                                                    /* y's regressor index */
-    double node[AENL_RFS_MAX_NODES];                              /* standardised node positions */
-    double lo_q, hi_q; /* where kinks may lie (standardised) */
+    size_t idx[RFS_MAX_P];           /* z -> regressor index */
+    size_t iy;                       /* y's regressor index */
+    double node[AENL_RFS_MAX_NODES]; /* standardised node positions */
+    double lo_q, hi_q;               /* where kinks may lie (standardised) */
     double cell;
     rfs_gram_t all, one, tr;
-    rfs_proj_t pj;
-    double *tmp; /* k2 x RFS_MAX_Q */
+    rfs_proj_t pj;          /* all data */
+    rfs_proj_t fold[RFS_B]; /* each block left out: cross-validation, then the jackknife */
+    double *tmp;            /* k2 x RFS_MAX_Q */
 } rfs_work_t;
 
 static int gram_alloc(rfs_gram_t *g, size_t m, size_t k2)
@@ -352,8 +318,8 @@ static void gram_free(rfs_gram_t *g)
     free(g->BBo);
 }
 
-/* Sum the blocks b with (only < 0 ? b != skip : b == only) into g. */
-static void gram_sum(const rfs_work_t *wk, int skip, int only, rfs_gram_t *g)
+/* Sum every block (only < 0) or block `only` into g. */
+static void gram_sum(const rfs_work_t *wk, int only, rfs_gram_t *g)
 {
     const aenl_rfs_t *r = wk->rfs;
     const size_t m = wk->m, k2 = wk->k2, p = r->p, nc = r->cfg.n_ch;
@@ -366,7 +332,7 @@ static void gram_sum(const rfs_work_t *wk, int skip, int only, rfs_gram_t *g)
     g->yy = 0.0;
     for (int b = 0; b < RFS_B; ++b)
     {
-        if ((only < 0 && b == skip) || (only >= 0 && b != only))
+        if (only >= 0 && b != only)
         {
             continue;
         }
@@ -394,6 +360,32 @@ static void gram_sum(const rfs_work_t *wk, int skip, int only, rfs_gram_t *g)
             g->BBo[k] += r->BBo[((size_t)b * nc + wk->ch) * k2 + k];
         }
     }
+}
+
+/* tr = all - one (the training set of a fold), element by element. */
+static void gram_diff(const rfs_work_t *wk, const rfs_gram_t *all, const rfs_gram_t *one,
+                      rfs_gram_t *tr)
+{
+    const size_t m = wk->m, k2 = wk->k2;
+    for (size_t i = 0; i < m * m; ++i)
+    {
+        tr->A[i] = all->A[i] - one->A[i];
+    }
+    for (size_t i = 0; i < m * k2; ++i)
+    {
+        tr->ZB[i] = all->ZB[i] - one->ZB[i];
+    }
+    for (size_t i = 0; i < m; ++i)
+    {
+        tr->c[i] = all->c[i] - one->c[i];
+    }
+    for (size_t k = 0; k < k2; ++k)
+    {
+        tr->By[k] = all->By[k] - one->By[k];
+        tr->BBd[k] = all->BBd[k] - one->BBd[k];
+        tr->BBo[k] = all->BBo[k] - one->BBo[k];
+    }
+    tr->yy = all->yy - one->yy;
 }
 
 /* out = B'B t for the tridiagonal-by-direction B'B of g. */
@@ -430,7 +422,7 @@ static int project(rfs_work_t *wk, const rfs_gram_t *g, rfs_proj_t *pj)
     {
         pj->L[a * m + a] += 1e-12 * tr / (double)m; /* rounding guard, not a prior */
     }
-    if (chol(pj->L, m) != 0)
+    if (spd_factor(pj->L, m, 0.0) != 0)
     {
         return -1;
     }
@@ -439,10 +431,7 @@ static int project(rfs_work_t *wk, const rfs_gram_t *g, rfs_proj_t *pj)
         memcpy(&pj->W[a * st], &g->ZB[a * k2], k2 * sizeof(double));
         pj->W[a * st + k2] = g->c[a];
     }
-    for (size_t col = 0; col < st; ++col)
-    {
-        chol_solve(pj->L, m, &pj->W[col], st);
-    }
+    spd_solve(pj->L, m, pj->W, st, st);
     double rss = g->yy;
     for (size_t a = 0; a < m; ++a)
     {
@@ -505,46 +494,46 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
         const int rising = k < K;
         switch (lw->law)
         {
-        case AENL_RFS_CUBIC:
-            t1[k] = x * x;
-            t2[k] = x * x * x;
-            break;
-        case AENL_RFS_KINK:
-            t1[k] = x > lw->a ? x - lw->a : 0.0;
-            break;
-        case AENL_RFS_GAP:
-            t1[k] = clip(x, lw->a, lw->b);
-            break;
-        case AENL_RFS_HYSTERESIS:
-        {
-            const double sh = rising ? 0.5 * lw->s : -0.5 * lw->s;
-            t1[k] = clip(x, lw->a + sh, lw->b + sh);
-            t2[k] = rising ? 1.0 : 0.0;
-            break;
-        }
-        case AENL_RFS_LINEAR:
-            break;
+            case AENL_RFS_CUBIC:
+                t1[k] = x * x;
+                t2[k] = x * x * x;
+                break;
+            case AENL_RFS_KINK:
+                t1[k] = x > lw->a ? x - lw->a : 0.0;
+                break;
+            case AENL_RFS_GAP:
+                t1[k] = clip(x, lw->a, lw->b);
+                break;
+            case AENL_RFS_HYSTERESIS:
+            {
+                const double sh = rising ? 0.5 * lw->s : -0.5 * lw->s;
+                t1[k] = clip(x, lw->a + sh, lw->b + sh);
+                t2[k] = rising ? 1.0 : 0.0;
+                break;
+            }
+            case AENL_RFS_LINEAR:
+                break;
         }
     }
     switch (lw->law)
     {
-    case AENL_RFS_CUBIC:
-    case AENL_RFS_HYSTERESIS:
-        return 2u;
-    case AENL_RFS_KINK:
-    case AENL_RFS_GAP:
-        return 1u;
-    case AENL_RFS_LINEAR:
-        return 0u;
+        case AENL_RFS_CUBIC:
+        case AENL_RFS_HYSTERESIS:
+            return 2u;
+        case AENL_RFS_KINK:
+        case AENL_RFS_GAP:
+            return 1u;
+        case AENL_RFS_LINEAR:
+            return 0u;
     }
     return 0u;
 }
 
-/* In-sample gain of law lw on projection pj (g: its coefficients); -1 if degenerate. */
-static double law_gain(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw, double *g)
+/* In-sample gain of the law with tent map T (q columns) on projection pj (g: its coefficients);
+ * -1 if degenerate. */
+static double map_gain(rfs_work_t *wk, const rfs_proj_t *pj, const double *T, size_t q, double *g)
 {
-    double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES];
-    const size_t q = law_map(wk, lw, T), k2 = wk->k2;
+    const size_t k2 = wk->k2;
     double Q[RFS_MAX_Q * RFS_MAX_Q], h[RFS_MAX_Q] = {0.0, 0.0};
     if (q == 0)
     {
@@ -589,6 +578,13 @@ static double law_gain(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw
     return gain;
 }
 
+/* In-sample gain of law lw on projection pj (g: its coefficients); -1 if degenerate. */
+static double law_gain(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw, double *g)
+{
+    double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES];
+    return map_gain(wk, pj, T, law_map(wk, lw, T), g);
+}
+
 static int kink_ok(const rfs_work_t *wk, double x)
 {
     return x >= wk->lo_q && x <= wk->hi_q;
@@ -598,16 +594,16 @@ static int law_ok(const rfs_work_t *wk, const rfs_law_t *lw)
 {
     switch (lw->law)
     {
-    case AENL_RFS_KINK:
-        return kink_ok(wk, lw->a);
-    case AENL_RFS_GAP:
-        return lw->b - lw->a >= 0.999 * wk->cell && kink_ok(wk, lw->a) && kink_ok(wk, lw->b);
-    case AENL_RFS_HYSTERESIS:
-        return lw->b - lw->a >= 0.999 * wk->cell && fabs(lw->s) >= 0.999 * wk->cell &&
-               kink_ok(wk, lw->a - 0.5 * fabs(lw->s)) && kink_ok(wk, lw->b + 0.5 * fabs(lw->s));
-    case AENL_RFS_LINEAR:
-    case AENL_RFS_CUBIC:
-        return 1;
+        case AENL_RFS_KINK:
+            return kink_ok(wk, lw->a);
+        case AENL_RFS_GAP:
+            return lw->b - lw->a >= 0.999 * wk->cell && kink_ok(wk, lw->a) && kink_ok(wk, lw->b);
+        case AENL_RFS_HYSTERESIS:
+            return lw->b - lw->a >= 0.999 * wk->cell && fabs(lw->s) >= 0.999 * wk->cell &&
+                   kink_ok(wk, lw->a - 0.5 * fabs(lw->s)) && kink_ok(wk, lw->b + 0.5 * fabs(lw->s));
+        case AENL_RFS_LINEAR:
+        case AENL_RFS_CUBIC:
+            return 1;
     }
     return 1;
 }
@@ -704,13 +700,13 @@ static double test_rss(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw
     double g[RFS_MAX_Q] = {0.0, 0.0};
     *ok = 1;
     const size_t q = law_map(wk, lw, T);
-    if (law_gain(wk, pj, lw, g) < 0.0)
+    if (map_gain(wk, pj, T, q, g) < 0.0)
     {
         *ok = 0;
         return 0.0;
     }
     /* beta = W_y - W_B T g */
-    double beta[1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS)];
+    double beta[RFS_MAX_P];
     double tg[2 * AENL_RFS_MAX_NODES] = {0.0};
     for (size_t k = 0; k < k2; ++k)
     {
@@ -778,15 +774,15 @@ static aenl_class_t law_class(aenl_rfs_law_t law)
 {
     switch (law)
     {
-    case AENL_RFS_CUBIC:
-        return AENL_CLASS_POLYNOMIAL;
-    case AENL_RFS_KINK:
-    case AENL_RFS_GAP:
-        return AENL_CLASS_FREEPLAY;
-    case AENL_RFS_HYSTERESIS:
-        return AENL_CLASS_HYSTERESIS;
-    case AENL_RFS_LINEAR:
-        return AENL_CLASS_LINEAR;
+        case AENL_RFS_CUBIC:
+            return AENL_CLASS_POLYNOMIAL;
+        case AENL_RFS_KINK:
+        case AENL_RFS_GAP:
+            return AENL_CLASS_FREEPLAY;
+        case AENL_RFS_HYSTERESIS:
+            return AENL_CLASS_HYSTERESIS;
+        case AENL_RFS_LINEAR:
+            return AENL_CLASS_LINEAR;
     }
     return AENL_CLASS_LINEAR;
 }
@@ -796,61 +792,77 @@ static size_t law_points(const rfs_law_t *lw, double *pt)
 {
     switch (lw->law)
     {
-    case AENL_RFS_KINK:
-        pt[0] = lw->a;
-        return 1;
-    case AENL_RFS_GAP:
-        pt[0] = lw->a;
-        pt[1] = lw->b;
-        return 2;
-    case AENL_RFS_HYSTERESIS:
-    {
-        const double h = 0.5 * fabs(lw->s);
-        pt[0] = lw->a - h;
-        pt[1] = lw->a + h;
-        pt[2] = lw->b - h;
-        pt[3] = lw->b + h;
-        for (size_t i = 1; i < 4; ++i) /* insertion sort of four */
+        case AENL_RFS_KINK:
+            pt[0] = lw->a;
+            return 1;
+        case AENL_RFS_GAP:
+            pt[0] = lw->a;
+            pt[1] = lw->b;
+            return 2;
+        case AENL_RFS_HYSTERESIS:
         {
-            for (size_t j = i; j > 0 && pt[j] < pt[j - 1u]; --j)
+            const double h = 0.5 * fabs(lw->s);
+            pt[0] = lw->a - h;
+            pt[1] = lw->a + h;
+            pt[2] = lw->b - h;
+            pt[3] = lw->b + h;
+            for (size_t i = 1; i < 4; ++i) /* insertion sort of four */
             {
-                const double t = pt[j];
-                pt[j] = pt[j - 1u];
-                pt[j - 1u] = t;
+                for (size_t j = i; j > 0 && pt[j] < pt[j - 1u]; --j)
+                {
+                    const double t = pt[j];
+                    pt[j] = pt[j - 1u];
+                    pt[j - 1u] = t;
+                }
             }
+            return 4;
         }
-        return 4;
-    }
-    case AENL_RFS_LINEAR:
-    case AENL_RFS_CUBIC:
-        return 0;
+        case AENL_RFS_LINEAR:
+        case AENL_RFS_CUBIC:
+            return 0;
     }
     return 0;
 }
 
 /* ---- analysis ------------------------------------------------------------------------------ */
 
+static int proj_alloc(rfs_proj_t *pj, size_t m, size_t k2)
+{
+    pj->L = malloc(m * m * sizeof(double));
+    pj->W = malloc(m * (k2 + 1u) * sizeof(double));
+    pj->M = malloc(k2 * k2 * sizeof(double));
+    pj->r = malloc(k2 * sizeof(double));
+    return (pj->L && pj->W && pj->M && pj->r) ? 0 : -1;
+}
+
+static void proj_free(rfs_proj_t *pj)
+{
+    free(pj->L);
+    free(pj->W);
+    free(pj->M);
+    free(pj->r);
+}
+
 static int work_alloc(rfs_work_t *wk)
 {
     const size_t m = wk->m, k2 = wk->k2;
-    wk->pj.L = malloc(m * m * sizeof(double));
-    wk->pj.W = malloc(m * (k2 + 1u) * sizeof(double));
-    wk->pj.M = malloc(k2 * k2 * sizeof(double));
-    wk->pj.r = malloc(k2 * sizeof(double));
+    int bad = proj_alloc(&wk->pj, m, k2);
+    for (int f = 0; f < RFS_B; ++f)
+    {
+        bad |= proj_alloc(&wk->fold[f], m, k2);
+    }
     wk->tmp = malloc(RFS_MAX_Q * k2 * sizeof(double));
-    return (wk->pj.L && wk->pj.W && wk->pj.M && wk->pj.r && wk->tmp &&
-            gram_alloc(&wk->all, m, k2) == 0 && gram_alloc(&wk->one, m, k2) == 0 &&
-            gram_alloc(&wk->tr, m, k2) == 0)
-               ? 0
-               : -1;
+    bad |= gram_alloc(&wk->all, m, k2) | gram_alloc(&wk->one, m, k2) | gram_alloc(&wk->tr, m, k2);
+    return (bad == 0 && wk->tmp != NULL) ? 0 : -1;
 }
 
 static void work_free(rfs_work_t *wk)
 {
-    free(wk->pj.L);
-    free(wk->pj.W);
-    free(wk->pj.M);
-    free(wk->pj.r);
+    proj_free(&wk->pj);
+    for (int f = 0; f < RFS_B; ++f)
+    {
+        proj_free(&wk->fold[f]);
+    }
     free(wk->tmp);
     gram_free(&wk->all);
     gram_free(&wk->one);
@@ -951,8 +963,7 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const
     return law;
 }
 
-aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out,
-                               aenl_err_t *err)
+aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out, aenl_err_t *err)
 {
     if (r == NULL || out == NULL || ch >= r->cfg.n_ch)
     {
@@ -1000,11 +1011,12 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         work_free(&wk);
         return AENL_E_IO;
     }
-    gram_sum(&wk, -1, -1, &wk.all);
+    gram_sum(&wk, -1, &wk.all);
     if (project(&wk, &wk.all, &wk.pj) != 0)
     {
-        aenl_err_set(err, "restoring-force regression: the linear regressors of channel %zu are "
-                          "degenerate",
+        aenl_err_set(err,
+                     "restoring-force regression: the linear regressors of channel %zu are "
+                     "degenerate",
                      ch);
         work_free(&wk);
         return AENL_E_NUMERIC;
@@ -1018,27 +1030,29 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         law[l].a = law[l].b = law[l].s = 0.0;
         usable[l] = law_fit_all(&wk, &law[l]) >= 0.0;
     }
-    /* cross-validation: each block out in turn; the same projection buffers are reused */
+    double g_cubic[RFS_MAX_Q] = {0.0, 0.0};
+    (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_CUBIC], g_cubic);
+    /* cross-validation: each block out in turn (its projection is kept for the jackknife) */
     double d[AENL_RFS_N_LAWS][RFS_B];
     double rss_lin_cv = 0.0;
     for (int f = 0; f < RFS_B && st == AENL_OK; ++f)
     {
-        gram_sum(&wk, f, -1, &wk.tr);
-        gram_sum(&wk, -1, f, &wk.one);
-        if (project(&wk, &wk.tr, &wk.pj) != 0)
+        gram_sum(&wk, f, &wk.one);
+        gram_diff(&wk, &wk.all, &wk.one, &wk.tr);
+        if (project(&wk, &wk.tr, &wk.fold[f]) != 0)
         {
             st = AENL_E_NUMERIC;
             break;
         }
         int ok = 1;
-        const double base = test_rss(&wk, &wk.pj, &law[0], &wk.one, &ok);
+        const double base = test_rss(&wk, &wk.fold[f], &law[0], &wk.one, &ok);
         rss_lin_cv += base;
         for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
         {
             d[l][f] = 0.0;
             if (l > 0 && usable[l])
             {
-                const double v = test_rss(&wk, &wk.pj, &law[l], &wk.one, &ok);
+                const double v = test_rss(&wk, &wk.fold[f], &law[l], &wk.one, &ok);
                 d[l][f] = ok ? base - v : 0.0;
                 usable[l] = usable[l] && ok;
             }
@@ -1046,8 +1060,9 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     }
     if (st != AENL_OK)
     {
-        aenl_err_set(err, "restoring-force regression: degenerate regressors in a fold of "
-                          "channel %zu",
+        aenl_err_set(err,
+                     "restoring-force regression: degenerate regressors in a fold of "
+                     "channel %zu",
                      ch);
         work_free(&wk);
         return st;
@@ -1115,10 +1130,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     out->confidence = out->prob[out->cls];
     if (out->law == AENL_RFS_CUBIC)
     {
-        double g[RFS_MAX_Q];
-        (void)project(&wk, &wk.all, &wk.pj);
-        (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_CUBIC], g);
-        out->hardening = g[1] < 0.0 ? 1 : -1; /* d2 = -f: a negative cubic stiffens */
+        out->hardening = g_cubic[1] < 0.0 ? 1 : -1; /* d2 = -f: a negative cubic stiffens */
     }
     /* switching points and their block-jackknife errors */
     double pt[4];
@@ -1128,14 +1140,9 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         double acc[4] = {0.0, 0.0, 0.0, 0.0}, acc2[4] = {0.0, 0.0, 0.0, 0.0};
         for (int f = 0; f < RFS_B; ++f)
         {
-            gram_sum(&wk, f, -1, &wk.tr);
-            if (project(&wk, &wk.tr, &wk.pj) != 0)
-            {
-                continue;
-            }
             rfs_law_t lf = law[best];
-            (void)law_search(&wk, &wk.pj, &lf, 2.0, RFS_FINE * 2.0);
-            (void)law_search(&wk, &wk.pj, &lf, 0.5, RFS_FINE * 0.5);
+            (void)law_search(&wk, &wk.fold[f], &lf, 2.0, RFS_FINE * 2.0);
+            (void)law_search(&wk, &wk.fold[f], &lf, 0.5, RFS_FINE * 0.5);
             double pf[4];
             (void)law_points(&lf, pf);
             for (size_t i = 0; i < out->n_points; ++i)

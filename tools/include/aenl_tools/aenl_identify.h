@@ -77,10 +77,10 @@ typedef struct aenl_identify_opts
 typedef struct aenl_identify_channel
 {
     const char *name;
-    aenl_classifier_result_t res; /**< the host verdict: class, switching points, confidence */
+    aenl_classifier_result_t res;     /**< the host verdict: class, switching points, confidence */
     aenl_classifier_result_t onboard; /**< the core classifier on this channel's moments alone
                                            (what a data-acquisition unit computes) */
-    aenl_rfs_fit_t rfs; /**< the multi-channel restoring-force regression behind res */
+    aenl_rfs_fit_t rfs;  /**< the multi-channel restoring-force regression behind res */
     double evidence;     /**< the regression's t when it decided, else the core classifier's
                               (BIC linear - min BIC nonlinear) / independent points; 0 linear */
     double bandwidth;    /**< kernel half-width used, channel units */

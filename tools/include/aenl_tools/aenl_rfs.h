@@ -37,10 +37,10 @@
 #include "aenl/aenl.h"
 #include "aenl_tools/aenl_io.h"
 
-#define AENL_RFS_MAX_CH 8
+#define AENL_RFS_MAX_CH    8
 #define AENL_RFS_MAX_NODES 48 /**< tents per direction */
-#define AENL_RFS_MAX_LAGS 12  /**< extra position lags */
-#define AENL_RFS_BLOCKS 16    /**< cross-validation blocks */
+#define AENL_RFS_MAX_LAGS  12 /**< extra position lags */
+#define AENL_RFS_BLOCKS    16 /**< cross-validation blocks */
 /** Batch-means t statistic (15 degrees of freedom) a nonlinear law must reach: a one-sided 1 %
  *  level, Bonferroni-corrected for the 4 laws of up to 3 channels (12 tests). */
 #define AENL_RFS_T_CRIT 4.0
@@ -48,10 +48,10 @@
 /** Laws of f (the class each belongs to in parentheses). */
 typedef enum aenl_rfs_law
 {
-    AENL_RFS_LINEAR = 0,   /**< no f (linear) */
-    AENL_RFS_CUBIC = 1,    /**< a x^2 + b x^3 (polynomial) */
-    AENL_RFS_KINK = 2,     /**< one kink: preload or one-sided contact (freeplay) */
-    AENL_RFS_GAP = 3,      /**< two kinks, the same in both directions (freeplay) */
+    AENL_RFS_LINEAR = 0,    /**< no f (linear) */
+    AENL_RFS_CUBIC = 1,     /**< a x^2 + b x^3 (polynomial) */
+    AENL_RFS_KINK = 2,      /**< one kink: preload or one-sided contact (freeplay) */
+    AENL_RFS_GAP = 3,       /**< two kinks, the same in both directions (freeplay) */
     AENL_RFS_HYSTERESIS = 4 /**< a gap shifted between rising and falling motion, plus a
                                  rising-motion offset (hysteresis) */
 } aenl_rfs_law_t;
@@ -61,32 +61,33 @@ typedef enum aenl_rfs_law
 /** Configuration, copied by aenl_rfs_create(). */
 typedef struct aenl_rfs_cfg
 {
-    size_t n_ch;                    /**< channels, 1..AENL_RFS_MAX_CH */
-    double center[AENL_RFS_MAX_CH]; /**< standardisation (x - center) / scale */
-    double scale[AENL_RFS_MAX_CH];  /**< > 0 */
-    double lo[AENL_RFS_MAX_CH];     /**< tent grid ends per channel (input units); the law is */
-    double hi[AENL_RFS_MAX_CH];     /**< extrapolated linearly beyond them */
-    uint16_t n_nodes;               /**< tents per direction, 8..AENL_RFS_MAX_NODES */
-    uint16_t n_lags;                /**< extra position lags, 0..AENL_RFS_MAX_LAGS */
+    size_t n_ch;                      /**< channels, 1..AENL_RFS_MAX_CH */
+    double center[AENL_RFS_MAX_CH];   /**< standardisation (x - center) / scale */
+    double scale[AENL_RFS_MAX_CH];    /**< > 0 */
+    double lo[AENL_RFS_MAX_CH];       /**< tent grid ends per channel (input units); the law is */
+    double hi[AENL_RFS_MAX_CH];       /**< extrapolated linearly beyond them */
+    uint16_t n_nodes;                 /**< tents per direction, 8..AENL_RFS_MAX_NODES */
+    uint16_t n_lags;                  /**< extra position lags, 0..AENL_RFS_MAX_LAGS */
     uint16_t lags[AENL_RFS_MAX_LAGS]; /**< samples, each >= 2 */
-    size_t n_total;                 /**< rows that will be pushed (assigns the blocks) */
+    size_t n_total;                   /**< rows that will be pushed (assigns the blocks) */
 } aenl_rfs_cfg_t;
 
 /** Result for one channel. */
 typedef struct aenl_rfs_fit
 {
-    aenl_class_t cls;               /**< insufficient, linear, polynomial, freeplay, hysteresis */
-    aenl_rfs_law_t law;             /**< the law chosen (linear when cls is linear) */
-    double t[AENL_RFS_N_LAWS];      /**< batch-means t of each law's CV gain over linear */
-    double gain[AENL_RFS_N_LAWS];   /**< CV gain as a fraction of the linear CV residual */
-    double prob[AENL_CLASS_COUNT];  /**< class weights from paired t against the best law */
-    double confidence;              /**< prob of cls */
-    double evidence;                /**< max over laws of t; >= AENL_RFS_T_CRIT is nonlinear */
-    int hardening;                  /**< cubic law: +1 hardening, -1 softening */
-    size_t n_points;                /**< switching points of the law chosen (0..4) */
-    double points[4];               /**< ascending, input units */
-    double point_std[4];            /**< block-jackknife standard errors, input units */
-    size_t n_used;                  /**< samples in the regression */
+    aenl_class_t cls;              /**< insufficient, linear, polynomial, freeplay, hysteresis */
+    aenl_rfs_law_t law;            /**< the law chosen (linear when cls is linear) */
+    double t[AENL_RFS_N_LAWS];     /**< batch-means t of each law's CV gain over linear */
+    double gain[AENL_RFS_N_LAWS];  /**< CV gain as a fraction of the linear CV residual */
+    double prob[AENL_CLASS_COUNT]; /**< class weights from paired t against the best law */
+    double confidence;             /**< prob of cls */
+    double evidence;     /**< max t of the laws the same in both directions (cubic, kink, gap);
+                              >= AENL_RFS_T_CRIT is nonlinear */
+    int hardening;       /**< cubic law: +1 hardening, -1 softening */
+    size_t n_points;     /**< switching points of the law chosen (0..4) */
+    double points[4];    /**< ascending, input units */
+    double point_std[4]; /**< block-jackknife standard errors, input units */
+    size_t n_used;       /**< samples in the regression */
 } aenl_rfs_fit_t;
 
 typedef struct aenl_rfs aenl_rfs_t;
