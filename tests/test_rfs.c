@@ -39,8 +39,10 @@ static double gauss(void)
 typedef enum
 {
     LAW_LINEAR,
-    LAW_GAP,  /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
-    LAW_CUBIC /* hardening cubic on oscillator 1 */
+    LAW_GAP,   /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
+    LAW_CUBIC, /* hardening cubic on oscillator 1 */
+    LAW_SOFT   /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
+                  Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
 } law_t;
 
 #define GAP 0.4
@@ -62,6 +64,11 @@ static double *simulate(law_t law, uint64_t seed)
         if (law == LAW_CUBIC)
         {
             f1 += 3.0 * p1 * p1 * p1;
+        }
+        if (law == LAW_SOFT)
+        {
+            const double q = p0 * p0;
+            f0 = p0 * (1.0 - 3.0 * q + 4.5 * q * q);
         }
         const double a0 = -f0 - 0.3 * (p0 - p1) - 0.06 * v0 + 0.25 * gauss() / sqrt(DT);
         const double a1 = -f1 - 0.3 * (p1 - p0) - 0.08 * v1 + 0.25 * gauss() / sqrt(DT);
@@ -359,6 +366,20 @@ static void test_rfs_names_the_cubic_channel_hardening(void)
     free(x);
 }
 
+/* A spring that softens and then recovers is polynomial (softening) whichever law fits it best:
+ * a two-stiffness band that is stiffer inside is not a freeplay gap. */
+static void test_rfs_softening_spring_is_not_freeplay(void)
+{
+    aenl_rfs_cfg_t c;
+    aenl_rfs_fit_t fit[2];
+    double *x = fit_record(LAW_SOFT, 11u, 24, &c, fit);
+    TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(-1, fit[0].hardening);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
+    free(x);
+}
+
 static void test_rfs_bad_configuration_and_short_records(void)
 {
     double *x = simulate(LAW_LINEAR, 2u);
@@ -399,6 +420,7 @@ int main(void)
     RUN_TEST(test_rfs_linear_oscillators_are_linear);
     RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);
     RUN_TEST(test_rfs_names_the_cubic_channel_hardening);
+    RUN_TEST(test_rfs_softening_spring_is_not_freeplay);
     RUN_TEST(test_rfs_bad_configuration_and_short_records);
     return UNITY_END();
 }

@@ -26,7 +26,7 @@
 /** Paired t by which a more specific law must beat the simpler one (one-sided 0.5 %, 15 df). */
 #define RFS_T_PAIR 3.0
 /** Columns of a law at most. */
-#define RFS_MAX_Q 2
+#define RFS_MAX_Q 4
 
 struct aenl_rfs
 {
@@ -289,6 +289,7 @@ typedef struct
     size_t iy;                       /* y's regressor index */
     double node[AENL_RFS_MAX_NODES]; /* standardised node positions */
     double lo_q, hi_q;               /* where kinks may lie (standardised) */
+    double x_abs;                    /* largest |node|: the polynomial law's scale */
     double cell;
     rfs_gram_t all, one, tr;
     rfs_proj_t pj;          /* all data */
@@ -494,10 +495,15 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
         const int rising = k < K;
         switch (lw->law)
         {
-            case AENL_RFS_CUBIC:
-                t1[k] = x * x;
-                t2[k] = x * x * x;
+            case AENL_RFS_POLY:
+            {
+                const double u = x / wk->x_abs, u2 = u * u; /* scaled: conditioning */
+                t1[k] = u2;
+                t2[k] = u2 * u;
+                T[2u * k2 + k] = u2 * u2;
+                T[3u * k2 + k] = u2 * u2 * u;
                 break;
+            }
             case AENL_RFS_KINK:
                 t1[k] = x > lw->a ? x - lw->a : 0.0;
                 break;
@@ -517,7 +523,8 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
     }
     switch (lw->law)
     {
-        case AENL_RFS_CUBIC:
+        case AENL_RFS_POLY:
+            return 4u;
         case AENL_RFS_HYSTERESIS:
             return 2u;
         case AENL_RFS_KINK:
@@ -534,7 +541,7 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
 static double map_gain(rfs_work_t *wk, const rfs_proj_t *pj, const double *T, size_t q, double *g)
 {
     const size_t k2 = wk->k2;
-    double Q[RFS_MAX_Q * RFS_MAX_Q], h[RFS_MAX_Q] = {0.0, 0.0};
+    double Q[RFS_MAX_Q * RFS_MAX_Q], h[RFS_MAX_Q] = {0.0};
     if (q == 0)
     {
         return 0.0;
@@ -602,7 +609,7 @@ static int law_ok(const rfs_work_t *wk, const rfs_law_t *lw)
             return lw->b - lw->a >= 0.999 * wk->cell && fabs(lw->s) >= 0.999 * wk->cell &&
                    kink_ok(wk, lw->a - 0.5 * fabs(lw->s)) && kink_ok(wk, lw->b + 0.5 * fabs(lw->s));
         case AENL_RFS_LINEAR:
-        case AENL_RFS_CUBIC:
+        case AENL_RFS_POLY:
             return 1;
     }
     return 1;
@@ -614,7 +621,7 @@ static double law_search(rfs_work_t *wk, const rfs_proj_t *pj, rfs_law_t *lw, do
                          double step)
 {
     double g[RFS_MAX_Q];
-    if (lw->law == AENL_RFS_CUBIC)
+    if (lw->law == AENL_RFS_POLY)
     {
         return law_gain(wk, pj, lw, g);
     }
@@ -680,7 +687,7 @@ static double law_fit_all(rfs_work_t *wk, rfs_law_t *lw)
 {
     const double coarse = lw->law == AENL_RFS_HYSTERESIS ? 2.0 : 1.0;
     const double gn = law_search(wk, &wk->pj, lw, 0.0, coarse);
-    if (lw->law == AENL_RFS_CUBIC || gn < 0.0)
+    if (lw->law == AENL_RFS_POLY || gn < 0.0)
     {
         return gn;
     }
@@ -697,7 +704,7 @@ static double test_rss(rfs_work_t *wk, const rfs_proj_t *pj, const rfs_law_t *lw
 {
     const size_t m = wk->m, k2 = wk->k2, st = k2 + 1u;
     double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES] = {0.0};
-    double g[RFS_MAX_Q] = {0.0, 0.0};
+    double g[RFS_MAX_Q] = {0.0};
     *ok = 1;
     const size_t q = law_map(wk, lw, T);
     if (map_gain(wk, pj, T, q, g) < 0.0)
@@ -774,7 +781,7 @@ static aenl_class_t law_class(aenl_rfs_law_t law)
 {
     switch (law)
     {
-        case AENL_RFS_CUBIC:
+        case AENL_RFS_POLY:
             return AENL_CLASS_POLYNOMIAL;
         case AENL_RFS_KINK:
         case AENL_RFS_GAP:
@@ -785,6 +792,13 @@ static aenl_class_t law_class(aenl_rfs_law_t law)
             return AENL_CLASS_LINEAR;
     }
     return AENL_CLASS_LINEAR;
+}
+
+/* The class of a law; the gap law of a spring stiffer inside its band (saturating) is a
+ * softening polynomial, not freeplay. */
+static aenl_class_t law_class_of(aenl_rfs_law_t law, int saturating)
+{
+    return law == AENL_RFS_GAP && saturating ? AENL_CLASS_POLYNOMIAL : law_class(law);
 }
 
 /* Switching points of a law, standardised, ascending; returns their count. */
@@ -818,7 +832,7 @@ static size_t law_points(const rfs_law_t *lw, double *pt)
             return 4;
         }
         case AENL_RFS_LINEAR:
-        case AENL_RFS_CUBIC:
+        case AENL_RFS_POLY:
             return 0;
     }
     return 0;
@@ -918,8 +932,8 @@ static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
 
 /*
  * The law, from the fold gains d: linear unless a law the same in both directions reaches
- * AENL_RFS_T_CRIT. Among those, the smooth cubic stands unless the best kinked law beats it by
- * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a cubic over a
+ * AENL_RFS_T_CRIT. Among those, the smooth polynomial stands unless the best kinked law beats it by
+ * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a polynomial over a
  * bounded range, so kinks must earn their place); hysteresis replaces it only when the
  * direction-dependent law beats it by RFS_T_PAIR as well.
  */
@@ -927,7 +941,7 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const
                       const double *D)
 {
     double top = 0.0;
-    for (int l = AENL_RFS_CUBIC; l <= AENL_RFS_GAP; ++l)
+    for (int l = AENL_RFS_POLY; l <= AENL_RFS_GAP; ++l)
     {
         top = usable[l] && t[l] > top ? t[l] : top;
     }
@@ -946,15 +960,15 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const
     int law;
     if (kinked < 0)
     {
-        law = AENL_RFS_CUBIC;
+        law = AENL_RFS_POLY;
     }
-    else if (!usable[AENL_RFS_CUBIC] || t[AENL_RFS_CUBIC] < AENL_RFS_T_CRIT)
+    else if (!usable[AENL_RFS_POLY] || t[AENL_RFS_POLY] < AENL_RFS_T_CRIT)
     {
         law = kinked;
     }
     else
     {
-        law = paired_t(d, kinked, AENL_RFS_CUBIC) >= RFS_T_PAIR ? kinked : AENL_RFS_CUBIC;
+        law = paired_t(d, kinked, AENL_RFS_POLY) >= RFS_T_PAIR ? kinked : AENL_RFS_POLY;
     }
     if (usable[AENL_RFS_HYSTERESIS] && paired_t(d, AENL_RFS_HYSTERESIS, law) >= RFS_T_PAIR)
     {
@@ -989,6 +1003,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     const double lo = (r->cfg.lo[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
     const double hi = (r->cfg.hi[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
     wk.cell = (hi - lo) / (double)(wk.K - 1u);
+    wk.x_abs = fmax(fabs(lo), fabs(hi));
     for (size_t k = 0; k < wk.K; ++k)
     {
         wk.node[k] = lo + wk.cell * (double)k;
@@ -1030,8 +1045,8 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         law[l].a = law[l].b = law[l].s = 0.0;
         usable[l] = law_fit_all(&wk, &law[l]) >= 0.0;
     }
-    double g_cubic[RFS_MAX_Q] = {0.0, 0.0};
-    (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_CUBIC], g_cubic);
+    double g_poly[RFS_MAX_Q] = {0.0};
+    (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_POLY], g_poly);
     /* cross-validation: each block out in turn (its projection is kept for the jackknife) */
     double d[AENL_RFS_N_LAWS][RFS_B];
     double rss_lin_cv = 0.0;
@@ -1082,12 +1097,19 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     /* the evidence is that of the laws the same in both directions: a direction-dependent
      * offset alone also fits excitation that follows the motion (the kicks of a decay train) */
     out->evidence = 0.0;
-    for (int l = AENL_RFS_CUBIC; l <= AENL_RFS_GAP; ++l)
+    for (int l = AENL_RFS_POLY; l <= AENL_RFS_GAP; ++l)
     {
         out->evidence = out->t[l] > out->evidence ? out->t[l] : out->evidence;
     }
     out->law = (aenl_rfs_law_t)best;
-    out->cls = law_class(out->law);
+    /* A symmetric two-stiffness law is freeplay only when the band is the softer part: d2 = -f,
+     * so a positive clip coefficient takes stiffness away inside. Stiffer inside than outside is
+     * a saturating spring: polynomial, softening. */
+    double g_gap[RFS_MAX_Q] = {0.0};
+    const int saturating = usable[AENL_RFS_GAP] &&
+                           law_gain(&wk, &wk.pj, &law[AENL_RFS_GAP], g_gap) >= 0.0 &&
+                           g_gap[0] < 0.0;
+    out->cls = law_class_of(out->law, saturating);
     /* class weights: paired t of each law against the chosen one */
     double wsum = 0.0;
     for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
@@ -1116,7 +1138,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         }
         tp = tp > 0.0 ? tp : 0.0;
         const double wgt = exp(-0.5 * (tp > 30.0 ? 900.0 : tp * tp));
-        const aenl_class_t c = law_class((aenl_rfs_law_t)l);
+        const aenl_class_t c = law_class_of((aenl_rfs_law_t)l, saturating);
         out->prob[c] = wgt > out->prob[c] ? wgt : out->prob[c];
     }
     for (int c = 0; c < AENL_CLASS_COUNT; ++c)
@@ -1128,13 +1150,19 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         out->prob[c] = wsum > 0.0 ? out->prob[c] / wsum : 0.0;
     }
     out->confidence = out->prob[out->cls];
-    if (out->law == AENL_RFS_CUBIC)
+    if (out->law == AENL_RFS_POLY)
     {
-        out->hardening = g_cubic[1] < 0.0 ? 1 : -1; /* d2 = -f: a negative cubic stiffens */
+        /* d2 = -f: a negative cubic term stiffens as the motion leaves the centre (a quintic
+         * term may turn it round further out; MODELS.md names the law by its cubic term) */
+        out->hardening = g_poly[1] < 0.0 ? 1 : -1;
+    }
+    else if (out->cls == AENL_CLASS_POLYNOMIAL)
+    {
+        out->hardening = -1; /* the saturating gap law */
     }
     /* switching points and their block-jackknife errors */
     double pt[4];
-    out->n_points = law_points(&law[best], pt);
+    out->n_points = out->cls == AENL_CLASS_POLYNOMIAL ? 0u : law_points(&law[best], pt);
     if (out->n_points > 0)
     {
         double acc[4] = {0.0, 0.0, 0.0, 0.0}, acc2[4] = {0.0, 0.0, 0.0, 0.0};

@@ -14,8 +14,9 @@
  * the other degrees of freedom is linear in z, so a linear channel driven by a nonlinear one
  * shows no f: that is what names the channel. f_i is represented on a grid of tent (linear
  * B-spline) functions of x_i, separately for rising and falling motion; a law is a linear map T
- * from a few coefficients onto the tents (cubic, one kink, a freeplay gap, a direction-shifted
- * hysteresis gap), so every candidate is a small projection on accumulated cross-products.
+ * from a few coefficients onto the tents (a polynomial up to x^5, one kink, a freeplay gap, a
+ * direction-shifted hysteresis gap), so every candidate is a small projection on accumulated
+ * cross-products.
  *
  * For a linear system driven by Gaussian turbulence the conditional mean of d2_i given z is
  * exactly linear, so no f is expected; for decays it is linear when the regressors span the
@@ -49,7 +50,8 @@
 typedef enum aenl_rfs_law
 {
     AENL_RFS_LINEAR = 0,    /**< no f (linear) */
-    AENL_RFS_CUBIC = 1,     /**< a x^2 + b x^3 (polynomial) */
+    AENL_RFS_POLY = 1,      /**< x^2 .. x^5 (polynomial: hardening, or softening whose
+                                 stiffness may recover at large amplitude) */
     AENL_RFS_KINK = 2,      /**< one kink: preload or one-sided contact (freeplay) */
     AENL_RFS_GAP = 3,       /**< two kinks, the same in both directions (freeplay) */
     AENL_RFS_HYSTERESIS = 4 /**< a gap shifted between rising and falling motion, plus a
@@ -81,9 +83,10 @@ typedef struct aenl_rfs_fit
     double gain[AENL_RFS_N_LAWS];  /**< CV gain as a fraction of the linear CV residual */
     double prob[AENL_CLASS_COUNT]; /**< class weights from paired t against the best law */
     double confidence;             /**< prob of cls */
-    double evidence;     /**< max t of the laws the same in both directions (cubic, kink, gap);
+    double evidence;     /**< max t of the laws the same in both directions (polynomial, kink, gap);
                               >= AENL_RFS_T_CRIT is nonlinear */
-    int hardening;       /**< cubic law: +1 hardening, -1 softening */
+    int hardening;       /**< polynomial class: +1 hardening, -1 softening (the sign of the
+                              cubic term; a saturating gap law is softening) */
     size_t n_points;     /**< switching points of the law chosen (0..4) */
     double points[4];    /**< ascending, input units */
     double point_std[4]; /**< block-jackknife standard errors, input units */
