@@ -39,10 +39,11 @@ static double gauss(void)
 typedef enum
 {
     LAW_LINEAR,
-    LAW_GAP,   /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
-    LAW_CUBIC, /* hardening cubic on oscillator 1 */
-    LAW_SOFT   /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
-                  Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
+    LAW_GAP,     /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
+    LAW_CUBIC,   /* hardening cubic on oscillator 1 */
+    LAW_SOFT,    /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
+                    Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
+    LAW_SATURATE /* stiffness 1 inside [-GAP, GAP], 0.2 outside, on oscillator 0 */
 } law_t;
 
 #define GAP 0.4
@@ -64,6 +65,10 @@ static double *simulate(law_t law, uint64_t seed)
         if (law == LAW_CUBIC)
         {
             f1 += 3.0 * p1 * p1 * p1;
+        }
+        if (law == LAW_SATURATE)
+        {
+            f0 = 0.2 * p0 + 0.8 * (p0 < -GAP ? -GAP : (p0 > GAP ? GAP : p0));
         }
         if (law == LAW_SOFT)
         {
@@ -366,8 +371,9 @@ static void test_rfs_names_the_cubic_channel_hardening(void)
     free(x);
 }
 
-/* A spring that softens and then recovers is polynomial (softening) whichever law fits it best:
- * a two-stiffness band that is stiffer inside is not a freeplay gap. */
+/* A spring that softens and then recovers, and one that saturates, are polynomial (softening)
+ * whichever law fits them best: a two-stiffness band that is stiffer inside is not a freeplay
+ * gap. */
 static void test_rfs_softening_spring_is_not_freeplay(void)
 {
     aenl_rfs_cfg_t c;
@@ -377,6 +383,12 @@ static void test_rfs_softening_spring_is_not_freeplay(void)
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[0].cls);
     TEST_ASSERT_EQUAL_INT(-1, fit[0].hardening);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
+    free(x);
+    x = fit_record(LAW_SATURATE, 13u, 24, &c, fit);
+    TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(-1, fit[0].hardening);
+    TEST_ASSERT_EQUAL_size_t(0, fit[0].n_points);
     free(x);
 }
 
