@@ -777,14 +777,17 @@ static double batch_t(const double *d, size_t n)
     return mean / (sd / sqrt((double)n));
 }
 
-static aenl_class_t law_class(aenl_rfs_law_t law)
+/* The class of a law; the gap law of a spring stiffer inside its band (saturating) is a
+ * softening polynomial, not freeplay. */
+static aenl_class_t law_class_of(aenl_rfs_law_t law, int saturating)
 {
     switch (law)
     {
         case AENL_RFS_POLY:
             return AENL_CLASS_POLYNOMIAL;
-        case AENL_RFS_KINK:
         case AENL_RFS_GAP:
+            return saturating ? AENL_CLASS_POLYNOMIAL : AENL_CLASS_FREEPLAY;
+        case AENL_RFS_KINK:
             return AENL_CLASS_FREEPLAY;
         case AENL_RFS_HYSTERESIS:
             return AENL_CLASS_HYSTERESIS;
@@ -792,13 +795,6 @@ static aenl_class_t law_class(aenl_rfs_law_t law)
             return AENL_CLASS_LINEAR;
     }
     return AENL_CLASS_LINEAR;
-}
-
-/* The class of a law; the gap law of a spring stiffer inside its band (saturating) is a
- * softening polynomial, not freeplay. */
-static aenl_class_t law_class_of(aenl_rfs_law_t law, int saturating)
-{
-    return law == AENL_RFS_GAP && saturating ? AENL_CLASS_POLYNOMIAL : law_class(law);
 }
 
 /* Switching points of a law, standardised, ascending; returns their count. */
