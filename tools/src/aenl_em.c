@@ -1383,6 +1383,51 @@ static double y_at(const double *y, size_t nz, long k, size_t r)
     return y[(size_t)(k < 0 ? 0 : k) * nz + r];
 }
 
+/* One mode's regression of an initialisation, from its normal equations G X = H (G: na x na over
+ * (nx regressors, 1), H: na x nout): at least 2 na transitions, a tiny ridge against collinear
+ * regressors, then the solve in place of G (Cholesky when G is a Gram matrix, LU when it pairs
+ * instruments with regressors). X receives the coefficients (na x nout). */
+static aenl_status_t mode_regression(double *G, const double *H, size_t na, size_t nout, double cnt,
+                                     size_t s, int symmetric, double *X, aenl_err_t *err)
+{
+    const size_t nx = na - 1u;
+    if (cnt < (double)(2 * na))
+    {
+        aenl_err_set(err,
+                     "mode %zu (threshold interval %zu) has %.0f usable transitions; at least "
+                     "%zu are needed for %zu states (move the thresholds or use fewer states)",
+                     s, s, cnt, 2 * na, nx);
+        return AENL_E_ARG;
+    }
+    double tr = 0.0;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        tr += G[i * na + i];
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        G[i * na + i] += 1e-10 * tr / (double)nx;
+    }
+    memcpy(X, H, na * nout * sizeof(double));
+    int info;
+    if (symmetric)
+    {
+        info = posv(G, X, na, nout);
+    }
+    else
+    {
+        lapack_int piv[AENL_EM_MAX_X + 1];
+        info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)na, (lapack_int)nout, G, (lapack_int)na,
+                             piv, X, (lapack_int)nout);
+    }
+    if (info != 0)
+    {
+        aenl_err_set(err, "mode %zu: the initial regression is singular", s);
+        return AENL_E_NOT_PD;
+    }
+    return AENL_OK;
+}
+
 static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w,
                              aenl_em_model_t *m, int use_iv, aenl_err_t *err)
 {
@@ -1391,9 +1436,9 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
     double zeta[AENL_EM_MAX_X + 1];
     double *G = calloc(na * na, sizeof(double)), *H = calloc(na * nz, sizeof(double));
     double *z = calloc(na, sizeof(double)), *res = calloc(nz * nz, sizeof(double));
-    double *pooled = calloc(nz, sizeof(double));
+    double *pooled = calloc(nz, sizeof(double)), *X = malloc(na * nz * sizeof(double));
     aenl_status_t st = AENL_OK;
-    if (!G || !H || !z || !res || !pooled)
+    if (!G || !H || !z || !res || !pooled || !X)
     {
         aenl_err_set(err, "out of memory");
         st = AENL_E_DIM;
@@ -1454,46 +1499,8 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             }
             cnt += 1.0;
         }
-        if (cnt < (double)(2 * na))
+        if ((st = mode_regression(G, H, na, nz, cnt, s, 0, X, err)) != AENL_OK)
         {
-            aenl_err_set(err,
-                         "mode %zu (threshold interval %zu) has %.0f usable transitions; at least "
-                         "%zu are needed for %zu states (move the thresholds or use fewer states)",
-                         s, s, cnt, 2 * na, nx);
-            st = AENL_E_ARG;
-            goto done;
-        }
-        double tr = 0.0;
-        for (size_t i = 0; i < nx; ++i)
-        {
-            tr += G[i * na + i];
-        }
-        double *Gc = malloc(na * na * sizeof(double)), *X = malloc(na * nz * sizeof(double));
-        if (!Gc || !X)
-        {
-            free(Gc);
-            free(X);
-            st = AENL_E_DIM;
-            goto done;
-        }
-        memcpy(Gc, G, na * na * sizeof(double));
-        memcpy(X, H, na * nz * sizeof(double));
-        for (size_t i = 0; i < nx; ++i)
-        {
-            Gc[i * na + i] += 1e-10 * tr / (double)nx; /* tiny ridge: collinear lags */
-        }
-        lapack_int *piv = malloc(na * sizeof(lapack_int));
-        const int info = (piv == NULL)
-                             ? -1
-                             : LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)na, (lapack_int)nz, Gc,
-                                             (lapack_int)na, piv, X, (lapack_int)nz);
-        free(piv);
-        if (info != 0)
-        {
-            free(Gc);
-            free(X);
-            aenl_err_set(err, "mode %zu: the least-squares initialisation is singular", s);
-            st = AENL_E_NOT_PD;
             goto done;
         }
         double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
@@ -1566,8 +1573,6 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
                 A[i * nx + i + nz] = 1.0;
             }
         }
-        free(Gc);
-        free(X);
     }
     for (size_t r = 0; r < nz; ++r)
     {
@@ -1615,6 +1620,7 @@ done:
     free(z);
     free(res);
     free(pooled);
+    free(X);
     return st;
 }
 
@@ -1862,32 +1868,11 @@ static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *
             }
             cnt += 1.0;
         }
-        if (cnt < (double)(2 * na))
+        if ((st = mode_regression(Gm, Hm, na, nx, cnt, s, 1, X, err)) != AENL_OK)
         {
-            aenl_err_set(err,
-                         "mode %zu (threshold interval %zu) has %.0f usable transitions; at least "
-                         "%zu are needed for %zu states (move the thresholds or use fewer states)",
-                         s, s, cnt, 2 * na, nx);
-            st = AENL_E_ARG;
             goto done;
         }
-        double tr = 0.0;
-        for (size_t i = 0; i < nx; ++i)
-        {
-            tr += Gm[i * na + i];
-        }
-        for (size_t i = 0; i < nx; ++i)
-        {
-            Gm[i * na + i] += 1e-10 * tr / (double)nx; /* tiny ridge */
-        }
-        memcpy(X, Hm, na * nx * sizeof(double));
         double *As = m->A + s * nn, *bs = m->b + s * nx, *Qs = m->Q + s * nn;
-        if (posv(Gm, X, na, nx) != 0)
-        {
-            aenl_err_set(err, "mode %zu: the subspace regression is singular", s);
-            st = AENL_E_NOT_PD;
-            goto done;
-        }
         for (size_t i = 0; i < nx; ++i)
         {
             for (size_t j = 0; j < nx; ++j)
