@@ -39,14 +39,24 @@ static double gauss(void)
 typedef enum
 {
     LAW_LINEAR,
-    LAW_GAP,     /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
-    LAW_CUBIC,   /* hardening cubic on oscillator 1 */
-    LAW_SOFT,    /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
-                    Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
-    LAW_SATURATE /* stiffness 1 inside [-GAP, GAP], 0.2 outside, on oscillator 0 */
+    LAW_GAP,      /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
+    LAW_CUBIC,    /* hardening cubic on oscillator 1 */
+    LAW_SOFT,     /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
+                     Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
+    LAW_SATURATE, /* stiffness 1 inside [-GAP, GAP], 0.2 outside, on oscillator 0 */
+    LAW_FRICTION, /* LAW_GAP plus dry friction FRICTION sign(v) on oscillator 0 */
+    LAW_HYST      /* MODELS.md's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
+                     no stiffness in [0, 2 GAP] rising, in [-2 GAP, 0] falling, offset +-M0 */
 } law_t;
 
-#define GAP 0.4
+#define GAP      0.4
+#define FRICTION 0.15
+#define HYST_M0  0.1
+
+static double clip(double x, double a, double b)
+{
+    return x < a ? a : (x > b ? b : x);
+}
 
 /* Two oscillators coupled by a spring, white-noise forcing on both, symplectic Euler. */
 static double *simulate(law_t law, uint64_t seed)
@@ -58,9 +68,18 @@ static double *simulate(law_t law, uint64_t seed)
     for (size_t n = 0; n < N_ROWS + 2000u; ++n)
     {
         double f0 = p0, f1 = 2.0 * p1;
-        if (law == LAW_GAP)
+        if (law == LAW_GAP || law == LAW_FRICTION)
         {
-            f0 = p0 - (p0 < -GAP ? -GAP : (p0 > GAP ? GAP : p0));
+            f0 = p0 - clip(p0, -GAP, GAP);
+        }
+        if (law == LAW_FRICTION)
+        {
+            f0 += v0 > 0.0 ? FRICTION : -FRICTION;
+        }
+        if (law == LAW_HYST)
+        {
+            f0 = v0 > 0.0 ? p0 - clip(p0, 0.0, 2.0 * GAP) + HYST_M0
+                          : p0 - clip(p0, -2.0 * GAP, 0.0) - HYST_M0;
         }
         if (law == LAW_CUBIC)
         {
@@ -68,7 +87,7 @@ static double *simulate(law_t law, uint64_t seed)
         }
         if (law == LAW_SATURATE)
         {
-            f0 = 0.2 * p0 + 0.8 * (p0 < -GAP ? -GAP : (p0 > GAP ? GAP : p0));
+            f0 = 0.2 * p0 + 0.8 * clip(p0, -GAP, GAP);
         }
         if (law == LAW_SOFT)
         {
@@ -392,6 +411,24 @@ static void test_rfs_softening_spring_is_not_freeplay(void)
     free(x);
 }
 
+/* Hysteresis is switching points that move with the direction of motion. A freeplay gap with
+ * dry friction also has a force that follows the motion, but its gap stays put: not hysteresis
+ * (this record does not tell the gap from a polynomial, either is a fair answer). */
+static void test_rfs_hysteresis_is_a_moving_gap_not_friction(void)
+{
+    aenl_rfs_cfg_t c;
+    aenl_rfs_fit_t fit[2];
+    double *x = fit_record(LAW_HYST, 17u, 24, &c, fit);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
+    free(x);
+    x = fit_record(LAW_FRICTION, 19u, 24, &c, fit);
+    TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
+    TEST_ASSERT_TRUE(fit[0].cls == AENL_CLASS_FREEPLAY || fit[0].cls == AENL_CLASS_POLYNOMIAL);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
+    free(x);
+}
+
 static void test_rfs_bad_configuration_and_short_records(void)
 {
     double *x = simulate(LAW_LINEAR, 2u);
@@ -433,6 +470,7 @@ int main(void)
     RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);
     RUN_TEST(test_rfs_names_the_cubic_channel_hardening);
     RUN_TEST(test_rfs_softening_spring_is_not_freeplay);
+    RUN_TEST(test_rfs_hysteresis_is_a_moving_gap_not_friction);
     RUN_TEST(test_rfs_bad_configuration_and_short_records);
     return UNITY_END();
 }

@@ -25,8 +25,8 @@
 #define RFS_FINE 0.25
 /** Paired t by which a more specific law must beat the simpler one (one-sided 0.5 %, 15 df). */
 #define RFS_T_PAIR 3.0
-/** Columns of a law at most. */
-#define RFS_MAX_Q 4
+/** Columns of a law at most (the polynomial's four and a direction offset). */
+#define RFS_MAX_Q 5
 
 struct aenl_rfs
 {
@@ -477,6 +477,7 @@ typedef struct
 {
     aenl_rfs_law_t law;
     double a, b, s; /* kinks (standardised): kink a; gap [a, b]; hysteresis gap [a, b] +- s/2 */
+    int offset;     /* a law the same in both directions plus a rising-motion offset */
 } rfs_law_t;
 
 static double clip(double x, double a, double b)
@@ -521,19 +522,31 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
                 break;
         }
     }
+    size_t q = 0;
     switch (lw->law)
     {
         case AENL_RFS_POLY:
-            return 4u;
+            q = 4u;
+            break;
         case AENL_RFS_HYSTERESIS:
-            return 2u;
+            q = 2u;
+            break;
         case AENL_RFS_KINK:
         case AENL_RFS_GAP:
-            return 1u;
+            q = 1u;
+            break;
         case AENL_RFS_LINEAR:
-            return 0u;
+            break;
     }
-    return 0u;
+    if (lw->offset && q > 0)
+    {
+        for (size_t k = 0; k < k2; ++k)
+        {
+            T[q * k2 + k] = k < K ? 1.0 : 0.0;
+        }
+        q++;
+    }
+    return q;
 }
 
 /* In-sample gain of the law with tent map T (q columns) on projection pj (g: its coefficients);
@@ -915,15 +928,21 @@ static void interior(rfs_work_t *wk)
     }
 }
 
-/* Paired batch-means t of law a's fold gains over law b's. */
-static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
+/* Paired batch-means t of fold gains a over fold gains b. */
+static double pair_t(const double *a, const double *b)
 {
     double diff[RFS_B];
     for (int f = 0; f < RFS_B; ++f)
     {
-        diff[f] = d[a][f] - d[b][f];
+        diff[f] = a[f] - b[f];
     }
     return batch_t(diff, RFS_B);
+}
+
+/* Paired batch-means t of law a's fold gains over law b's. */
+static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
+{
+    return pair_t(d[a], d[b]);
 }
 
 /*
@@ -931,10 +950,13 @@ static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
  * AENL_RFS_T_CRIT. Among those, the smooth polynomial stands unless the best kinked law beats it by
  * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a polynomial over a
  * bounded range, so kinks must earn their place); hysteresis replaces it only when the
- * direction-dependent law beats it by RFS_T_PAIR as well.
+ * direction-dependent law beats it by RFS_T_PAIR as well, both as it is and with a rising-motion
+ * offset of its own (d_off): what marks hysteresis is switching points that move with the
+ * direction. An offset alone is a force that follows the motion, which dry friction, the kicks
+ * of a decay train, or damping the linear terms miss give as well.
  */
-static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const double *t,
-                      const double *D)
+static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_LAWS][RFS_B],
+                      const int *usable, const double *t, const double *D)
 {
     double top = 0.0;
     for (int l = AENL_RFS_POLY; l <= AENL_RFS_GAP; ++l)
@@ -966,7 +988,8 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], const int *usable, const
     {
         law = paired_t(d, kinked, AENL_RFS_POLY) >= RFS_T_PAIR ? kinked : AENL_RFS_POLY;
     }
-    if (usable[AENL_RFS_HYSTERESIS] && paired_t(d, AENL_RFS_HYSTERESIS, law) >= RFS_T_PAIR)
+    if (usable[AENL_RFS_HYSTERESIS] && paired_t(d, AENL_RFS_HYSTERESIS, law) >= RFS_T_PAIR &&
+        pair_t(d[AENL_RFS_HYSTERESIS], d_off[law]) >= RFS_T_PAIR)
     {
         law = AENL_RFS_HYSTERESIS;
     }
@@ -1039,12 +1062,13 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     {
         law[l].law = (aenl_rfs_law_t)l;
         law[l].a = law[l].b = law[l].s = 0.0;
+        law[l].offset = 0;
         usable[l] = law_fit_all(&wk, &law[l]) >= 0.0;
     }
     double g_poly[RFS_MAX_Q] = {0.0};
     (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_POLY], g_poly);
     /* cross-validation: each block out in turn (its projection is kept for the jackknife) */
-    double d[AENL_RFS_N_LAWS][RFS_B];
+    double d[AENL_RFS_N_LAWS][RFS_B], d_off[AENL_RFS_N_LAWS][RFS_B];
     double rss_lin_cv = 0.0;
     for (int f = 0; f < RFS_B && st == AENL_OK; ++f)
     {
@@ -1066,6 +1090,15 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
                 const double v = test_rss(&wk, &wk.fold[f], &law[l], &wk.one, &ok);
                 d[l][f] = ok ? base - v : 0.0;
                 usable[l] = usable[l] && ok;
+            }
+            /* the laws the same in both directions, with a rising-motion offset */
+            d_off[l][f] = d[l][f];
+            if (l >= AENL_RFS_POLY && l <= AENL_RFS_GAP && usable[l])
+            {
+                rfs_law_t lw_off = law[l];
+                lw_off.offset = 1;
+                const double v = test_rss(&wk, &wk.fold[f], &lw_off, &wk.one, &ok);
+                d_off[l][f] = ok && base - v > d[l][f] ? base - v : d[l][f];
             }
         }
     }
@@ -1089,7 +1122,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         out->t[l] = (l > 0 && usable[l]) ? batch_t(d[l], RFS_B) : 0.0;
         out->gain[l] = rss_lin_cv > 0.0 ? D[l] / rss_lin_cv : 0.0;
     }
-    const int best = choose_law(d, usable, out->t, D);
+    const int best = choose_law(d, d_off, usable, out->t, D);
     /* the evidence is that of the laws the same in both directions: a direction-dependent
      * offset alone also fits excitation that follows the motion (the kicks of a decay train) */
     out->evidence = 0.0;
