@@ -475,9 +475,9 @@ static int project(rfs_work_t *wk, const rfs_gram_t *g, rfs_proj_t *pj)
 
 typedef struct
 {
-    aenl_rfs_law_t law;
     double a, b, s; /* kinks (standardised): kink a; gap [a, b]; hysteresis gap [a, b] +- s/2 */
-    int offset;     /* a law the same in both directions plus a rising-motion offset */
+    aenl_rfs_law_t law;
+    int offset; /* a law the same in both directions plus a rising-motion offset */
 } rfs_law_t;
 
 static double clip(double x, double a, double b)
