@@ -939,12 +939,6 @@ static double pair_t(const double *a, const double *b)
     return batch_t(diff, RFS_B);
 }
 
-/* Paired batch-means t of law a's fold gains over law b's. */
-static double paired_t(double d[AENL_RFS_N_LAWS][RFS_B], int a, int b)
-{
-    return pair_t(d[a], d[b]);
-}
-
 /*
  * The law, from the fold gains d: linear unless a law the same in both directions reaches
  * AENL_RFS_T_CRIT. Among those, the smooth polynomial stands unless the best kinked law beats it by
@@ -986,9 +980,9 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_
     }
     else
     {
-        law = paired_t(d, kinked, AENL_RFS_POLY) >= RFS_T_PAIR ? kinked : AENL_RFS_POLY;
+        law = pair_t(d[kinked], d[AENL_RFS_POLY]) >= RFS_T_PAIR ? kinked : AENL_RFS_POLY;
     }
-    if (usable[AENL_RFS_HYSTERESIS] && paired_t(d, AENL_RFS_HYSTERESIS, law) >= RFS_T_PAIR &&
+    if (usable[AENL_RFS_HYSTERESIS] && pair_t(d[AENL_RFS_HYSTERESIS], d[law]) >= RFS_T_PAIR &&
         pair_t(d[AENL_RFS_HYSTERESIS], d_off[law]) >= RFS_T_PAIR)
     {
         law = AENL_RFS_HYSTERESIS;
@@ -1154,12 +1148,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         }
         else
         {
-            double diff[RFS_B];
-            for (int f = 0; f < RFS_B; ++f)
-            {
-                diff[f] = d[best][f] - d[l][f];
-            }
-            tp = batch_t(diff, RFS_B);
+            tp = pair_t(d[best], d[l]);
             if (best == AENL_RFS_LINEAR)
             {
                 tp = AENL_RFS_T_CRIT - out->t[l]; /* how far the law is from being accepted */
