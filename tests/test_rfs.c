@@ -332,6 +332,104 @@ static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch,
 
 /* ---- tests ----------------------------------------------------------------------------------- */
 
+/* Row n of channel ch for the free law: the linear regressors but the constant and the
+ * channel's own position (the tents span both), then every tent, rising motion first. */
+static size_t free_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size_t n, double *row,
+                       double *y)
+{
+    double lin[MAX_COLS];
+    const size_t m = design_row(x, c, ch, n, 0, 0.0, 0.0, lin, y);
+    const size_t own = ch == 0 ? 1u : 1u + 3u + c->n_lags; /* channel 0 has its d2 column */
+    size_t q = 0;
+    for (size_t i = 1; i < m; ++i)
+    {
+        if (i != own)
+        {
+            row[q++] = lin[i];
+        }
+    }
+    const size_t K = c->n_nodes;
+    const double *s = &x[ch * N_ROWS];
+    const double u = (s[n] - c->center[ch]) / c->scale[ch];
+    const double lo = (c->lo[ch] - c->center[ch]) / c->scale[ch];
+    const double hi = (c->hi[ch] - c->center[ch]) / c->scale[ch];
+    const double cell = (hi - lo) / (double)(K - 1u);
+    double k = floor((u - lo) / cell);
+    k = k < 0.0 ? 0.0 : (k > (double)(K - 2u) ? (double)(K - 2u) : k);
+    const double w1 = (u - lo) / cell - k;
+    const size_t col = q + (s[n + 1u] > s[n - 1u] ? 0u : K) + (size_t)k;
+    memset(&row[q], 0, 2u * K * sizeof(double));
+    row[col] = 1.0 - w1;
+    row[col + 1u] = w1;
+    return q + 2u * K;
+}
+
+/* The free-law model's residuals (aenl_rfs_model, aenl_rfs_residual) against an explicit
+ * least-squares fit of the same columns, row by row. */
+static void test_rfs_free_law_residuals_match_brute_force(void)
+{
+    aenl_rfs_cfg_t c;
+    double *x = simulate(LAW_GAP, 17);
+    config(x, &c, 8);
+    const size_t ch = 0, first = c.lags[c.n_lags - 1u];
+    static double xtx[MAX_COLS][MAX_COLS];
+    double xty[MAX_COLS] = {0.0}, beta[MAX_COLS], row[MAX_COLS], y = 0.0;
+    memset(xtx, 0, sizeof(xtx));
+    size_t m = 0;
+    for (size_t n = first; n + 1u < N_ROWS; ++n)
+    {
+        m = free_row(x, &c, ch, n, row, &y);
+        for (size_t i = 0; i < m; ++i)
+        {
+            for (size_t k = 0; k < m; ++k)
+            {
+                xtx[i][k] += row[i] * row[k];
+            }
+            xty[i] += row[i] * y;
+        }
+    }
+    TEST_ASSERT_LESS_OR_EQUAL_UINT(MAX_COLS, m);
+    normal_solve(xtx, xty, m, beta);
+    aenl_rfs_t *r = NULL;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_create(&r, &c, &err));
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double in[2] = {x[n], x[N_ROWS + n]};
+        aenl_rfs_push(r, in);
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_rfs_model(r, &err), err.msg);
+    double worst = 0.0, ss = 0.0;
+    size_t formed = 0;
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double in[2] = {x[n], x[N_ROWS + n]};
+        double e[2];
+        aenl_rfs_residual(r, in, e);
+        if (!isfinite(e[ch]))
+        {
+            TEST_ASSERT_TRUE(n < first + 2u); /* only while the window fills */
+            continue;
+        }
+        (void)free_row(x, &c, ch, n - 1u, row, &y);
+        double ref = y;
+        for (size_t i = 0; i < m; ++i)
+        {
+            ref -= beta[i] * row[i];
+        }
+        worst = fmax(worst, fabs(e[ch] - ref));
+        ss += ref * ref;
+        formed++;
+    }
+    TEST_ASSERT_EQUAL_UINT(N_ROWS - first - 1u, formed); /* centres first .. N - 2 */
+    /* to 1e-5 of the residual: the model's ridge (1e-9 of the tent mass) on a near-collinear
+     * design */
+    TEST_ASSERT_LESS_THAN_DOUBLE(1e-5 * sqrt(ss / (double)formed), worst);
+    aenl_rfs_free(r);
+    free(x);
+}
+
 static void test_rfs_cv_gain_matches_brute_force(void)
 {
     aenl_rfs_cfg_t c;
@@ -466,6 +564,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_rfs_cv_gain_matches_brute_force);
+    RUN_TEST(test_rfs_free_law_residuals_match_brute_force);
     RUN_TEST(test_rfs_linear_oscillators_are_linear);
     RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);
     RUN_TEST(test_rfs_names_the_cubic_channel_hardening);

@@ -40,10 +40,11 @@ struct aenl_rfs
     double *w;     /* one regressor row [p] */
     size_t pushed; /* rows pushed */
     size_t rows[RFS_B];
-    double *G;   /* [B][p][p], upper triangle */
-    double *ZB;  /* [B][n_ch][p][k2] */
-    double *BBd; /* [B][n_ch][k2] */
-    double *BBo; /* [B][n_ch][k2]: (k, k+1) inside one direction */
+    double *G;    /* [B][p][p], upper triangle */
+    double *ZB;   /* [B][n_ch][p][k2] */
+    double *BBd;  /* [B][n_ch][k2] */
+    double *BBo;  /* [B][n_ch][k2]: (k, k+1) inside one direction */
+    double *coef; /* [n_ch][p + k2]: every channel's free-law model (aenl_rfs_model), or NULL */
 };
 
 /* ---- accumulation ------------------------------------------------------------------------ */
@@ -115,6 +116,7 @@ void aenl_rfs_free(aenl_rfs_t *r)
         free(r->ZB);
         free(r->BBd);
         free(r->BBo);
+        free(r->coef);
         free(r);
     }
 }
@@ -139,12 +141,10 @@ static void tent(const aenl_rfs_t *r, size_t j, double x, size_t *k, double *w1)
     *w1 = s - c; /* outside [0, 1] beyond the grid ends: linear extrapolation */
 }
 
-void aenl_rfs_push(aenl_rfs_t *r, const double *row)
+/* Take one row into the history and form the regressor row w centred one row back: 1 when
+ * every regressor is finite, 0 while the history fills or when a gap lies inside the window. */
+static int form_row(aenl_rfs_t *r, const double *row)
 {
-    if (r == NULL || row == NULL)
-    {
-        return;
-    }
     const size_t nc = r->cfg.n_ch;
     double *slot = &r->hist[(r->pushed % r->hist_len) * nc];
     for (size_t j = 0; j < nc; ++j)
@@ -154,7 +154,7 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
     r->pushed++;
     if (r->pushed < r->hist_len)
     {
-        return;
+        return 0;
     }
     /* the regression row is centred on n = newest - 1 */
     double *w = r->w;
@@ -175,9 +175,20 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
     {
         if (!isfinite(w[a]))
         {
-            return; /* a gap inside the window */
+            return 0; /* a gap inside the window */
         }
     }
+    return 1;
+}
+
+void aenl_rfs_push(aenl_rfs_t *r, const double *row)
+{
+    if (r == NULL || row == NULL || !form_row(r, row))
+    {
+        return;
+    }
+    const double *w = r->w;
+    const size_t nc = r->cfg.n_ch;
     const size_t n = r->pushed - 2u; /* index of the centre row */
     size_t b = (size_t)(((double)n * RFS_B) / (double)r->cfg.n_total);
     b = b >= RFS_B ? RFS_B - 1u : b;
@@ -892,6 +903,32 @@ static void work_free(rfs_work_t *wk)
     gram_free(&wk->tr);
 }
 
+/* The target channel ch: its regressors, tent nodes and scales (no allocation). */
+static void work_setup(rfs_work_t *wk, const aenl_rfs_t *r, size_t ch)
+{
+    memset(wk, 0, sizeof(*wk));
+    wk->rfs = r;
+    wk->ch = ch;
+    wk->K = r->cfg.n_nodes;
+    wk->k2 = r->k2;
+    wk->iy = 1u + ch * r->per_ch + 2u;
+    for (size_t a = 0; a < r->p; ++a)
+    {
+        if (a != wk->iy)
+        {
+            wk->idx[wk->m++] = a;
+        }
+    }
+    const double lo = (r->cfg.lo[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
+    const double hi = (r->cfg.hi[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
+    wk->cell = (hi - lo) / (double)(wk->K - 1u);
+    wk->x_abs = fmax(fabs(lo), fabs(hi));
+    for (size_t k = 0; k < wk->K; ++k)
+    {
+        wk->node[k] = lo + wk->cell * (double)k;
+    }
+}
+
 /* Where kinks may lie: between the RFS_TAIL and 1 - RFS_TAIL quantiles of the tent mass. */
 static void interior(rfs_work_t *wk)
 {
@@ -1000,27 +1037,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     memset(out, 0, sizeof(*out));
     out->cls = AENL_CLASS_INSUFFICIENT;
     rfs_work_t wk;
-    memset(&wk, 0, sizeof(wk));
-    wk.rfs = r;
-    wk.ch = ch;
-    wk.K = r->cfg.n_nodes;
-    wk.k2 = r->k2;
-    wk.iy = 1u + ch * r->per_ch + 2u;
-    for (size_t a = 0; a < r->p; ++a)
-    {
-        if (a != wk.iy)
-        {
-            wk.idx[wk.m++] = a;
-        }
-    }
-    const double lo = (r->cfg.lo[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
-    const double hi = (r->cfg.hi[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
-    wk.cell = (hi - lo) / (double)(wk.K - 1u);
-    wk.x_abs = fmax(fabs(lo), fabs(hi));
-    for (size_t k = 0; k < wk.K; ++k)
-    {
-        wk.node[k] = lo + wk.cell * (double)k;
-    }
+    work_setup(&wk, r, ch);
     size_t n_used = 0, min_rows = (size_t)-1;
     for (size_t b = 0; b < RFS_B; ++b)
     {
@@ -1211,4 +1228,131 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     }
     work_free(&wk);
     return AENL_OK;
+}
+
+/* ---- the free-law model: equation residuals ------------------------------------------------ */
+
+/* Channel ch's free law: every tent coefficient free on top of the linear terms, fitted on all
+ * blocks, into coef[p + k2] (the regressor weights, the own second difference's 0, then the
+ * tents). The tents span constant and linear functions of the position already in the linear
+ * terms, and a tent the motion never reached has no data, so a ridge of 1e-9 of the mean tent
+ * mass picks the smallest such coefficients; it does not change the fitted values. */
+static int model_channel(const aenl_rfs_t *r, size_t ch, double *coef)
+{
+    rfs_work_t wk;
+    work_setup(&wk, r, ch);
+    const size_t m = wk.m, k2 = wk.k2, st = k2 + 1u;
+    int bad = proj_alloc(&wk.pj, m, k2) | gram_alloc(&wk.all, m, k2);
+    double *gam = malloc(k2 * sizeof(double));
+    if (bad != 0 || gam == NULL)
+    {
+        bad = -2;
+    }
+    else
+    {
+        gram_sum(&wk, -1, &wk.all);
+        bad = project(&wk, &wk.all, &wk.pj);
+    }
+    if (bad == 0)
+    {
+        double mass = 0.0;
+        for (size_t k = 0; k < k2; ++k)
+        {
+            mass += wk.all.BBd[k];
+        }
+        for (size_t k = 0; k < k2; ++k)
+        {
+            wk.pj.M[k * k2 + k] += 1e-9 * mass / (double)k2 + 1e-300;
+        }
+        memcpy(gam, wk.pj.r, k2 * sizeof(double));
+        bad = spd_factor(wk.pj.M, k2, 0.0);
+    }
+    if (bad == 0)
+    {
+        spd_solve(wk.pj.M, k2, gam, 1, 1);
+        memset(coef, 0, (r->p + k2) * sizeof(double));
+        for (size_t a = 0; a < m; ++a)
+        {
+            double b = wk.pj.W[a * st + k2];
+            for (size_t k = 0; k < k2; ++k)
+            {
+                b -= wk.pj.W[a * st + k] * gam[k];
+            }
+            coef[wk.idx[a]] = b;
+        }
+        memcpy(&coef[r->p], gam, k2 * sizeof(double));
+    }
+    free(gam);
+    proj_free(&wk.pj);
+    gram_free(&wk.all);
+    return bad;
+}
+
+aenl_status_t aenl_rfs_model(aenl_rfs_t *r, aenl_err_t *err)
+{
+    if (r == NULL)
+    {
+        aenl_err_set(err, "restoring-force regression: no accumulator");
+        return AENL_E_ARG;
+    }
+    const size_t len = r->p + r->k2;
+    double *coef = malloc(r->cfg.n_ch * len * sizeof(double));
+    if (coef == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    for (size_t ch = 0; ch < r->cfg.n_ch; ++ch)
+    {
+        const int bad = model_channel(r, ch, &coef[ch * len]);
+        if (bad != 0)
+        {
+            free(coef);
+            if (bad == -2)
+            {
+                aenl_err_set(err, "out of memory");
+                return AENL_E_IO;
+            }
+            aenl_err_set(err,
+                         "restoring-force regression: the regressors of channel %zu are "
+                         "degenerate",
+                         ch);
+            return AENL_E_NUMERIC;
+        }
+    }
+    free(r->coef);
+    r->coef = coef;
+    r->pushed = 0; /* the residual pass takes the record from its start */
+    return AENL_OK;
+}
+
+void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e)
+{
+    if (r == NULL || row == NULL || e == NULL)
+    {
+        return;
+    }
+    const size_t nc = r->cfg.n_ch;
+    const int whole = form_row(r, row) && r->coef != NULL;
+    const size_t len = r->p + r->k2, K = r->cfg.n_nodes;
+    for (size_t i = 0; i < nc; ++i)
+    {
+        e[i] = (double)NAN;
+        if (!whole)
+        {
+            continue;
+        }
+        const double *c = &r->coef[i * len];
+        const double *wi = &r->w[1u + i * r->per_ch];
+        double v = wi[2];
+        for (size_t a = 0; a < r->p; ++a)
+        {
+            v -= c[a] * r->w[a];
+        }
+        size_t k;
+        double w1;
+        tent(r, i, wi[0], &k, &w1);
+        const size_t col = (wi[1] > 0.0 ? 0u : K) + k;
+        e[i] = v - (1.0 - w1) * c[r->p + col] - w1 * c[r->p + col + 1u];
+    }
 }

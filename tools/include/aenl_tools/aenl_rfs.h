@@ -113,6 +113,24 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row);
 aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out,
                                aenl_err_t *err);
 
+/**
+ * @brief Fit every channel's free law (every tent coefficient free, on top of the linear terms)
+ *        on all that was pushed, and start a residual pass (aenl_rfs_residual) from the
+ *        record's beginning. The accumulated cross-products are kept: aenl_rfs_analyse() still
+ *        reads them.
+ * @return AENL_OK; AENL_E_NUMERIC for degenerate regressors, AENL_E_IO out of memory (message
+ *         in err; the accumulator is unchanged).
+ */
+aenl_status_t aenl_rfs_model(aenl_rfs_t *r, aenl_err_t *err);
+
+/**
+ * @brief One row of a residual pass (rows as for aenl_rfs_push(), from the record's start):
+ *        e[ch] is the equation error of channel ch's free-law model at the row before this one,
+ *        in the standardised second-difference units the regression uses; NaN while the
+ *        window fills, across a gap, or before aenl_rfs_model(). Nothing is accumulated.
+ */
+void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e);
+
 void aenl_rfs_free(aenl_rfs_t *r);
 
 #endif /* AENL_TOOLS_RFS_H */
