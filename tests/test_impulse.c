@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_impulse.c
+ * @brief Impulse screening (aenl_impulse.h): pulses too small to see in any row are found in
+ *        the window sums, Gaussian residuals are not screened, the delay line keeps every row.
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_impulse.h"
+#include "aenl_tools/aenl_rng.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+#define N_ROWS   40000u
+#define N_PULSES 40u
+#define SPACING  1000u
+
+/* The pre-filtered pulse of an impulse (sums to 1). */
+static const double k_pulse[5] = {0.1, 0.2, 0.4, 0.2, 0.1};
+
+static aenl_impulse_cfg_t config(void)
+{
+    aenl_impulse_cfg_t c;
+    c.n_ch = 1;
+    c.window = 8;
+    c.before = 11;
+    c.after = 11;
+    c.z = 3.0;
+    return c;
+}
+
+/* Residuals as measurement noise leaves them: the second difference of white noise (unit
+ * variance), plus pulses of size j at 500 + SPACING i. */
+static double *residuals(double j, uint64_t seed)
+{
+    double *e = malloc(N_ROWS * sizeof(double));
+    TEST_ASSERT_NOT_NULL(e);
+    aenl_rng_t rng;
+    aenl_rng_seed(&rng, seed);
+    double w0 = aenl_rng_gauss(&rng), w1 = aenl_rng_gauss(&rng);
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double w2 = aenl_rng_gauss(&rng);
+        e[n] = w2 - 2.0 * w1 + w0;
+        w0 = w1;
+        w1 = w2;
+    }
+    for (size_t i = 0; i < N_PULSES; ++i)
+    {
+        for (size_t q = 0; q < 5u; ++q)
+        {
+            e[500u + SPACING * i + q] += j * k_pulse[q];
+        }
+    }
+    return e;
+}
+
+/* Both passes over e; left[n] says whether row n was left out. Returns aenl_impulse_arm(). */
+static int screen(const double *e, aenl_impulse_t *s, unsigned char *left)
+{
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        aenl_impulse_scan(s, &e[n]);
+    }
+    const int armed = aenl_impulse_arm(s);
+    size_t got = 0;
+    double out;
+    int lo = 0;
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double row = (double)n;
+        if (aenl_impulse_step(s, &e[n], &row, &out, &lo))
+        {
+            TEST_ASSERT_EQUAL_DOUBLE((double)got, out); /* in order, none lost */
+            left[got++] = (unsigned char)lo;
+        }
+    }
+    while (aenl_impulse_drain(s, &out, &lo))
+    {
+        TEST_ASSERT_EQUAL_DOUBLE((double)got, out);
+        left[got++] = (unsigned char)lo;
+    }
+    TEST_ASSERT_EQUAL_UINT(N_ROWS, got);
+    return armed;
+}
+
+static void test_impulse_finds_pulses_no_row_shows(void)
+{
+    /* j = 10: the largest pulse row is 4, under 1.7 standard deviations of a row (sqrt 6) and
+     * far under the rows' maximum; the window sum of the noise is a difference of two first
+     * differences (standard deviation 2), so the pulse stands at 5 of them. */
+    double *e = residuals(10.0, 7);
+    unsigned char *left = malloc(N_ROWS);
+    TEST_ASSERT_NOT_NULL(left);
+    aenl_impulse_t *s = NULL;
+    aenl_impulse_cfg_t c = config();
+    aenl_err_t err;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&s, &c, &err));
+    TEST_ASSERT_EQUAL_INT(1, screen(e, s, left));
+    TEST_ASSERT_FLOAT_WITHIN(0.3, 2.0 * 3.0, aenl_impulse_threshold(s, 0));
+    size_t found = 0;
+    for (size_t i = 0; i < N_PULSES; ++i)
+    {
+        int all = 1;
+        for (size_t q = 0; q < 5u; ++q)
+        {
+            all &= left[500u + SPACING * i + q];
+        }
+        found += (size_t)all;
+    }
+    TEST_ASSERT_EQUAL_UINT(N_PULSES, found);
+    TEST_ASSERT_GREATER_OR_EQUAL_UINT(N_PULSES, aenl_impulse_events(s));
+    /* false alarms cost little: one window-sum row in 370 beyond 3 sigma */
+    TEST_ASSERT_LESS_THAN_UINT(N_ROWS / 10u, aenl_impulse_left_out(s));
+    aenl_impulse_free(s);
+    free(left);
+    free(e);
+}
+
+static void test_impulse_gaussian_residuals_are_not_screened(void)
+{
+    for (uint64_t seed = 1; seed <= 4; ++seed)
+    {
+        double *e = residuals(0.0, seed);
+        unsigned char *left = malloc(N_ROWS);
+        TEST_ASSERT_NOT_NULL(left);
+        aenl_impulse_t *s = NULL;
+        aenl_impulse_cfg_t c = config();
+        aenl_err_t err;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&s, &c, &err));
+        TEST_ASSERT_EQUAL_INT(0, screen(e, s, left));
+        aenl_impulse_free(s);
+        free(left);
+        free(e);
+    }
+}
+
+static void test_impulse_bad_configuration(void)
+{
+    aenl_impulse_t *s = NULL;
+    aenl_err_t err;
+    aenl_impulse_cfg_t c = config();
+    c.window = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_impulse_create(&s, &c, &err));
+    c = config();
+    c.before = c.window - 1u;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_impulse_create(&s, &c, &err));
+    c = config();
+    c.z = 0.0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_impulse_create(&s, &c, &err));
+    c = config();
+    c.n_ch = AENL_IMPULSE_MAX_CH + 1u;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_impulse_create(&s, &c, &err));
+    TEST_ASSERT_NULL(s);
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_impulse_finds_pulses_no_row_shows);
+    RUN_TEST(test_impulse_gaussian_residuals_are_not_screened);
+    RUN_TEST(test_impulse_bad_configuration);
+    return UNITY_END();
+}
