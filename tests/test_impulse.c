@@ -2,12 +2,16 @@
 /**
  * @file test_impulse.c
  * @brief Impulse screening (aenl_impulse.h): pulses too small to see in any row are found in
- *        the window sums, Gaussian residuals are not screened, the delay line keeps every row.
+ *        the window sums, Gaussian residuals are not screened, the delay line keeps every row;
+ *        and in `identify`, a linear decay train whose kicks used to pass for a law is linear in
+ *        the regression once they are left out.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_tools/aenl_identify.h"
 #include "aenl_tools/aenl_impulse.h"
 #include "aenl_tools/aenl_rng.h"
 #include "unity.h"
@@ -163,11 +167,43 @@ static void test_impulse_bad_configuration(void)
     TEST_ASSERT_NULL(s);
 }
 
+/* Eval-suite cases 20 (2-DOF, noise-free) and 10 (3-DOF, SNR 3): linear sections released
+ * again and again by velocity kicks. Before the screening the regression found hysteresis in
+ * the plunge of the first and a polynomial in the pitch of the second. */
+static void test_identify_kicked_linear_decays_are_linear_in_the_regression(void)
+{
+    static const size_t k_cases[2] = {20, 10};
+    for (size_t i = 0; i < 2u; ++i)
+    {
+        aenl_eval_case_t c;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_eval_case_make(1, k_cases[i], &c, &err));
+        TEST_ASSERT_EQUAL_INT(AENL_EVAL_DECAY, c.stratum.regime);
+        TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, c.cls);
+        aenl_identify_source_t src;
+        aenl_identify_arrays_t ctx;
+        aenl_identify_arrays_source(&src, &ctx, c.cols, c.names, c.n_channels, c.n_samples);
+        aenl_identify_opts_t o;
+        aenl_identify_opts_default(&o);
+        aenl_identify_result_t r;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_identify_run(&src, &o, &r, &err));
+        TEST_ASSERT_GREATER_THAN_UINT(c.n_releases / 2u, r.impulses);
+        for (size_t k = 0; k < r.n_channels; ++k)
+        {
+            TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_CLASS_LINEAR, r.ch[k].rfs.cls, r.ch[k].name);
+        }
+        aenl_identify_free(&r);
+        aenl_eval_case_free(&c);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_impulse_finds_pulses_no_row_shows);
     RUN_TEST(test_impulse_gaussian_residuals_are_not_screened);
     RUN_TEST(test_impulse_bad_configuration);
+    RUN_TEST(test_identify_kicked_linear_decays_are_linear_in_the_regression);
     return UNITY_END();
 }

@@ -611,6 +611,12 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
                    r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
         }
     }
+    if (r->impulses > 0)
+    {
+        printf("  impulsive excitation: %zu event%s (%zu rows) left out of the restoring-force "
+               "regression\n",
+               r->impulses, r->impulses == 1 ? "" : "s", r->impulse_rows);
+    }
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
     if (v->channel >= 0)
     {

@@ -11,6 +11,7 @@
 
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_impulse.h"
 #include "aenl_tools/aenl_rfs.h"
 
 /** Classification lags at most (geometric from 1 to period / 8). */
@@ -32,6 +33,8 @@
 #define ID_RFS_CUTOFF_CYCLES 5.0
 /** Restoring-force regression: consecutive position lags from 2. */
 #define ID_RFS_DENSE_LAGS 8u
+/** Impulse screening threshold, robust standard deviations (aenl_impulse.h). */
+#define ID_IMPULSE_Z 3.0
 /** Periods at which the autocorrelation tells a sustained (limit-cycle) oscillation. */
 #define ID_SUSTAINED_PERIODS 10.0
 /** Restoring-force regression: tents per direction. */
@@ -451,9 +454,16 @@ typedef struct id_run
     id_chan_t *ch;
     /* restoring-force regression over every analysed channel at once */
     aenl_rfs_t *rfs;
+    aenl_rfs_cfg_t rfs_cfg;
+    aenl_filter_cfg_t rfs_fc;
     aenl_filter_t *rfs_filter; /**< n_ch, one common design */
     double *rfs_row;
     size_t rfs_settle, rfs_pushed;
+    /* impulse screening (rfs_screen): the free-law model's residuals, the screen and the
+     * regression accumulated again with the events left out */
+    double *rfs_res, *rfs_kept;
+    aenl_impulse_t *imp;
+    aenl_rfs_t *rfs_again;
 } id_run_t;
 
 static aenl_status_t pass1_row(void *ctx, const double *row, aenl_err_t *err)
@@ -488,6 +498,18 @@ static aenl_status_t pass1_row(void *ctx, const double *row, aenl_err_t *err)
     return AENL_OK;
 }
 
+/* The regression's pre-filter over one data row into run->rfs_row (NaN while it settles). */
+static void rfs_filter_row(id_run_t *run, const double *row)
+{
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        double y = row[run->col[k]];
+        (void)aenl_filter_push(&run->rfs_filter[k], y, &y);
+        run->rfs_row[k] = run->rfs_pushed < run->rfs_settle ? (double)NAN : y;
+    }
+    run->rfs_pushed++;
+}
+
 static aenl_status_t pass2_row(void *ctx, const double *row, aenl_err_t *err)
 {
     (void)err;
@@ -510,14 +532,42 @@ static aenl_status_t pass2_row(void *ctx, const double *row, aenl_err_t *err)
     }
     if (run->rfs != NULL)
     {
-        for (size_t k = 0; k < run->n_ch; ++k)
-        {
-            double y = row[run->col[k]];
-            (void)aenl_filter_push(&run->rfs_filter[k], y, &y);
-            run->rfs_row[k] = run->rfs_pushed < run->rfs_settle ? (double)NAN : y;
-        }
-        run->rfs_pushed++;
+        rfs_filter_row(run, row);
         aenl_rfs_push(run->rfs, run->rfs_row);
+    }
+    return AENL_OK;
+}
+
+/* A row the screen held back into the regression accumulated again; one left out goes in as a
+ * gap, so that no regression row has it in its window: the lagged positions stand for the
+ * state only along free motion, and an impulse breaks that for every lag across it. */
+static void rfs_push_kept(id_run_t *run, int left_out)
+{
+    for (size_t k = 0; left_out && k < run->n_ch; ++k)
+    {
+        run->rfs_kept[k] = (double)NAN;
+    }
+    aenl_rfs_push(run->rfs_again, run->rfs_kept);
+}
+
+/* Pass 3 (the screen's scan) and pass 4 (the regression again, events left out). */
+static aenl_status_t screen_row(void *ctx, const double *row, aenl_err_t *err)
+{
+    (void)err;
+    id_run_t *run = ctx;
+    rfs_filter_row(run, row);
+    aenl_rfs_residual(run->rfs, run->rfs_row, run->rfs_res);
+    if (run->rfs_again == NULL)
+    {
+        aenl_impulse_scan(run->imp, run->rfs_res);
+    }
+    else
+    {
+        int out = 0;
+        if (aenl_impulse_step(run->imp, run->rfs_res, run->rfs_row, run->rfs_kept, &out))
+        {
+            rfs_push_kept(run, out);
+        }
     }
     return AENL_OK;
 }
@@ -793,6 +843,20 @@ static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *ou
  * ~0: a linear recursion predicts a periodic record exactly, so the regression would be blind)
  * or when there are more channels than it takes; the core classifier's verdict then stands.
  */
+/* (Re)start the regression's pre-filters and settling count. */
+static aenl_status_t rfs_filters_start(id_run_t *run)
+{
+    run->rfs_pushed = 0;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        if (aenl_filter_init(&run->rfs_filter[k], &run->rfs_fc) != AENL_OK)
+        {
+            return AENL_E_ARG;
+        }
+    }
+    return AENL_OK;
+}
+
 static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out, aenl_err_t *err)
 {
     double p_min = 0.0, p_max = 0.0;
@@ -847,22 +911,87 @@ static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out,
     fc.cutoff = ID_RFS_CUTOFF_CYCLES / p_min;
     fc.cutoff = fc.cutoff < 0.35 ? fc.cutoff : 0.35;
     run->rfs_settle = (size_t)ceil(4.0 / fc.cutoff);
+    run->rfs_fc = fc;
+    run->rfs_cfg = rc;
     run->rfs_filter = calloc(run->n_ch, sizeof(aenl_filter_t));
     run->rfs_row = calloc(run->n_ch, sizeof(double));
-    if (run->rfs_filter == NULL || run->rfs_row == NULL)
+    run->rfs_res = calloc(run->n_ch, sizeof(double));
+    run->rfs_kept = calloc(run->n_ch, sizeof(double));
+    if (run->rfs_filter == NULL || run->rfs_row == NULL || run->rfs_res == NULL ||
+        run->rfs_kept == NULL)
     {
         aenl_err_set(err, "out of memory");
         return AENL_E_IO;
     }
-    for (size_t k = 0; k < run->n_ch; ++k)
+    if (rfs_filters_start(run) != AENL_OK)
     {
-        if (aenl_filter_init(&run->rfs_filter[k], &fc) != AENL_OK)
-        {
-            aenl_err_set(err, "restoring-force regression: cannot design the pre-filter");
-            return AENL_E_ARG;
-        }
+        aenl_err_set(err, "restoring-force regression: cannot design the pre-filter");
+        return AENL_E_ARG;
     }
     return aenl_rfs_create(&run->rfs, &rc, err);
+}
+
+/*
+ * Leave impulsive excitation out of the regression (aenl_impulse.h). A decay train's kicks, a
+ * rap or a release are forces the equation of free motion does not have; every row whose
+ * window holds one is an outlier that a law of the position can partly fit, consistently from
+ * block to block, so it looks like a law. After pass 2: fit the free-law model, scan its
+ * residuals (pass 3) and, when some window sum exceeds the threshold, accumulate the
+ * regression again with the events left out (pass 4). The window is the pre-filter's impulse
+ * response (2 / cutoff rows); around an event the rows from that window plus 3 before its
+ * first exceedance to one response plus 3 after it are left out.
+ */
+static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result_t *out,
+                                aenl_err_t *err)
+{
+    aenl_status_t st = aenl_rfs_model(run->rfs, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const size_t response = (size_t)ceil(2.0 / run->rfs_fc.cutoff);
+    aenl_impulse_cfg_t ic;
+    ic.n_ch = run->n_ch;
+    ic.window = response;
+    ic.before = response + 3u;
+    ic.after = response + 3u;
+    ic.z = ID_IMPULSE_Z;
+    if ((st = aenl_impulse_create(&run->imp, &ic, err)) != AENL_OK)
+    {
+        return st;
+    }
+    (void)rfs_filters_start(run);
+    if ((st = for_rows(run->src, row, screen_row, run, err)) != AENL_OK ||
+        !aenl_impulse_arm(run->imp))
+    {
+        return st;
+    }
+    /* Between impulses the motion is free, and its state is the recent past: the dense lags.
+     * The longer lags (turbulence memory) would reach across the impulses and cost the rows
+     * after each of them. */
+    aenl_rfs_cfg_t rc = run->rfs_cfg;
+    rc.n_lags = rc.n_lags < ID_RFS_DENSE_LAGS ? rc.n_lags : (uint16_t)ID_RFS_DENSE_LAGS;
+    if ((st = aenl_rfs_create(&run->rfs_again, &rc, err)) != AENL_OK)
+    {
+        return st;
+    }
+    (void)rfs_filters_start(run);
+    if ((st = aenl_rfs_model(run->rfs, err)) != AENL_OK || /* its residual pass restarts */
+        (st = for_rows(run->src, row, screen_row, run, err)) != AENL_OK)
+    {
+        return st;
+    }
+    int left_out = 0;
+    while (aenl_impulse_drain(run->imp, run->rfs_kept, &left_out))
+    {
+        rfs_push_kept(run, left_out);
+    }
+    out->impulses = aenl_impulse_events(run->imp);
+    out->impulse_rows = aenl_impulse_left_out(run->imp);
+    aenl_rfs_free(run->rfs);
+    run->rfs = run->rfs_again;
+    run->rfs_again = NULL;
+    return AENL_OK;
 }
 
 /* Copy a restoring-force fit into a classifier-style result (class, weights, points). */
@@ -885,57 +1014,55 @@ static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
 }
 
 /*
- * The host verdict from both analyses. The restoring-force regression partials the other
- * channels' motion out, so it says which channels can carry a law of their own: when it finds
- * one in some channel (t >= AENL_RFS_T_CRIT), every channel where it finds none is linear (with
- * its weights). Among the channels left, the core classifier's verdict decides (its evidence
- * weighs how much the law matters per independent point, where the regression's t grows with
- * the record's length for any small departure, as in real rigs); a channel that only the
- * regression finds nonlinear takes the regression's law and is named only when the core
- * classifier finds no law in any of them. When the regression finds no law anywhere (a pure
- * limit cycle is periodic, so a linear recursion on the lagged samples predicts it exactly and
- * the regression is blind), the core classifier's verdicts stand. Returns 1 when it named the
- * verdict (out->verdict, out->verdict_class set), 0 to leave it to the core's evidence.
+ * The host verdict from both analyses. Where the restoring-force regression found a law in
+ * some channel, it decides: it partials the other channels' motion out, so a linear channel
+ * driven by a nonlinear one shows no law of its own, and it leaves impulsive excitation out
+ * (rfs_screen), where the core classifier's conditional moments take a decay train's kicks,
+ * or a neighbour's law, for a law of the channel. Every channel it judged takes its result (a
+ * channel it could not judge keeps the core's, but is not named); the verdict is the channel
+ * whose law has the largest evidence. Where it found no law anywhere, that is the verdict
+ * (linear) on a train of impulses (at least one per cross-validation block), which the core
+ * classifier cannot see past; on any other record the core classifier's verdicts stand, as
+ * they do where the regression did not run (a limit cycle is periodic, so a linear recursion
+ * on the lagged samples predicts it exactly and the regression is blind; one channel): on a
+ * single free decay of a real rig its evidence weighs how much the law matters, where the
+ * regression's polynomial can fail out of sample. Returns 1 when it named the verdict
+ * (out->verdict, out->verdict_class set), 0 to leave it to the core's evidence.
  */
 static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
 {
-    int decisive = 0;
+    int judged = 0;
     for (size_t k = 0; have_rfs && k < out->n_channels; ++k)
+    {
+        judged |= out->ch[k].rfs.cls >= AENL_CLASS_LINEAR;
+    }
+    int decisive = 0;
+    for (size_t k = 0; judged && k < out->n_channels; ++k)
     {
         decisive |= out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
     }
-    if (!decisive)
+    if (!judged || (!decisive && out->impulses < AENL_RFS_BLOCKS))
     {
         return 0;
     }
-    long by_core = -1, by_rfs = -1;
+    out->verdict = -1;
+    out->verdict_class = AENL_CLASS_LINEAR;
     for (size_t k = 0; k < out->n_channels; ++k)
     {
         aenl_identify_channel_t *c = &out->ch[k];
-        if (c->rfs.cls <= AENL_CLASS_LINEAR)
+        if (c->rfs.cls < AENL_CLASS_LINEAR)
         {
-            rfs_to_result(&c->rfs, &c->res);
-            c->evidence = 0.0;
+            continue;
         }
-        else if (c->onboard.cls > AENL_CLASS_LINEAR)
+        rfs_to_result(&c->rfs, &c->res);
+        c->evidence = c->rfs.cls > AENL_CLASS_LINEAR ? c->rfs.evidence : 0.0;
+        if (c->rfs.cls > AENL_CLASS_LINEAR &&
+            (out->verdict < 0 || c->evidence > out->ch[out->verdict].evidence))
         {
-            if (by_core < 0 || c->evidence > out->ch[by_core].evidence)
-            {
-                by_core = (long)k;
-            }
-        }
-        else
-        {
-            rfs_to_result(&c->rfs, &c->res);
-            c->evidence = c->rfs.evidence;
-            if (by_rfs < 0 || c->rfs.evidence > out->ch[by_rfs].rfs.evidence)
-            {
-                by_rfs = (long)k;
-            }
+            out->verdict = (long)k;
+            out->verdict_class = c->rfs.cls;
         }
     }
-    out->verdict = by_core >= 0 ? by_core : by_rfs;
-    out->verdict_class = out->ch[out->verdict].res.cls;
     return 1;
 }
 
@@ -1002,6 +1129,10 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     if (st == AENL_OK)
     {
         st = for_rows(src, row, pass2_row, &run, err);
+    }
+    if (st == AENL_OK && run.rfs != NULL)
+    {
+        st = rfs_screen(&run, row, out, err);
     }
     for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
     {
@@ -1074,8 +1205,12 @@ done:
     }
     free(cls);
     aenl_rfs_free(run.rfs);
+    aenl_rfs_free(run.rfs_again);
+    aenl_impulse_free(run.imp);
     free(run.rfs_filter);
     free(run.rfs_row);
+    free(run.rfs_res);
+    free(run.rfs_kept);
     free(run.ch);
     free(run.col);
     free(row);

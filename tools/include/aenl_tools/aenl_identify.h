@@ -108,6 +108,8 @@ typedef struct aenl_identify_result
     aenl_identify_channel_t *ch;
     long verdict; /**< index of the channel named, -1 none (all linear or insufficient) */
     aenl_class_t verdict_class;
+    size_t impulses;     /**< impulsive events left out of the regression (aenl_impulse.h) */
+    size_t impulse_rows; /**< rows they took out */
 } aenl_identify_result_t;
 
 void aenl_identify_opts_default(aenl_identify_opts_t *o);
