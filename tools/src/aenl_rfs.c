@@ -1242,6 +1242,10 @@ static int model_channel(const aenl_rfs_t *r, size_t ch, double *coef)
     rfs_work_t wk;
     work_setup(&wk, r, ch);
     const size_t m = wk.m, k2 = wk.k2, st = k2 + 1u;
+    if (m == 0 || k2 == 0)
+    {
+        return -1; /* cannot happen for a created accumulator */
+    }
     int bad = proj_alloc(&wk.pj, m, k2) | gram_alloc(&wk.all, m, k2);
     double *gam = malloc(k2 * sizeof(double));
     if (bad != 0 || gam == NULL)
