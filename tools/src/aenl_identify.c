@@ -35,6 +35,8 @@
 #define ID_RFS_DENSE_LAGS 8u
 /** Impulse screening threshold, robust standard deviations (aenl_impulse.h). */
 #define ID_IMPULSE_Z 3.0
+/** An impulse must at least double the energy of the motion over the longest period. */
+#define ID_IMPULSE_GAIN 2.0
 /** Periods at which the autocorrelation tells a sustained (limit-cycle) oscillation. */
 #define ID_SUSTAINED_PERIODS 10.0
 /** Restoring-force regression: tents per direction. */
@@ -456,6 +458,7 @@ typedef struct id_run
     aenl_rfs_t *rfs;
     aenl_rfs_cfg_t rfs_cfg;
     aenl_filter_cfg_t rfs_fc;
+    double rfs_period;         /**< the longest period, samples */
     aenl_filter_t *rfs_filter; /**< n_ch, one common design */
     double *rfs_row;
     size_t rfs_settle, rfs_pushed;
@@ -912,6 +915,7 @@ static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out,
     fc.cutoff = fc.cutoff < 0.35 ? fc.cutoff : 0.35;
     run->rfs_settle = (size_t)ceil(4.0 / fc.cutoff);
     run->rfs_fc = fc;
+    run->rfs_period = p_max;
     run->rfs_cfg = rc;
     run->rfs_filter = calloc(run->n_ch, sizeof(aenl_filter_t));
     run->rfs_row = calloc(run->n_ch, sizeof(double));
@@ -938,8 +942,9 @@ static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out,
  * block to block, so it looks like a law. After pass 2: fit the free-law model, scan its
  * residuals (pass 3) and, when some window sum exceeds the threshold, accumulate the
  * regression again with the events left out (pass 4). The window is the pre-filter's impulse
- * response (2 / cutoff rows); around an event the rows from that window plus 3 before its
- * first exceedance to one response plus 3 after it are left out.
+ * response (2 / cutoff rows); an impulse must at least double the motion's energy over the
+ * longest period; around one, the rows from that window plus 3 before its first exceedance to
+ * one response plus 3 after it are left out.
  */
 static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result_t *out,
                                 aenl_err_t *err)
@@ -956,6 +961,13 @@ static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result
     ic.before = response + 3u;
     ic.after = response + 3u;
     ic.z = ID_IMPULSE_Z;
+    ic.span = (size_t)ceil(run->rfs_period);
+    ic.gain = ID_IMPULSE_GAIN;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        ic.center[k] = run->rfs_cfg.center[k];
+        ic.scale[k] = run->rfs_cfg.scale[k];
+    }
     if ((st = aenl_impulse_create(&run->imp, &ic, err)) != AENL_OK)
     {
         return st;

@@ -19,6 +19,8 @@
 /** An impulse's window sums exceed for about two windows (its pulse entering and leaving the
  *  window); a run of exceedances longer than this many windows is the model's own error. */
 #define IMP_MAX_RUN 3u
+/** Runs waiting for the motion after them (beyond this, the oldest is judged at once). */
+#define IMP_MAX_PENDING 32u
 
 static size_t delay_of(const aenl_impulse_cfg_t *c);
 static int emit(aenl_impulse_t *s, double *out, int *left_out);
@@ -42,6 +44,8 @@ struct aenl_impulse
     size_t mask_until;    /* rows up to this index (exclusive) are left out */
     size_t run_start, run_last;
     int in_run;
+    size_t pending[IMP_MAX_PENDING]; /* starts of short runs awaiting the energy check */
+    size_t n_pending;
     size_t drained;
     size_t events, left_out;
 };
@@ -50,10 +54,19 @@ aenl_status_t aenl_impulse_create(aenl_impulse_t **out, const aenl_impulse_cfg_t
                                   aenl_err_t *err)
 {
     if (out == NULL || cfg == NULL || cfg->n_ch == 0 || cfg->n_ch > AENL_IMPULSE_MAX_CH ||
-        cfg->window == 0 || cfg->before < cfg->window || !(cfg->z > 0.0) || !isfinite(cfg->z))
+        cfg->window == 0 || cfg->before < cfg->window || !(cfg->z > 0.0) || !isfinite(cfg->z) ||
+        cfg->span == 0 || !(cfg->gain >= 1.0) || !isfinite(cfg->gain))
     {
         aenl_err_set(err, "impulse screening: bad configuration");
         return AENL_E_ARG;
+    }
+    for (size_t k = 0; k < cfg->n_ch; ++k)
+    {
+        if (!(cfg->scale[k] > 0.0) || !isfinite(cfg->scale[k]) || !isfinite(cfg->center[k]))
+        {
+            aenl_err_set(err, "impulse screening: bad scale of channel %zu", k);
+            return AENL_E_ARG;
+        }
     }
     aenl_impulse_t *s = calloc(1, sizeof(*s));
     if (s == NULL)
@@ -189,35 +202,84 @@ int aenl_impulse_arm(aenl_impulse_t *s)
     return any;
 }
 
-/* Rows held back: an event is judged when its run of exceedances has ended (a gap of more
- * than a window), at most IMP_MAX_RUN windows after it began, and its rows from `before` ahead
- * of that must still be held. */
+/* Rows held back: a run of exceedances is judged once it has ended (a gap of more than a
+ * window, at most IMP_MAX_RUN + 1 windows after it began) and `span` rows after its start are
+ * in; the `span` rows before it (a window earlier) and its rows from `before` ahead must still
+ * be held then. */
 static size_t delay_of(const aenl_impulse_cfg_t *c)
 {
-    return c->before + (IMP_MAX_RUN + 1u) * c->window + 1u;
+    const size_t a = c->before + (IMP_MAX_RUN + 1u) * c->window;
+    const size_t b = 2u * c->span + c->window;
+    return (a > b ? a : b) + 1u;
 }
 
-/* The run of exceedances that began at run_start has ended at row `last`: an impulse when it
- * was short, its rows from `before` ahead of the start to `after` past it left out. */
-static void run_end(aenl_impulse_t *s, size_t last)
+/* Mean square of the standardised motion over held rows [from, to) (NaN rows skipped). */
+static double energy(const aenl_impulse_t *s, size_t from, size_t to)
 {
-    const size_t ring = delay_of(&s->cfg) + 1u, start = s->run_start;
-    s->in_run = 0;
-    if (last - start + 1u > IMP_MAX_RUN * s->cfg.window)
+    const size_t nc = s->cfg.n_ch, ring = delay_of(&s->cfg) + 1u;
+    double e = 0.0;
+    size_t n = 0;
+    for (size_t i = from; i < to; ++i)
     {
-        return; /* sustained: the model's own error, not a force from outside */
+        const double *r = &s->held[(i % ring) * nc];
+        double v = 0.0;
+        for (size_t k = 0; k < nc; ++k)
+        {
+            const double z = (r[k] - s->cfg.center[k]) / s->cfg.scale[k];
+            v += z * z;
+        }
+        if (isfinite(v))
+        {
+            e += v;
+            n++;
+        }
+    }
+    return n > 0 ? e / (double)n : 0.0;
+}
+
+/* Judge the oldest waiting run: an impulse from outside puts energy into the motion, so the
+ * motion's mean square over `span` rows from the run's start must exceed `gain` times that over
+ * the `span` rows before (a window ahead of the start, where s may already rise). A misfit of
+ * the model (at a freeplay contact, say) leaves the energy as it was. An impulse's rows from
+ * `before` ahead of the start to `after` past it are left out. */
+static void judge(aenl_impulse_t *s)
+{
+    const size_t ring = delay_of(&s->cfg) + 1u, start = s->pending[0];
+    s->n_pending--;
+    memmove(s->pending, s->pending + 1, s->n_pending * sizeof(size_t));
+    const size_t w = s->cfg.window, span = s->cfg.span;
+    const size_t b1 = start > w ? start - w : 0u, b0 = b1 > span ? b1 - span : 0u;
+    const size_t a1 = start + span < s->at ? start + span : s->at;
+    const double before = energy(s, b0 > s->drained ? b0 : s->drained, b1);
+    const double after = energy(s, start, a1);
+    if (!(after > s->cfg.gain * before))
+    {
+        return;
     }
     s->events++;
     const size_t from = start > s->cfg.before ? start - s->cfg.before : 0u;
     const size_t to = start + s->cfg.after; /* inclusive */
-    for (size_t i = from; i <= to && i < s->at; ++i)
+    for (size_t i = from > s->drained ? from : s->drained; i <= to && i < s->at; ++i)
     {
-        if (i >= s->drained) /* still held */
-        {
-            s->out_f[i % ring] = 1;
-        }
+        s->out_f[i % ring] = 1;
     }
     s->mask_until = to + 1u > s->mask_until ? to + 1u : s->mask_until;
+}
+
+/* The run of exceedances that began at run_start has ended at row `last`: a short one waits
+ * for the energy check; a sustained one is the model's own error. */
+static void run_end(aenl_impulse_t *s, size_t last)
+{
+    s->in_run = 0;
+    if (last - s->run_start + 1u > IMP_MAX_RUN * s->cfg.window)
+    {
+        return;
+    }
+    if (s->n_pending == IMP_MAX_PENDING)
+    {
+        judge(s);
+    }
+    s->pending[s->n_pending++] = s->run_start;
 }
 
 int aenl_impulse_step(aenl_impulse_t *s, const double *e, const double *row, double *out,
@@ -249,6 +311,10 @@ int aenl_impulse_step(aenl_impulse_t *s, const double *e, const double *row, dou
     {
         run_end(s, s->run_last);
     }
+    while (s->n_pending > 0 && s->pending[0] + s->cfg.span <= s->at)
+    {
+        judge(s);
+    }
     return n < delay ? 0 : emit(s, out, left_out);
 }
 
@@ -260,7 +326,11 @@ int aenl_impulse_drain(aenl_impulse_t *s, double *out, int *left_out)
     }
     if (s->in_run)
     {
-        run_end(s, s->run_last); /* the record ended inside a run: judge it now */
+        run_end(s, s->run_last); /* the record ended inside a run */
+    }
+    while (s->n_pending > 0) /* judged on the rows there are */
+    {
+        judge(s);
     }
     return emit(s, out, left_out);
 }

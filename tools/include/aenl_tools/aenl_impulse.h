@@ -21,13 +21,16 @@
  * regression as a force the law may take up. So z is a per-row level (3: 0.27 % of Gaussian rows),
  * not a record-wide maximum.
  * 2. aenl_impulse_step() for every row, with that row's data: returns the data rows in order,
- *    held back by before + 4 window + 1 rows, each with whether it is left out. A run of rows
- *    where some channel's |s| exceeds its threshold (gaps up to a window joined) is an impulse
- *    when it lasts at most 3 windows, as the pulse entering and leaving the window does; the
- *    rows from `before` ahead of the run's start (s rises within a window of the impulse) to
- *    `after` past it are left out. A longer run is the model's own error, sustained where the
- *    motion is large, and nothing is left out for it. aenl_impulse_drain() returns the rows
- *    still held at the end.
+ *    held back (by about two spans), each with whether it is left out. A run of rows where
+ *    some channel's |s| exceeds its threshold (gaps up to a window joined) is a candidate when
+ *    it lasts at most 3 windows, as the pulse entering and leaving the window does; a longer
+ *    run is the model's own error, sustained where the motion is large. A candidate is an
+ *    impulse when it puts energy into the motion: the mean square of the standardised data
+ *    over `span` rows from its start exceeds `gain` times that over the `span` rows before it.
+ *    (A misfit of the model, at a freeplay contact say, also makes short runs, but leaves the
+ *    energy as it was.) Around an impulse, the rows from `before` ahead of the run's start (s
+ *    rises within a window of the impulse) to `after` past it are left out.
+ *    aenl_impulse_drain() returns the rows still held at the end.
  */
 #ifndef AENL_TOOLS_IMPULSE_H
 #define AENL_TOOLS_IMPULSE_H
@@ -46,6 +49,10 @@ typedef struct aenl_impulse_cfg
     size_t before; /**< rows left out before an impulse's first exceedance, >= window */
     size_t after;  /**< rows left out after it (the pre-filter's response) */
     double z;      /**< threshold in robust standard deviations of the sum, > 0 */
+    size_t span;   /**< rows over which the motion's energy is compared (a period), >= 1 */
+    double gain;   /**< energy ratio an impulse must bring, >= 1 */
+    double center[AENL_IMPULSE_MAX_CH]; /**< standardisation of the data rows, */
+    double scale[AENL_IMPULSE_MAX_CH];  /**< (x - center) / scale, scale > 0 */
 } aenl_impulse_cfg_t;
 
 typedef struct aenl_impulse aenl_impulse_t;
