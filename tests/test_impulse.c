@@ -111,55 +111,69 @@ static int screen(const double *e, int kicked, aenl_impulse_t *s, unsigned char 
     return armed;
 }
 
+/* One screening of pulses of size j (noise seed), the motion kicked or not. */
+typedef struct
+{
+    double *e;
+    unsigned char *left;
+    aenl_impulse_t *s;
+    int armed;
+} trial_t;
+
+static trial_t trial(double j, uint64_t seed, int kicked)
+{
+    trial_t t;
+    t.e = residuals(j, seed);
+    t.left = malloc(N_ROWS);
+    TEST_ASSERT_NOT_NULL(t.left);
+    t.s = NULL;
+    aenl_impulse_cfg_t c = config();
+    aenl_err_t err;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&t.s, &c, &err));
+    t.armed = screen(t.e, kicked, t.s, t.left);
+    return t;
+}
+
+static void trial_free(trial_t *t)
+{
+    aenl_impulse_free(t->s);
+    free(t->left);
+    free(t->e);
+}
+
 static void test_impulse_finds_pulses_no_row_shows(void)
 {
     /* j = 10: the largest pulse row is 4, under 1.7 standard deviations of a row (sqrt 6) and
      * far under the rows' maximum; the window sum of the noise is a difference of two first
      * differences (standard deviation 2), so the pulse stands at 5 of them. */
-    double *e = residuals(10.0, 7);
-    unsigned char *left = malloc(N_ROWS);
-    TEST_ASSERT_NOT_NULL(left);
-    aenl_impulse_t *s = NULL;
-    aenl_impulse_cfg_t c = config();
-    aenl_err_t err;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&s, &c, &err));
-    TEST_ASSERT_EQUAL_INT(1, screen(e, 1, s, left));
-    TEST_ASSERT_FLOAT_WITHIN(0.3, 2.0 * 3.0, aenl_impulse_threshold(s, 0));
+    trial_t t = trial(10.0, 7, 1);
+    TEST_ASSERT_EQUAL_INT(1, t.armed);
+    TEST_ASSERT_FLOAT_WITHIN(0.3, 2.0 * 3.0, aenl_impulse_threshold(t.s, 0));
     size_t found = 0;
     for (size_t i = 0; i < N_PULSES; ++i)
     {
         int all = 1;
         for (size_t q = 0; q < 5u; ++q)
         {
-            all &= left[500u + SPACING * i + q];
+            all &= t.left[500u + SPACING * i + q];
         }
         found += (size_t)all;
     }
     TEST_ASSERT_EQUAL_UINT(N_PULSES, found);
-    TEST_ASSERT_GREATER_OR_EQUAL_UINT(N_PULSES, aenl_impulse_events(s));
+    TEST_ASSERT_GREATER_OR_EQUAL_UINT(N_PULSES, aenl_impulse_events(t.s));
     /* false alarms cost little: one window-sum row in 370 beyond 3 sigma, and few of them
      * coincide with a rise of the motion's energy */
-    TEST_ASSERT_LESS_THAN_UINT(N_ROWS / 10u, aenl_impulse_left_out(s));
-    aenl_impulse_free(s);
-    free(left);
-    free(e);
+    TEST_ASSERT_LESS_THAN_UINT(N_ROWS / 10u, aenl_impulse_left_out(t.s));
+    trial_free(&t);
 }
 
 static void test_impulse_gaussian_residuals_are_not_screened(void)
 {
     for (uint64_t seed = 1; seed <= 4; ++seed)
     {
-        double *e = residuals(0.0, seed);
-        unsigned char *left = malloc(N_ROWS);
-        TEST_ASSERT_NOT_NULL(left);
-        aenl_impulse_t *s = NULL;
-        aenl_impulse_cfg_t c = config();
-        aenl_err_t err;
-        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&s, &c, &err));
-        TEST_ASSERT_EQUAL_INT(0, screen(e, 1, s, left));
-        aenl_impulse_free(s);
-        free(left);
-        free(e);
+        trial_t t = trial(0.0, seed, 1);
+        TEST_ASSERT_EQUAL_INT(0, t.armed);
+        trial_free(&t);
     }
 }
 
@@ -167,19 +181,11 @@ static void test_impulse_gaussian_residuals_are_not_screened(void)
  * short runs, but no impulse. */
 static void test_impulse_pulses_that_bring_no_energy_are_not_impulses(void)
 {
-    double *e = residuals(10.0, 7);
-    unsigned char *left = malloc(N_ROWS);
-    TEST_ASSERT_NOT_NULL(left);
-    aenl_impulse_t *s = NULL;
-    aenl_impulse_cfg_t c = config();
-    aenl_err_t err;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_impulse_create(&s, &c, &err));
-    TEST_ASSERT_EQUAL_INT(1, screen(e, 0, s, left));
-    TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_events(s));
-    TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_left_out(s));
-    aenl_impulse_free(s);
-    free(left);
-    free(e);
+    trial_t t = trial(10.0, 7, 0);
+    TEST_ASSERT_EQUAL_INT(1, t.armed);
+    TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_events(t.s));
+    TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_left_out(t.s));
+    trial_free(&t);
 }
 
 static void test_impulse_bad_configuration(void)
