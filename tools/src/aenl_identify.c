@@ -988,8 +988,8 @@ static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result
         return st;
     }
     (void)rfs_filters_start(run);
-    if ((st = aenl_rfs_model(run->rfs, err)) != AENL_OK || /* its residual pass restarts */
-        (st = for_rows(run->src, row, screen_row, run, err)) != AENL_OK)
+    aenl_rfs_rewind(run->rfs);
+    if ((st = for_rows(run->src, row, screen_row, run, err)) != AENL_OK)
     {
         return st;
     }
@@ -1043,14 +1043,10 @@ static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
  */
 static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
 {
-    int judged = 0;
+    int judged = 0, decisive = 0;
     for (size_t k = 0; have_rfs && k < out->n_channels; ++k)
     {
         judged |= out->ch[k].rfs.cls >= AENL_CLASS_LINEAR;
-    }
-    int decisive = 0;
-    for (size_t k = 0; judged && k < out->n_channels; ++k)
-    {
         decisive |= out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
     }
     if (!judged || (!decisive && out->impulses < AENL_RFS_BLOCKS))

@@ -1326,8 +1326,16 @@ aenl_status_t aenl_rfs_model(aenl_rfs_t *r, aenl_err_t *err)
     }
     free(r->coef);
     r->coef = coef;
-    r->pushed = 0; /* the residual pass takes the record from its start */
+    aenl_rfs_rewind(r);
     return AENL_OK;
+}
+
+void aenl_rfs_rewind(aenl_rfs_t *r)
+{
+    if (r != NULL)
+    {
+        r->pushed = 0;
+    }
 }
 
 void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e)

@@ -131,6 +131,9 @@ aenl_status_t aenl_rfs_model(aenl_rfs_t *r, aenl_err_t *err);
  */
 void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e);
 
+/** @brief Start the residual pass again from the record's beginning (the model is kept). */
+void aenl_rfs_rewind(aenl_rfs_t *r);
+
 void aenl_rfs_free(aenl_rfs_t *r);
 
 #endif /* AENL_TOOLS_RFS_H */
