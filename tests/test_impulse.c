@@ -161,6 +161,7 @@ static void test_impulse_finds_pulses_no_row_shows(void)
     }
     TEST_ASSERT_EQUAL_UINT(N_PULSES, found);
     TEST_ASSERT_GREATER_OR_EQUAL_UINT(N_PULSES, aenl_impulse_events(t.s));
+    TEST_ASSERT_EQUAL_INT(1, aenl_impulse_decaying(t.s)); /* free decays between the kicks */
     /* false alarms cost little: one window-sum row in 370 beyond 3 sigma, and few of them
      * coincide with a rise of the motion's energy */
     TEST_ASSERT_LESS_THAN_UINT(N_ROWS / 10u, aenl_impulse_left_out(t.s));
@@ -185,6 +186,7 @@ static void test_impulse_pulses_that_bring_no_energy_are_not_impulses(void)
     TEST_ASSERT_EQUAL_INT(1, t.armed);
     TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_events(t.s));
     TEST_ASSERT_EQUAL_UINT(0, aenl_impulse_left_out(t.s));
+    TEST_ASSERT_EQUAL_INT(0, aenl_impulse_decaying(t.s)); /* its energy never falls */
     trial_free(&t);
 }
 

@@ -1000,6 +1000,7 @@ static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result
     }
     out->impulses = aenl_impulse_events(run->imp);
     out->impulse_rows = aenl_impulse_left_out(run->imp);
+    out->decay_train = aenl_impulse_decaying(run->imp);
     aenl_rfs_free(run->rfs);
     run->rfs = run->rfs_again;
     run->rfs_again = NULL;
@@ -1033,8 +1034,9 @@ static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
  * or a neighbour's law, for a law of the channel. Every channel it judged takes its result (a
  * channel it could not judge keeps the core's, but is not named); the verdict is the channel
  * whose law has the largest evidence. Where it found no law anywhere, that is the verdict
- * (linear) on a train of impulses (at least one per cross-validation block), which the core
- * classifier cannot see past; on any other record the core classifier's verdicts stand, as
+ * (linear) on a train of kicked decays (at least one impulse per cross-validation block, and
+ * the motion decaying between them: turbulence has bursts that pass for impulses), which the
+ * core classifier cannot see past; on any other record the core classifier's verdicts stand, as
  * they do where the regression did not run (a limit cycle is periodic, so a linear recursion
  * on the lagged samples predicts it exactly and the regression is blind; one channel): on a
  * single free decay of a real rig its evidence weighs how much the law matters, where the
@@ -1049,7 +1051,7 @@ static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
         judged |= out->ch[k].rfs.cls >= AENL_CLASS_LINEAR;
         decisive |= out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
     }
-    if (!judged || (!decisive && out->impulses < AENL_RFS_BLOCKS))
+    if (!judged || (!decisive && !(out->decay_train && out->impulses >= AENL_RFS_BLOCKS)))
     {
         return 0;
     }

@@ -24,6 +24,7 @@
 
 static size_t delay_of(const aenl_impulse_cfg_t *c);
 static int emit(aenl_impulse_t *s, double *out, int *left_out);
+static void span_energy(aenl_impulse_t *s, const double *row);
 
 struct aenl_impulse
 {
@@ -48,6 +49,9 @@ struct aenl_impulse
     size_t n_pending;
     size_t drained;
     size_t events, left_out;
+    /* the motion's energy over consecutive spans: how often it falls */
+    double span_e, last_e;
+    size_t span_n, spans, falls;
 };
 
 aenl_status_t aenl_impulse_create(aenl_impulse_t **out, const aenl_impulse_cfg_t *cfg,
@@ -237,6 +241,36 @@ static double energy(const aenl_impulse_t *s, size_t from, size_t to)
     return n > 0 ? e / (double)n : 0.0;
 }
 
+/* The mean square of the standardised motion over consecutive spans of rows: count the spans
+ * after which it fell. */
+static void span_energy(aenl_impulse_t *s, const double *row)
+{
+    double v = 0.0;
+    for (size_t k = 0; k < s->cfg.n_ch; ++k)
+    {
+        const double z = (row[k] - s->cfg.center[k]) / s->cfg.scale[k];
+        v += z * z;
+    }
+    if (isfinite(v))
+    {
+        s->span_e += v;
+        s->span_n++;
+    }
+    if ((s->at % s->cfg.span) != 0u || s->span_n == 0u)
+    {
+        return;
+    }
+    const double e = s->span_e / (double)s->span_n;
+    if (s->spans > 0u)
+    {
+        s->falls += e < s->last_e;
+    }
+    s->spans++;
+    s->last_e = e;
+    s->span_e = 0.0;
+    s->span_n = 0;
+}
+
 /* Judge the oldest waiting run: an impulse from outside puts energy into the motion, so the
  * motion's mean square over `span` rows from the run's start must exceed `gain` times that over
  * the `span` rows before (a window ahead of the start, where s may already rise). A misfit of
@@ -297,6 +331,7 @@ int aenl_impulse_step(aenl_impulse_t *s, const double *e, const double *row, dou
         exceed |= s->fill[k] == s->cfg.window && fabs(s->sum[k]) > s->thr[k];
     }
     memcpy(&s->held[(n % ring) * nc], row, nc * sizeof(double));
+    span_energy(s, row);
     s->out_f[n % ring] = n < s->mask_until;
     if (exceed)
     {
@@ -344,6 +379,16 @@ static int emit(aenl_impulse_t *s, double *out, int *left_out)
     s->left_out += s->out_f[slot];
     s->drained++;
     return 1;
+}
+
+int aenl_impulse_decaying(const aenl_impulse_t *s)
+{
+    if (s == NULL || s->spans < 2u)
+    {
+        return 0;
+    }
+    const double m = (double)(s->spans - 1u);
+    return (double)s->falls > 0.5 * m + IMP_EXCESS_Z * 0.5 * sqrt(m);
 }
 
 size_t aenl_impulse_events(const aenl_impulse_t *s)

@@ -108,6 +108,7 @@ typedef struct aenl_identify_result
     aenl_identify_channel_t *ch;
     long verdict; /**< index of the channel named, -1 none (all linear or insufficient) */
     aenl_class_t verdict_class;
+    int decay_train;     /**< the motion decays between the impulses (aenl_impulse.h) */
     size_t impulses;     /**< impulsive events left out of the regression (aenl_impulse.h) */
     size_t impulse_rows; /**< rows they took out */
 } aenl_identify_result_t;

@@ -86,6 +86,11 @@ int aenl_impulse_drain(aenl_impulse_t *s, double *out, int *left_out);
 size_t aenl_impulse_events(const aenl_impulse_t *s);
 size_t aenl_impulse_left_out(const aenl_impulse_t *s);
 
+/** After pass 2: 1 when the motion is a train of free decays: its energy over consecutive
+ *  spans falls more often than it rises, by 3 standard errors of a fair coin. Under stationary
+ *  forcing (turbulence) it rises as often as it falls. */
+int aenl_impulse_decaying(const aenl_impulse_t *s);
+
 /** Threshold of channel ch's sum (after aenl_impulse_arm). */
 double aenl_impulse_threshold(const aenl_impulse_t *s, size_t ch);
 
