@@ -7,13 +7,16 @@
  *        folder created, nothing left on failure), and bad input (exit 2, one line on stderr
  *        naming what and where, nothing on stdout, no output). Content is checked only where it
  *        is unambiguous: the paper's 3-DOF flap freeplay (delta = 2 deg, SNR 3) is freeplay in
- *        beta with its points near -+1 deg, a linear turbulence record is linear.
+ *        beta with its points near -+1 deg, a linear turbulence record is linear, a linear
+ *        decay train of kicked releases is linear with its impulses reported.
  */
 #include "aenl_cli_test.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdio.h>
 
+#include "aenl_tools/aenl_evalsuite.h"
 #include "unity.h"
 
 #define DEG 0.017453292519943295
@@ -305,6 +308,48 @@ static void test_cli_identify_linear_turbulence_json(void)
     cJSON_Delete(root);
 }
 
+/* Eval-suite case 20 (2-DOF section, linear, a train of kicked releases, no noise) as a CSV
+ * without a time column. Its kicks made both analyses see a law until they were screened. */
+static const char *kicked_record(void)
+{
+    static char path[512];
+    (void)snprintf(path, sizeof(path), "%s/id_kicked.csv", AENL_TEST_TMP_DIR);
+    if (cli_exists(path))
+    {
+        return path;
+    }
+    aenl_eval_case_t c;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_eval_case_make(1, 20, &c, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, c.cls);
+    FILE *f = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    (void)fprintf(f, "%s,%s\n", c.names[0], c.names[1]);
+    for (size_t n = 0; n < c.n_samples; ++n)
+    {
+        (void)fprintf(f, "%.17g,%.17g\n", c.cols[0][n], c.cols[1][n]);
+    }
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+    aenl_eval_case_free(&c);
+    return path;
+}
+
+static void test_cli_identify_kicked_decay_train(void)
+{
+    const char *data = kicked_record();
+    static cli_result_t r;
+    const char *table[] = {"identify", data, NULL};
+    cli_run(&r, table);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\n  impulsive excitation: "), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: linear"), r.out);
+    const char *json[] = {"identify", data, "--json", NULL};
+    cJSON *root = run_json(json, &r);
+    (void)check_contract(root, data, 2); /* the report stays out of the JSON */
+    cJSON_Delete(root);
+}
+
 static void test_cli_identify_table_and_channel(void)
 {
     const char *data = flap_record();
@@ -496,6 +541,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_identify_flap_freeplay_json);
     RUN_TEST(test_cli_identify_linear_turbulence_json);
+    RUN_TEST(test_cli_identify_kicked_decay_train);
     RUN_TEST(test_cli_identify_table_and_channel);
     RUN_TEST(test_cli_identify_plot);
     RUN_TEST(test_cli_identify_bad_input);
