@@ -1001,9 +1001,12 @@ static aenl_status_t rfs_screen(id_run_t *run, double *row, aenl_identify_result
     out->impulses = aenl_impulse_events(run->imp);
     out->impulse_rows = aenl_impulse_left_out(run->imp);
     out->decay_train = aenl_impulse_decaying(run->imp);
-    aenl_rfs_free(run->rfs);
-    run->rfs = run->rfs_again;
-    run->rfs_again = NULL;
+    if (out->impulses > 0) /* else the first accumulation, with every lag, stands */
+    {
+        aenl_rfs_free(run->rfs);
+        run->rfs = run->rfs_again;
+        run->rfs_again = NULL;
+    }
     return AENL_OK;
 }
 
