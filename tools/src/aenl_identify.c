@@ -837,15 +837,6 @@ static aenl_status_t chan_export(const id_chan_t *c, aenl_identify_channel_t *ou
     return AENL_OK;
 }
 
-/**
- * Set up the restoring-force regression after pass 1 (aenl_rfs.h): one low-pass for every
- * channel at ID_RFS_CUTOFF_CYCLES / (shortest dominant period), position lags 2..9 and 1/4, 1/2 of
- * the longest period, tents over each channel's grid. Left off (NULL) for a single channel, when
- * no channel oscillates, when one oscillates in a sustained, periodic way (autocorrelation at
- * ID_SUSTAINED_PERIODS periods >= 0.5, closer to a limit cycle's ~1 than to the damped response's
- * ~0: a linear recursion predicts a periodic record exactly, so the regression would be blind)
- * or when there are more channels than it takes; the core classifier's verdict then stands.
- */
 /* (Re)start the regression's pre-filters and settling count. */
 static aenl_status_t rfs_filters_start(id_run_t *run)
 {
@@ -860,6 +851,15 @@ static aenl_status_t rfs_filters_start(id_run_t *run)
     return AENL_OK;
 }
 
+/**
+ * Set up the restoring-force regression after pass 1 (aenl_rfs.h): one low-pass for every
+ * channel at ID_RFS_CUTOFF_CYCLES / (shortest dominant period), position lags 2..9 and 1/4, 1/2 of
+ * the longest period, tents over each channel's grid. Left off (NULL) for a single channel, when
+ * no channel oscillates, when one oscillates in a sustained, periodic way (autocorrelation at
+ * ID_SUSTAINED_PERIODS periods >= 0.5, closer to a limit cycle's ~1 than to the damped response's
+ * ~0: a linear recursion predicts a periodic record exactly, so the regression would be blind)
+ * or when there are more channels than it takes; the core classifier's verdict then stands.
+ */
 static aenl_status_t rfs_setup(id_run_t *run, const aenl_identify_result_t *out, aenl_err_t *err)
 {
     double p_min = 0.0, p_max = 0.0;

@@ -24,7 +24,8 @@
 
 static size_t delay_of(const aenl_impulse_cfg_t *c);
 static int emit(aenl_impulse_t *s, double *out, int *left_out);
-static void span_energy(aenl_impulse_t *s, const double *row);
+static void span_energy(aenl_impulse_t *s, double v);
+static double row_energy(const aenl_impulse_t *s, const double *row);
 
 struct aenl_impulse
 {
@@ -36,11 +37,10 @@ struct aenl_impulse
     size_t at;                        /* rows taken in this pass */
     /* pass 1 */
     size_t *hist; /* [n_ch][IMP_BINS] */
-    double max_abs[AENL_IMPULSE_MAX_CH];
-    double sigma[AENL_IMPULSE_MAX_CH];
     double thr[AENL_IMPULSE_MAX_CH];
     /* pass 2: the delay line */
     double *held;         /* [delay + 1][n_ch] */
+    double *row_e;        /* [delay + 1]: each held row's energy (NaN: a value missing) */
     unsigned char *out_f; /* [delay + 1]: left out */
     size_t mask_until;    /* rows up to this index (exclusive) are left out */
     size_t run_start, run_last;
@@ -83,7 +83,9 @@ aenl_status_t aenl_impulse_create(aenl_impulse_t **out, const aenl_impulse_cfg_t
     s->hist = calloc(cfg->n_ch * IMP_BINS, sizeof(size_t));
     s->held = calloc((delay_of(cfg) + 1u) * cfg->n_ch, sizeof(double));
     s->out_f = calloc(delay_of(cfg) + 1u, 1);
-    if (s->box == NULL || s->hist == NULL || s->held == NULL || s->out_f == NULL)
+    s->row_e = calloc(delay_of(cfg) + 1u, sizeof(double));
+    if (s->box == NULL || s->hist == NULL || s->held == NULL || s->out_f == NULL ||
+        s->row_e == NULL)
     {
         aenl_impulse_free(s);
         aenl_err_set(err, "out of memory");
@@ -101,6 +103,7 @@ void aenl_impulse_free(aenl_impulse_t *s)
         free(s->hist);
         free(s->held);
         free(s->out_f);
+        free(s->row_e);
         free(s);
     }
 }
@@ -152,11 +155,16 @@ void aenl_impulse_scan(aenl_impulse_t *s, const double *e)
             continue;
         }
         const double a = fabs(s->sum[k]);
-        s->max_abs[k] = a > s->max_abs[k] ? a : s->max_abs[k];
         double b = a > 0.0 ? (log10(a) - IMP_LOG_LO) * IMP_PER_DECADE : 0.0;
         b = b < 0.0 ? 0.0 : (b > (double)(IMP_BINS - 1u) ? (double)(IMP_BINS - 1u) : b);
         s->hist[k * IMP_BINS + (size_t)b]++;
     }
+}
+
+/* The |s| a histogram bin stands for (its centre). */
+static double bin_value(size_t i)
+{
+    return pow(10.0, IMP_LOG_LO + ((double)i + 0.5) / IMP_PER_DECADE);
 }
 
 int aenl_impulse_arm(aenl_impulse_t *s)
@@ -174,7 +182,6 @@ int aenl_impulse_arm(aenl_impulse_t *s)
         {
             n += h[i];
         }
-        s->sigma[k] = 0.0;
         s->thr[k] = INFINITY;
         if (n == 0)
         {
@@ -184,16 +191,13 @@ int aenl_impulse_arm(aenl_impulse_t *s)
         {
             cum += h[b++];
         }
-        const double median = pow(10.0, IMP_LOG_LO + ((double)b + 0.5) / IMP_PER_DECADE);
-        s->sigma[k] = median / 0.6744897501960817;
-        s->thr[k] = s->cfg.z * s->sigma[k];
+        s->thr[k] = s->cfg.z * bin_value(b) / 0.6744897501960817; /* z robust sd's */
         /* rows beyond the threshold against the Gaussian tail, with the sums' correlation
          * over a window: about n / window independent draws */
         size_t over = 0;
         for (size_t i = 0; i < IMP_BINS; ++i)
         {
-            over +=
-                pow(10.0, IMP_LOG_LO + ((double)i + 0.5) / IMP_PER_DECADE) > s->thr[k] ? h[i] : 0u;
+            over += bin_value(i) > s->thr[k] ? h[i] : 0u;
         }
         const double p0 = erfc(s->cfg.z / sqrt(2.0));
         const double draws = (double)n / (double)s->cfg.window;
@@ -217,21 +221,27 @@ static size_t delay_of(const aenl_impulse_cfg_t *c)
     return (a > b ? a : b) + 1u;
 }
 
-/* Mean square of the standardised motion over held rows [from, to) (NaN rows skipped). */
+/* The mean square of one row of standardised motion (NaN when a value is missing). */
+static double row_energy(const aenl_impulse_t *s, const double *row)
+{
+    double v = 0.0;
+    for (size_t k = 0; k < s->cfg.n_ch; ++k)
+    {
+        const double z = (row[k] - s->cfg.center[k]) / s->cfg.scale[k];
+        v += z * z;
+    }
+    return v;
+}
+
+/* Mean energy of the held rows [from, to) (rows with a value missing skipped). */
 static double energy(const aenl_impulse_t *s, size_t from, size_t to)
 {
-    const size_t nc = s->cfg.n_ch, ring = delay_of(&s->cfg) + 1u;
+    const size_t ring = delay_of(&s->cfg) + 1u;
     double e = 0.0;
     size_t n = 0;
     for (size_t i = from; i < to; ++i)
     {
-        const double *r = &s->held[(i % ring) * nc];
-        double v = 0.0;
-        for (size_t k = 0; k < nc; ++k)
-        {
-            const double z = (r[k] - s->cfg.center[k]) / s->cfg.scale[k];
-            v += z * z;
-        }
+        const double v = s->row_e[i % ring];
         if (isfinite(v))
         {
             e += v;
@@ -241,16 +251,10 @@ static double energy(const aenl_impulse_t *s, size_t from, size_t to)
     return n > 0 ? e / (double)n : 0.0;
 }
 
-/* The mean square of the standardised motion over consecutive spans of rows: count the spans
- * after which it fell. */
-static void span_energy(aenl_impulse_t *s, const double *row)
+/* One row's energy v into the mean over consecutive spans of rows: count the spans after
+ * which it fell. */
+static void span_energy(aenl_impulse_t *s, double v)
 {
-    double v = 0.0;
-    for (size_t k = 0; k < s->cfg.n_ch; ++k)
-    {
-        const double z = (row[k] - s->cfg.center[k]) / s->cfg.scale[k];
-        v += z * z;
-    }
     if (isfinite(v))
     {
         s->span_e += v;
@@ -331,7 +335,8 @@ int aenl_impulse_step(aenl_impulse_t *s, const double *e, const double *row, dou
         exceed |= s->fill[k] == s->cfg.window && fabs(s->sum[k]) > s->thr[k];
     }
     memcpy(&s->held[(n % ring) * nc], row, nc * sizeof(double));
-    span_energy(s, row);
+    s->row_e[n % ring] = row_energy(s, row);
+    span_energy(s, s->row_e[n % ring]);
     s->out_f[n % ring] = n < s->mask_until;
     if (exceed)
     {

@@ -141,6 +141,15 @@ static void tent(const aenl_rfs_t *r, size_t j, double x, size_t *k, double *w1)
     *w1 = s - c; /* outside [0, 1] beyond the grid ends: linear extrapolation */
 }
 
+/* The tent column (rising motion first) of channel i's regressors wi (position, first
+ * difference, ...) and the weight of the column after it. */
+static size_t tent_col(const aenl_rfs_t *r, size_t i, const double *wi, double *w1)
+{
+    size_t k;
+    tent(r, i, wi[0], &k, w1);
+    return (wi[1] > 0.0 ? 0u : (size_t)r->cfg.n_nodes) + k;
+}
+
 /* Take one row into the history and form the regressor row w centred one row back: 1 when
  * every regressor is finite, 0 while the history fills or when a gap lies inside the window. */
 static int form_row(aenl_rfs_t *r, const double *row)
@@ -204,14 +213,11 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
             ga[c] += wa * w[c];
         }
     }
-    const size_t K = r->cfg.n_nodes;
     for (size_t i = 0; i < nc; ++i)
     {
         const double *wi = &w[1u + i * r->per_ch];
-        size_t k;
         double w1;
-        tent(r, i, wi[0], &k, &w1);
-        const size_t col = (wi[1] > 0.0 ? 0u : K) + k; /* rising first */
+        const size_t col = tent_col(r, i, wi, &w1);
         const double w0 = 1.0 - w1;
         double *zb = &r->ZB[(b * nc + i) * p * r->k2];
         for (size_t a = 0; a < p; ++a)
@@ -1346,7 +1352,7 @@ void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e)
     }
     const size_t nc = r->cfg.n_ch;
     const int whole = form_row(r, row) && r->coef != NULL;
-    const size_t len = r->p + r->k2, K = r->cfg.n_nodes;
+    const size_t len = r->p + r->k2;
     for (size_t i = 0; i < nc; ++i)
     {
         e[i] = (double)NAN;
@@ -1361,10 +1367,8 @@ void aenl_rfs_residual(aenl_rfs_t *r, const double *row, double *e)
         {
             v -= c[a] * r->w[a];
         }
-        size_t k;
         double w1;
-        tent(r, i, wi[0], &k, &w1);
-        const size_t col = (wi[1] > 0.0 ? 0u : K) + k;
+        const size_t col = tent_col(r, i, wi, &w1);
         e[i] = v - (1.0 - w1) * c[r->p + col] - w1 * c[r->p + col + 1u];
     }
 }
