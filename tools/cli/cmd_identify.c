@@ -617,6 +617,12 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
                "regression\n",
                r->impulses, r->impulses == 1 ? "" : "s", r->impulse_rows);
     }
+    if (r->limit_cycle >= 0)
+    {
+        printf("  limit cycle: sustained oscillation of constant amplitude in %s (kurtosis %.2f); "
+               "a linear structure has none\n",
+               r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
+    }
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
     if (v->channel >= 0)
     {

@@ -39,6 +39,9 @@
 #define ID_IMPULSE_GAIN 2.0
 /** Periods at which the autocorrelation tells a sustained (limit-cycle) oscillation. */
 #define ID_SUSTAINED_PERIODS 10.0
+/** Kurtosis below which a sustained oscillation has a constant amplitude: a sinusoid has 1.5, a
+ *  Gaussian process 3, and a sinusoid plus a Gaussian part with a third of the variance 7/3. */
+#define ID_LIMIT_CYCLE_KURTOSIS (7.0 / 3.0)
 /** Restoring-force regression: tents per direction. */
 #define ID_RFS_NODES 32u
 
@@ -243,6 +246,8 @@ typedef struct id_chan
     aenl_filter_t filter;
     aenl_moments_t *mom, *disp;
     size_t pushed;
+    /* pass 2: central power sums of the pre-filtered signal about the pass-1 mean */
+    double n2, s2, s4;
 } id_chan_t;
 
 /**
@@ -530,6 +535,13 @@ static aenl_status_t pass2_row(void *ctx, const double *row, aenl_err_t *err)
             }
         }
         c->pushed++;
+        if (isfinite(y))
+        {
+            const double d2 = (y - c->mean) * (y - c->mean);
+            c->n2 += 1.0;
+            c->s2 += d2;
+            c->s4 += d2 * d2;
+        }
         (void)aenl_moments_push(c->mom, y); /* NaN: a missing sample, alignment kept */
         (void)aenl_moments_push(c->disp, y);
     }
@@ -1079,6 +1091,68 @@ static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
     return 1;
 }
 
+/*
+ * A limit cycle is not linear. The record's motion is one when a channel oscillates in a
+ * sustained way (autocorrelation at ID_SUSTAINED_PERIODS periods >= 0.5) with a constant
+ * amplitude (kurtosis below ID_LIMIT_CYCLE_KURTOSIS: a Gaussian process, the response of a linear
+ * structure to turbulence however lightly damped, has 3). An unforced linear structure either
+ * decays or grows; it has no stable periodic motion of its own. When the core classifier calls
+ * every channel of such a record linear (its law is too smooth for the points to tell), the
+ * verdict is the likeliest nonlinear law instead: the class with the largest posterior weight
+ * among the nonlinear ones, in the channel where that weight is largest, its confidence that
+ * weight relative to the nonlinear classes'. Only the polynomial needs no switching points, so
+ * the gap laws are left to the classifier's own decision.
+ */
+static void limit_cycle_verdict(aenl_identify_result_t *out)
+{
+    out->limit_cycle = -1;
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_identify_channel_t *c = &out->ch[k];
+        if (c->sustained >= 0.5 && c->kurtosis > 0.0 && c->kurtosis < ID_LIMIT_CYCLE_KURTOSIS &&
+            (out->limit_cycle < 0 || c->kurtosis < out->ch[out->limit_cycle].kurtosis))
+        {
+            out->limit_cycle = (long)k;
+        }
+    }
+    if (out->limit_cycle < 0 || out->verdict_class != AENL_CLASS_LINEAR)
+    {
+        return;
+    }
+    long best = -1;
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_classifier_result_t *r = &out->ch[k].res;
+        if (r->cls == AENL_CLASS_LINEAR &&
+            (best < 0 ||
+             r->prob[AENL_CLASS_POLYNOMIAL] > out->ch[best].res.prob[AENL_CLASS_POLYNOMIAL]))
+        {
+            best = (long)k;
+        }
+    }
+    if (best < 0)
+    {
+        return;
+    }
+    aenl_classifier_result_t *r = &out->ch[best].res;
+    double nonlinear = 0.0;
+    for (int c = AENL_CLASS_POLYNOMIAL; c < AENL_CLASS_COUNT; ++c)
+    {
+        nonlinear += r->prob[c];
+    }
+    if (!(r->prob[AENL_CLASS_POLYNOMIAL] > 0.0) ||
+        r->prob[AENL_CLASS_POLYNOMIAL] < r->prob[AENL_CLASS_FREEPLAY] ||
+        r->prob[AENL_CLASS_POLYNOMIAL] < r->prob[AENL_CLASS_HYSTERESIS])
+    {
+        return;
+    }
+    r->cls = AENL_CLASS_POLYNOMIAL;
+    r->confidence = (aenl_real_t)(r->prob[AENL_CLASS_POLYNOMIAL] / nonlinear);
+    r->n_switch = 0;
+    out->verdict = best;
+    out->verdict_class = AENL_CLASS_POLYNOMIAL;
+}
+
 aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
                                 aenl_identify_result_t *out, aenl_err_t *err)
 {
@@ -1088,6 +1162,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
         return AENL_E_ARG;
     }
     memset(out, 0, sizeof(*out));
+    out->limit_cycle = -1;
     aenl_identify_opts_t o;
     aenl_identify_opts_default(&o);
     if (opts != NULL)
@@ -1181,6 +1256,8 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
         }
         c->onboard = *aenl_classifier_result(cls);
         c->res = c->onboard;
+        c->kurtosis =
+            run.ch[k].s2 > 0.0 ? run.ch[k].n2 * run.ch[k].s4 / (run.ch[k].s2 * run.ch[k].s2) : 0.0;
         c->evidence = c->res.cls > AENL_CLASS_LINEAR ? c->res.evidence : 0.0;
         if (run.rfs != NULL)
         {
@@ -1210,6 +1287,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
                 out->verdict_class = c->res.cls;
             }
         }
+        limit_cycle_verdict(out);
     }
 done:
     for (size_t k = 0; run.ch != NULL && k < run.n_ch; ++k)

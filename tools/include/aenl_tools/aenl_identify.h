@@ -87,6 +87,7 @@ typedef struct aenl_identify_channel
     int bw_method;       /**< AENL_BW_CV, AENL_BW_RULE or -1 given */
     double period;       /**< dominant period, samples (0 when none was found) */
     double sustained;    /**< autocorrelation at 10 periods (near 1: a limit cycle; 0 none) */
+    double kurtosis;     /**< of the pre-filtered signal: 1.5 a sinusoid, 3 a Gaussian process */
     double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
     double noise_std;    /**< white-noise level estimated from differences, channel units */
     double x_min, x_max; /**< grid ends */
@@ -111,6 +112,9 @@ typedef struct aenl_identify_result
     int decay_train;     /**< the motion decays between the impulses (aenl_impulse.h) */
     size_t impulses;     /**< impulsive events left out of the regression (aenl_impulse.h) */
     size_t impulse_rows; /**< rows they took out */
+    long limit_cycle;    /**< channel whose sustained, constant-amplitude oscillation shows the
+                              motion is a limit cycle (-1 none; set where the regression did not
+                              decide) */
 } aenl_identify_result_t;
 
 void aenl_identify_opts_default(aenl_identify_opts_t *o);
