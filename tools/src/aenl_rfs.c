@@ -25,8 +25,9 @@
 #define RFS_FINE 0.25
 /** Paired t by which a more specific law must beat the simpler one (one-sided 0.5 %, 15 df). */
 #define RFS_T_PAIR 3.0
-/** Columns of a law at most (the polynomial's four and a direction offset). */
-#define RFS_MAX_Q 5
+/** Columns of a law at most (the polynomial's four and a direction offset that changes with
+ *  amplitude: two). */
+#define RFS_MAX_Q 6
 
 struct aenl_rfs
 {
@@ -494,7 +495,7 @@ typedef struct
 {
     double a, b, s; /* kinks (standardised): kink a; gap [a, b]; hysteresis gap [a, b] +- s/2 */
     aenl_rfs_law_t law;
-    int offset; /* a law the same in both directions plus a rising-motion offset */
+    int offset; /* a law the same in both directions plus a rising-motion offset a + b x^2 */
 } rfs_law_t;
 
 static double clip(double x, double a, double b)
@@ -559,9 +560,11 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
     {
         for (size_t k = 0; k < k2; ++k)
         {
+            const double u = wk->node[k % K] / wk->x_abs;
             T[q * k2 + k] = k < K ? 1.0 : 0.0;
+            T[(q + 1u) * k2 + k] = k < K ? u * u : 0.0;
         }
-        q++;
+        q += 2u;
     }
     return q;
 }
@@ -988,9 +991,12 @@ static double pair_t(const double *a, const double *b)
  * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a polynomial over a
  * bounded range, so kinks must earn their place); hysteresis replaces it only when the
  * direction-dependent law beats it by RFS_T_PAIR as well, both as it is and with a rising-motion
- * offset of its own (d_off): what marks hysteresis is switching points that move with the
- * direction. An offset alone is a force that follows the motion, which dry friction, the kicks
- * of a decay train, or damping the linear terms miss give as well.
+ * offset of its own (d_off) that may change with amplitude (a + b x^2): what marks hysteresis is
+ * switching points that move with the direction. An offset alone is a force that follows the
+ * motion, which dry friction, the kicks of a decay train, or damping the linear terms miss give
+ * as well; damping that grows with the speed (|v| v, largest mid-stroke) and forcing whose
+ * correlation with the direction of motion changes with amplitude (turbulence driving a
+ * nonlinear spring) give one that changes smoothly with the position.
  */
 static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_LAWS][RFS_B],
                       const int *usable, const double *t, const double *D)

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /**
- * @file test_identify_lco.c
- * @brief `identify` on sustained oscillations: the kurtosis it reports is 1.5 for a sinusoid and
- *        3 for a Gaussian process (analytic values); a lightly damped linear structure under
- *        Gaussian forcing, sustained at 10 periods, is not taken for a limit cycle and stays
- *        linear; a limit cycle the core classifier calls linear in every channel is not linear.
+ * @file test_identify.c
+ * @brief `identify` on whole records. Sustained oscillations: the kurtosis it reports is 1.5 for
+ *        a sinusoid and 3 for a Gaussian process (analytic values); a lightly damped linear
+ *        structure under Gaussian forcing, sustained at 10 periods, is not taken for a limit
+ *        cycle and stays linear; a limit cycle the core classifier calls linear in every channel
+ *        is not linear. Direction-dependent forces: turbulence driving a nonlinear spring is not
+ *        hysteresis, a hysteresis loop under turbulence still is.
  */
 #include <math.h>
 #include <stdio.h>
@@ -134,11 +136,42 @@ static void test_identify_limit_cycle_is_not_linear(void)
     aenl_eval_case_free(&c);
 }
 
+/* The regression's class of the nonlinear channel of eval-suite case `index`. */
+static aenl_class_t regression_class(size_t index, aenl_class_t truth)
+{
+    aenl_eval_case_t c;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_eval_case_make(1, index, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_EVAL_TURBULENCE, c.stratum.regime);
+    TEST_ASSERT_EQUAL_INT(truth, c.cls);
+    aenl_identify_result_t r;
+    run((const double *const *)c.cols, (const char *const *)c.names, c.n_channels, c.n_samples, &r);
+    const aenl_class_t cls = r.ch[c.channel_index].rfs.cls;
+    aenl_identify_free(&r);
+    aenl_eval_case_free(&c);
+    return cls;
+}
+
+/* Eval-suite cases 71 and 87: 2-DOF sections in noise-free turbulence with a hardening (71) and
+ * a softening (87) plunge spring. The turbulence pushes the way the plunge moves, and how much
+ * it does changes with the amplitude: a force that follows the motion and changes smoothly with
+ * the position. The regression took it for a gap moving with the direction (hysteresis) until
+ * its rising-motion offset could change with amplitude. Case 84 (2-DOF, pitch hysteresis, SNR
+ * 10) stays hysteresis: its switching points do move. */
+static void test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis(void)
+{
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, regression_class(71, AENL_CLASS_POLYNOMIAL));
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, regression_class(87, AENL_CLASS_POLYNOMIAL));
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, regression_class(84, AENL_CLASS_HYSTERESIS));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_identify_kurtosis_of_a_sinusoid);
     RUN_TEST(test_identify_narrowband_gaussian_is_not_a_limit_cycle);
     RUN_TEST(test_identify_limit_cycle_is_not_linear);
+    RUN_TEST(test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis);
     return UNITY_END();
 }
