@@ -1098,10 +1098,10 @@ static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
  * structure to turbulence however lightly damped, has 3). An unforced linear structure either
  * decays or grows; it has no stable periodic motion of its own. When the core classifier calls
  * every channel of such a record linear (its law is too smooth for the points to tell), the
- * verdict is the likeliest nonlinear law instead: the class with the largest posterior weight
- * among the nonlinear ones, in the channel where that weight is largest, its confidence that
- * weight relative to the nonlinear classes'. Only the polynomial needs no switching points, so
- * the gap laws are left to the classifier's own decision.
+ * verdict is the polynomial, in the channel where the polynomial's posterior weight is largest,
+ * provided that weight is the largest among the nonlinear laws there; its confidence is that
+ * weight relative to the nonlinear laws'. Only the polynomial needs no switching points, so the
+ * gap laws are left to the classifier's own decision.
  */
 static void limit_cycle_verdict(aenl_identify_result_t *out)
 {
