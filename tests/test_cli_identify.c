@@ -308,22 +308,21 @@ static void test_cli_identify_linear_turbulence_json(void)
     cJSON_Delete(root);
 }
 
-/* Eval-suite case 20 (2-DOF section, linear, a train of kicked releases, no noise) as a CSV
- * without a time column. Its kicks made both analyses see a law until they were screened. */
-static const char *kicked_record(void)
+/* Eval-suite case `index` of a 2-DOF section as a CSV without a time column, written once to
+ * p (size bytes). */
+static const char *eval_record(size_t index, const char *file, char *p, size_t size)
 {
-    static char path[512];
-    (void)snprintf(path, sizeof(path), "%s/id_kicked.csv", AENL_TEST_TMP_DIR);
-    if (cli_exists(path))
+    (void)snprintf(p, size, "%s/%s", AENL_TEST_TMP_DIR, file);
+    if (cli_exists(p))
     {
-        return path;
+        return p;
     }
     aenl_eval_case_t c;
     aenl_err_t err;
     aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_eval_case_make(1, 20, &c, &err), err.msg);
-    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, c.cls);
-    FILE *f = fopen(path, "w");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_eval_case_make(1, index, &c, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(2, c.n_channels);
+    FILE *f = fopen(p, "w");
     TEST_ASSERT_NOT_NULL(f);
     (void)fprintf(f, "%s,%s\n", c.names[0], c.names[1]);
     for (size_t n = 0; n < c.n_samples; ++n)
@@ -332,7 +331,15 @@ static const char *kicked_record(void)
     }
     TEST_ASSERT_EQUAL_INT(0, fclose(f));
     aenl_eval_case_free(&c);
-    return path;
+    return p;
+}
+
+/* Eval-suite case 20: linear, a train of kicked releases, no noise. Its kicks made both analyses
+ * see a law until they were screened. */
+static const char *kicked_record(void)
+{
+    static char path[512];
+    return eval_record(20, "id_kicked.csv", path, sizeof(path));
 }
 
 static void test_cli_identify_kicked_decay_train(void)
@@ -348,6 +355,26 @@ static void test_cli_identify_kicked_decay_train(void)
     cJSON *root = run_json(json, &r);
     (void)check_contract(root, data, 2); /* the report stays out of the JSON */
     cJSON_Delete(root);
+}
+
+/* Eval-suite case 1: a hardening pitch spring in a limit cycle (SNR 10), which the core
+ * classifier calls linear in both channels. Unforced, a limit cycle is not linear; told that
+ * the motion is forced (--forced), identify takes the oscillation for what forcing gives. */
+static void test_cli_identify_limit_cycle_and_forced(void)
+{
+    static char path[512];
+    const char *data = eval_record(1, "id_lco.csv", path, sizeof(path));
+    static cli_result_t r;
+    const char *table[] = {"identify", data, NULL};
+    cli_run(&r, table);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\n  limit cycle: "), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: polynomial"), r.out);
+    const char *forced[] = {"identify", data, "--forced", NULL};
+    cli_run(&r, forced);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NULL_MESSAGE(strstr(r.out, "limit cycle"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: linear"), r.out);
 }
 
 static void test_cli_identify_table_and_channel(void)
@@ -542,6 +569,7 @@ int main(void)
     RUN_TEST(test_cli_identify_flap_freeplay_json);
     RUN_TEST(test_cli_identify_linear_turbulence_json);
     RUN_TEST(test_cli_identify_kicked_decay_train);
+    RUN_TEST(test_cli_identify_limit_cycle_and_forced);
     RUN_TEST(test_cli_identify_table_and_channel);
     RUN_TEST(test_cli_identify_plot);
     RUN_TEST(test_cli_identify_bad_input);

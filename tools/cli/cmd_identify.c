@@ -36,7 +36,7 @@ static void help(void)
 {
     printf(
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
-        "                     [--no-prefilter]\n\n"
+        "                     [--no-prefilter] [--forced]\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
@@ -51,7 +51,10 @@ static void help(void)
         "                the restoring-force points, switching points marked (needs gnuplot)\n"
         "--bandwidth H   kernel half-width in channel units for every channel (default: leave-\n"
         "                one-out cross-validation per channel); 'cv' is the default\n"
-        "--no-prefilter  no low-pass at 8 / period before the estimates\n\n"
+        "--no-prefilter  no low-pass at 8 / period before the estimates\n"
+        "--forced        the motion is forced (a shaker, a stepped sine, a rotor tone): a\n"
+        "                sustained oscillation of constant amplitude is not taken for a limit\n"
+        "                cycle, which an unforced linear structure cannot have\n\n"
         "Verdict: the nonlinear channel with the strongest evidence; when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
         "channel could be decided, with channel null and no switching points.\n");
@@ -264,6 +267,10 @@ static int parse_args(int argc, char **argv, args_t *a)
         else if (strcmp(o, "--no-prefilter") == 0)
         {
             a->opts.prefilter = 0;
+        }
+        else if (strcmp(o, "--forced") == 0)
+        {
+            a->opts.forced = 1;
         }
         else if (strcmp(o, "--channel") == 0)
         {

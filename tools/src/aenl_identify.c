@@ -1101,12 +1101,13 @@ static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
  * verdict is the polynomial, in the channel where the polynomial's posterior weight is largest,
  * provided that weight is the largest among the nonlinear laws there; its confidence is that
  * weight relative to the nonlinear laws'. Only the polynomial needs no switching points, so the
- * gap laws are left to the classifier's own decision.
+ * gap laws are left to the classifier's own decision. A forced record (opts->forced: a shaker,
+ * a stepped sine, a rotor tone) has no limit cycle to find.
  */
-static void limit_cycle_verdict(aenl_identify_result_t *out)
+static void limit_cycle_verdict(aenl_identify_result_t *out, int forced)
 {
     out->limit_cycle = -1;
-    for (size_t k = 0; k < out->n_channels; ++k)
+    for (size_t k = 0; !forced && k < out->n_channels; ++k)
     {
         const aenl_identify_channel_t *c = &out->ch[k];
         if (c->sustained >= 0.5 && c->kurtosis > 0.0 && c->kurtosis < ID_LIMIT_CYCLE_KURTOSIS &&
@@ -1287,7 +1288,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
                 out->verdict_class = c->res.cls;
             }
         }
-        limit_cycle_verdict(out);
+        limit_cycle_verdict(out, o.forced);
     }
 done:
     for (size_t k = 0; run.ch != NULL && k < run.n_ch; ++k)

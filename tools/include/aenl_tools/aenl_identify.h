@@ -68,6 +68,8 @@ typedef struct aenl_identify_opts
     int prefilter;    /**< 1 (default): low-pass at 8 / period; 0 off */
     size_t cv_max;    /**< samples of the bandwidth block (default 20000) */
     long channel;     /**< -1 all channels (default), else the index of the only one read */
+    int forced;       /**< 1: the motion is forced, so a sustained oscillation is not taken for a
+                           limit cycle (default 0) */
 } aenl_identify_opts_t;
 
 /** Paper-style display curves of one channel: lags 1, 10, 30 (clipped to the record). */
