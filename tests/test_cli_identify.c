@@ -273,6 +273,14 @@ static const cJSON *check_contract(const cJSON *root, const char *file, int n_ch
     return named;
 }
 
+/* Run a table command that must succeed; its stdout. */
+static const char *run_table(const char *const *args, cli_result_t *r)
+{
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    return r->out;
+}
+
 static cJSON *run_json(const char *const *args, cli_result_t *r)
 {
     cli_run(r, args);
@@ -347,10 +355,9 @@ static void test_cli_identify_kicked_decay_train(void)
     const char *data = kicked_record();
     static cli_result_t r;
     const char *table[] = {"identify", data, NULL};
-    cli_run(&r, table);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\n  impulsive excitation: "), r.out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: linear"), r.out);
+    const char *out = run_table(table, &r);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  impulsive excitation: "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
     const char *json[] = {"identify", data, "--json", NULL};
     cJSON *root = run_json(json, &r);
     (void)check_contract(root, data, 2); /* the report stays out of the JSON */
@@ -366,15 +373,13 @@ static void test_cli_identify_limit_cycle_and_forced(void)
     const char *data = eval_record(1, "id_lco.csv", path, sizeof(path));
     static cli_result_t r;
     const char *table[] = {"identify", data, NULL};
-    cli_run(&r, table);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\n  limit cycle: "), r.out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: polynomial"), r.out);
+    const char *out = run_table(table, &r);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  limit cycle: "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: polynomial"), out);
     const char *forced[] = {"identify", data, "--forced", NULL};
-    cli_run(&r, forced);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
-    TEST_ASSERT_NULL_MESSAGE(strstr(r.out, "limit cycle"), r.out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\nverdict: linear"), r.out);
+    out = run_table(forced, &r);
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "limit cycle"), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
 }
 
 static void test_cli_identify_table_and_channel(void)

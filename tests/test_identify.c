@@ -111,19 +111,27 @@ static void test_identify_narrowband_gaussian_is_not_a_limit_cycle(void)
     free(b);
 }
 
+/* Make eval-suite case `index` (checked to be of `regime` and class `truth`) and identify it. */
+static void identify_case(size_t index, aenl_eval_regime_t regime, aenl_class_t truth,
+                          aenl_eval_case_t *c, aenl_identify_result_t *r)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_eval_case_make(1, index, c, &err));
+    TEST_ASSERT_EQUAL_INT(regime, c->stratum.regime);
+    TEST_ASSERT_EQUAL_INT(truth, c->cls);
+    run((const double *const *)c->cols, (const char *const *)c->names, c->n_channels, c->n_samples,
+        r);
+}
+
 /* Eval-suite case 1: 2-DOF section with a hardening pitch spring (+747 x^3) in a limit cycle of
  * 1.7 deg, SNR 10. The cubic changes the stiffness little over the cycle, and the core
  * classifier calls both channels linear; a structure in a limit cycle is not linear. */
 static void test_identify_limit_cycle_is_not_linear(void)
 {
     aenl_eval_case_t c;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_eval_case_make(1, 1, &c, &err));
-    TEST_ASSERT_EQUAL_INT(AENL_EVAL_LCO, c.stratum.regime);
-    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, c.cls);
     aenl_identify_result_t r;
-    run((const double *const *)c.cols, (const char *const *)c.names, c.n_channels, c.n_samples, &r);
+    identify_case(1, AENL_EVAL_LCO, AENL_CLASS_POLYNOMIAL, &c, &r);
     TEST_ASSERT_TRUE(r.limit_cycle >= 0);
     TEST_ASSERT_LESS_THAN_DOUBLE(7.0 / 3.0, r.ch[r.limit_cycle].kurtosis);
     for (size_t k = 0; k < r.n_channels; ++k)
@@ -140,13 +148,8 @@ static void test_identify_limit_cycle_is_not_linear(void)
 static aenl_class_t regression_class(size_t index, aenl_class_t truth)
 {
     aenl_eval_case_t c;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_eval_case_make(1, index, &c, &err));
-    TEST_ASSERT_EQUAL_INT(AENL_EVAL_TURBULENCE, c.stratum.regime);
-    TEST_ASSERT_EQUAL_INT(truth, c.cls);
     aenl_identify_result_t r;
-    run((const double *const *)c.cols, (const char *const *)c.names, c.n_channels, c.n_samples, &r);
+    identify_case(index, AENL_EVAL_TURBULENCE, truth, &c, &r);
     const aenl_class_t cls = r.ch[c.channel_index].rfs.cls;
     aenl_identify_free(&r);
     aenl_eval_case_free(&c);
