@@ -45,8 +45,9 @@ typedef enum
                      Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
     LAW_SATURATE, /* stiffness 1 inside [-GAP, GAP], 0.2 outside, on oscillator 0 */
     LAW_FRICTION, /* LAW_GAP plus dry friction FRICTION sign(v) on oscillator 0 */
-    LAW_HYST      /* MODELS.md's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
+    LAW_HYST,     /* MODELS.md's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
                      no stiffness in [0, 2 GAP] rising, in [-2 GAP, 0] falling, offset +-M0 */
+    LAW_BOTH      /* LAW_GAP on oscillator 0 and LAW_CUBIC on oscillator 1 */
 } law_t;
 
 #define GAP      0.4
@@ -68,7 +69,7 @@ static double *simulate(law_t law, uint64_t seed)
     for (size_t n = 0; n < N_ROWS + 2000u; ++n)
     {
         double f0 = p0, f1 = 2.0 * p1;
-        if (law == LAW_GAP || law == LAW_FRICTION)
+        if (law == LAW_GAP || law == LAW_FRICTION || law == LAW_BOTH)
         {
             f0 = p0 - clip(p0, -GAP, GAP);
         }
@@ -81,7 +82,7 @@ static double *simulate(law_t law, uint64_t seed)
             f0 = v0 > 0.0 ? p0 - clip(p0, 0.0, 2.0 * GAP) + HYST_M0
                           : p0 - clip(p0, -2.0 * GAP, 0.0) - HYST_M0;
         }
-        if (law == LAW_CUBIC)
+        if (law == LAW_CUBIC || law == LAW_BOTH)
         {
             f1 += 3.0 * p1 * p1 * p1;
         }
@@ -209,10 +210,33 @@ static void normal_solve(double (*xtx)[MAX_COLS], const double *xty, size_t m, d
     }
 }
 
-/* One regression row of channel ch at centre n: the linear regressors, the law's column(s) for
- * a two-kink gap [ga, gb] (standardised) through the tents, and y. Returns the column count. */
+/* Another channel's law among the regressors: its values tau at that channel's tent nodes
+ * (rising motion first), NULL for none. */
+typedef struct
+{
+    size_t ch;
+    const double *tau;
+} given_t;
+
+/* Cell k (clamped to the grid, the law extrapolated linearly beyond it) and the weight w1 of
+ * node k + 1 of channel ch's standardised position u. */
+static size_t grid_cell(const aenl_rfs_cfg_t *c, size_t ch, double u, double *w1)
+{
+    const double lo = (c->lo[ch] - c->center[ch]) / c->scale[ch];
+    const double hi = (c->hi[ch] - c->center[ch]) / c->scale[ch];
+    const double cell = (hi - lo) / (double)(c->n_nodes - 1u);
+    double k = floor((u - lo) / cell);
+    k = k < 0.0 ? 0.0 : (k > (double)(c->n_nodes - 2u) ? (double)(c->n_nodes - 2u) : k);
+    *w1 = (u - lo) / cell - k;
+    return (size_t)k;
+}
+
+/* One regression row of channel ch at centre n: the linear regressors, the given law's column
+ * (when gv->tau), the law's column(s) for a two-kink gap [ga, gb] (standardised) through the
+ * tents, and y. Returns the column count. */
 static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size_t n,
-                         int with_law, double ga, double gb, double *row, double *y)
+                         const given_t *gv, int with_law, double ga, double gb, double *row,
+                         double *y)
 {
     size_t m = 0;
     row[m++] = 1.0;
@@ -237,6 +261,15 @@ static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, si
             row[m++] = (s[n - c->lags[l]] - c->center[j]) / c->scale[j];
         }
     }
+    if (gv->tau != NULL)
+    {
+        /* the other channel's law at its position, on the tents of its direction of motion */
+        const double *s = &x[gv->ch * N_ROWS];
+        double w1;
+        const size_t k = grid_cell(c, gv->ch, (s[n] - c->center[gv->ch]) / c->scale[gv->ch], &w1);
+        const size_t off = s[n + 1u] - s[n - 1u] > 0.0 ? 0u : c->n_nodes;
+        row[m++] = (1.0 - w1) * gv->tau[off + k] + w1 * gv->tau[off + k + 1u];
+    }
     if (with_law)
     {
         /* the gap law's node values, interpolated by the tents (linear within a cell) */
@@ -244,9 +277,8 @@ static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, si
         const double lo = (c->lo[ch] - c->center[ch]) / c->scale[ch];
         const double hi = (c->hi[ch] - c->center[ch]) / c->scale[ch];
         const double cell = (hi - lo) / (double)(c->n_nodes - 1u);
-        double k = floor((u - lo) / cell);
-        k = k < 0.0 ? 0.0 : (k > (double)(c->n_nodes - 2u) ? (double)(c->n_nodes - 2u) : k);
-        const double w1 = (u - lo) / cell - k;
+        double w1;
+        const double k = (double)grid_cell(c, ch, u, &w1);
         const double x0 = lo + k * cell, x1 = x0 + cell;
         const double c0 = x0 < ga ? ga : (x0 > gb ? gb : x0);
         const double c1 = x1 < ga ? ga : (x1 > gb ? gb : x1);
@@ -255,9 +287,10 @@ static size_t design_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, si
     return m;
 }
 
-/* Cross-validated gain of the gap law over the linear one, by explicit refits. */
-static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch, double ga,
-                            double gb)
+/* Cross-validated gain of the gap law over the linear one (both with the given law's column,
+ * if any), by explicit refits. */
+static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch, const given_t *gv,
+                            double ga, double gb)
 {
     static double xtx[2][AENL_RFS_BLOCKS][MAX_COLS][MAX_COLS];
     static double xty[2][AENL_RFS_BLOCKS][MAX_COLS];
@@ -273,7 +306,7 @@ static double brute_cv_gain(const double *x, const aenl_rfs_cfg_t *c, size_t ch,
         double row[MAX_COLS], y = 0.0;
         for (int w = 0; w < 2; ++w)
         {
-            m[w] = design_row(x, c, ch, n, w, ga, gb, row, &y);
+            m[w] = design_row(x, c, ch, n, gv, w, ga, gb, row, &y);
             for (size_t i = 0; i < m[w]; ++i)
             {
                 for (size_t k = 0; k < m[w]; ++k)
@@ -338,7 +371,8 @@ static size_t free_row(const double *x, const aenl_rfs_cfg_t *c, size_t ch, size
                        double *y)
 {
     double lin[MAX_COLS];
-    const size_t m = design_row(x, c, ch, n, 0, 0.0, 0.0, lin, y);
+    const given_t none = {0, NULL};
+    const size_t m = design_row(x, c, ch, n, &none, 0, 0.0, 0.0, lin, y);
     const size_t own = ch == 0 ? 1u : 1u + 3u + c->n_lags; /* channel 0 has its d2 column */
     size_t q = 0;
     for (size_t i = 1; i < m; ++i)
@@ -440,8 +474,62 @@ static void test_rfs_cv_gain_matches_brute_force(void)
     TEST_ASSERT_EQUAL_size_t(2, fit[0].n_points);
     const double ga = (fit[0].points[0] - c.center[0]) / c.scale[0];
     const double gb = (fit[0].points[1] - c.center[0]) / c.scale[0];
-    const double ref = brute_cv_gain(x, &c, 0, ga, gb);
+    const given_t none = {0, NULL};
+    const double ref = brute_cv_gain(x, &c, 0, &none, ga, gb);
     TEST_ASSERT_DOUBLE_WITHIN(1e-6 * fabs(ref) + 1e-12, ref, fit[0].gain[AENL_RFS_GAP]);
+    free(x);
+}
+
+/* A gap in oscillator 0 and a cubic in oscillator 1: channel 0's analysis with channel 1's law
+ * among its regressors. Its gap law's cross-validated gain, refitted by brute force with that
+ * law's column in the design (the cubic's values at channel 1's tents, interpolated at channel
+ * 1's position on the tents of its direction), and the same in the other direction; the gap
+ * stays, as it is no function of the other oscillator. */
+static void test_rfs_law_given_another_matches_brute_force(void)
+{
+    aenl_rfs_cfg_t c;
+    aenl_rfs_fit_t fit[2];
+    double *x = simulate(LAW_BOTH, 29u);
+    config(x, &c, 12);
+    aenl_rfs_t *r = NULL;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_rfs_create(&r, &c, &err), err.msg);
+    for (size_t n = 0; n < N_ROWS; ++n)
+    {
+        const double row[2] = {x[n], x[N_ROWS + n]};
+        aenl_rfs_push(r, row);
+    }
+    for (size_t ch = 0; ch < 2; ++ch)
+    {
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_rfs_analyse(r, ch, &fit[ch], &err), err.msg);
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, fit[1].cls);
+    aenl_rfs_fit_t g0, g1;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_analyse_given(r, 0, 1, &fit[1], &g0, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_RFS_GAP, g0.law);
+    TEST_ASSERT_EQUAL_size_t(2, g0.n_points);
+    const given_t gv = {1, fit[1].tents};
+    const double ga = (g0.points[0] - c.center[0]) / c.scale[0];
+    const double gb = (g0.points[1] - c.center[0]) / c.scale[0];
+    const double ref = brute_cv_gain(x, &c, 0, &gv, ga, gb);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-6 * fabs(ref) + 1e-12, ref, g0.gain[AENL_RFS_GAP]);
+    /* without the column the reference differs: the check can fail */
+    const given_t none = {0, NULL};
+    TEST_ASSERT_TRUE(fabs(brute_cv_gain(x, &c, 0, &none, ga, gb) - ref) > 1e-4 * fabs(ref));
+    /* the other way round (the pair's cross-products read transposed) */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_analyse_given(r, 1, 0, &fit[0], &g1, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, g1.cls);
+    /* a linear law adds nothing; bad channels are refused */
+    aenl_rfs_fit_t lin = fit[0], again;
+    lin.law = AENL_RFS_LINEAR;
+    lin.cls = AENL_CLASS_LINEAR;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_rfs_analyse_given(r, 1, 0, &lin, &again, &err));
+    TEST_ASSERT_EQUAL_DOUBLE(fit[1].evidence, again.evidence);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_analyse_given(r, 1, 1, &fit[0], &again, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_rfs_analyse_given(r, 2, 0, &fit[0], &again, &err));
+    aenl_rfs_free(r);
     free(x);
 }
 
@@ -564,6 +652,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_rfs_cv_gain_matches_brute_force);
+    RUN_TEST(test_rfs_law_given_another_matches_brute_force);
     RUN_TEST(test_rfs_free_law_residuals_match_brute_force);
     RUN_TEST(test_rfs_linear_oscillators_are_linear);
     RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);

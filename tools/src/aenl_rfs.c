@@ -6,9 +6,10 @@
  * Notation: z the linear regressors of the target channel (every regressor but its own second
  * difference), y its second difference, B the 2K tents (rising motion first). Per block the
  * accumulator holds G = sum w w' over all regressors w (the y of every channel is among them),
- * Z'B and the tridiagonal B'B of every target. With A = Z'Z, the Frisch-Waugh projection
- * M = B'B - B'Z A^-1 Z'B, r = B'y - B'Z A^-1 Z'y turns a law with tent map T (2K x q) into the
- * q x q problem (T'MT) g = T'r, its in-sample gain g'T'r over the linear fit.
+ * Z'B and the tridiagonal B'B of every target, and B_i'B_j of every pair of channels (a law of
+ * one among the regressors of the other: an extra column u = B_i tau). With A = Z'Z, the
+ * Frisch-Waugh projection M = B'B - B'Z A^-1 Z'B, r = B'y - B'Z A^-1 Z'y turns a law with tent map
+ * T (2K x q) into the q x q problem (T'MT) g = T'r, its in-sample gain g'T'r over the linear fit.
  */
 #include "aenl_tools/aenl_rfs.h"
 
@@ -45,6 +46,7 @@ struct aenl_rfs
     double *ZB;   /* [B][n_ch][p][k2] */
     double *BBd;  /* [B][n_ch][k2] */
     double *BBo;  /* [B][n_ch][k2]: (k, k+1) inside one direction */
+    double *BX;   /* [B][pair][k2][k2]: B_i' B_j of channels i < j (pair_of), NULL for one */
     double *coef; /* [n_ch][p + k2]: every channel's free-law model (aenl_rfs_model), or NULL */
 };
 
@@ -96,8 +98,10 @@ aenl_status_t aenl_rfs_create(aenl_rfs_t **out, const aenl_rfs_cfg_t *cfg, aenl_
     r->ZB = calloc(RFS_B * cfg->n_ch * r->p * r->k2, sizeof(double));
     r->BBd = calloc(RFS_B * cfg->n_ch * r->k2, sizeof(double));
     r->BBo = calloc(RFS_B * cfg->n_ch * r->k2, sizeof(double));
+    const size_t pairs = cfg->n_ch * (cfg->n_ch - 1u) / 2u;
+    r->BX = pairs > 0 ? calloc(RFS_B * pairs * r->k2 * r->k2, sizeof(double)) : NULL;
     if (r->hist == NULL || r->w == NULL || r->G == NULL || r->ZB == NULL || r->BBd == NULL ||
-        r->BBo == NULL)
+        r->BBo == NULL || (pairs > 0 && r->BX == NULL))
     {
         aenl_rfs_free(r);
         aenl_err_set(err, "out of memory");
@@ -117,9 +121,16 @@ void aenl_rfs_free(aenl_rfs_t *r)
         free(r->ZB);
         free(r->BBd);
         free(r->BBo);
+        free(r->BX);
         free(r->coef);
         free(r);
     }
+}
+
+/* Index of the channel pair i < j among n_ch channels' pairs. */
+static size_t pair_of(size_t i, size_t j, size_t n_ch)
+{
+    return i * n_ch - i * (i + 1u) / 2u + (j - i - 1u);
 }
 
 /* Sample `back` rows before the newest of channel j (standardised). */
@@ -214,23 +225,47 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
             ga[c] += wa * w[c];
         }
     }
+    /* each channel's tent cell (its direction's block) and the weights of its two nodes */
+    size_t cols[AENL_RFS_MAX_CH];
+    double ws[AENL_RFS_MAX_CH][2];
     for (size_t i = 0; i < nc; ++i)
     {
-        const double *wi = &w[1u + i * r->per_ch];
         double w1;
-        const size_t col = tent_col(r, i, wi, &w1);
-        const double w0 = 1.0 - w1;
-        double *zb = &r->ZB[(b * nc + i) * p * r->k2];
+        cols[i] = tent_col(r, i, &w[1u + i * r->per_ch], &w1);
+        ws[i][0] = 1.0 - w1;
+        ws[i][1] = w1;
+    }
+    const size_t k2 = r->k2;
+    for (size_t i = 0; i < nc; ++i)
+    {
+        const size_t col = cols[i];
+        const double w0 = ws[i][0], w1 = ws[i][1];
+        double *zb = &r->ZB[(b * nc + i) * p * k2];
         for (size_t a = 0; a < p; ++a)
         {
-            zb[a * r->k2 + col] += w[a] * w0;
-            zb[a * r->k2 + col + 1u] += w[a] * w1;
+            zb[a * k2 + col] += w[a] * w0;
+            zb[a * k2 + col + 1u] += w[a] * w1;
         }
-        double *bd = &r->BBd[(b * nc + i) * r->k2];
-        double *bo = &r->BBo[(b * nc + i) * r->k2];
+        double *bd = &r->BBd[(b * nc + i) * k2];
+        double *bo = &r->BBo[(b * nc + i) * k2];
         bd[col] += w0 * w0;
         bd[col + 1u] += w1 * w1;
         bo[col] += w0 * w1;
+    }
+    /* the tents of every pair of channels, for a law of one among the regressors of another */
+    for (size_t i = 0; i + 1u < nc; ++i)
+    {
+        for (size_t j = i + 1u; j < nc; ++j)
+        {
+            double *bx = &r->BX[(b * (nc * (nc - 1u) / 2u) + pair_of(i, j, nc)) * k2 * k2];
+            for (size_t u = 0; u < 2u; ++u)
+            {
+                for (size_t v = 0; v < 2u; ++v)
+                {
+                    bx[(cols[i] + u) * k2 + cols[j] + v] += ws[i][u] * ws[j][v];
+                }
+            }
+        }
     }
 }
 
@@ -238,7 +273,10 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
 
 /** Regressors at most (the constant, then per channel: position, first and second difference,
  *  lags). */
-#define RFS_MAX_P (1u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS))
+#define RFS_MAX_P (2u + AENL_RFS_MAX_CH * (3u + AENL_RFS_MAX_LAGS))
+/** No channel's law among the regressors; the regressor index that stands for the given law. */
+#define RFS_NONE  ((size_t)-1)
+#define RFS_GIVEN ((size_t)-1)
 
 /* Cholesky factor (LAPACK, row-major, lower) of the m x m symmetric a in place; 0, or -1 when it
  * is not positive definite or a pivot falls to `rel` of its diagonal or below (collinear). */
@@ -303,7 +341,9 @@ typedef struct
 {
     const aenl_rfs_t *rfs;
     size_t ch, m, k2, K;
-    size_t idx[RFS_MAX_P];           /* z -> regressor index */
+    size_t idx[RFS_MAX_P];           /* z -> regressor index (RFS_GIVEN: the given law) */
+    size_t given;                    /* channel whose law is a regressor, or RFS_NONE */
+    const double *tau;               /* that law's values at its tents (k2) */
     size_t iy;                       /* y's regressor index */
     double node[AENL_RFS_MAX_NODES]; /* standardised node positions */
     double lo_q, hi_q;               /* where kinks may lie (standardised) */
@@ -337,6 +377,48 @@ static void gram_free(rfs_gram_t *g)
     free(g->BBo);
 }
 
+/* The given law's column u = B_g tau in block b: its products with every regressor (ug[p]),
+ * with itself (*uu) and with the target's tents (uB[k2]). */
+static void given_sums(const rfs_work_t *wk, size_t b, double *ug, double *uu, double *uB)
+{
+    const aenl_rfs_t *r = wk->rfs;
+    const size_t k2 = wk->k2, p = r->p, nc = r->cfg.n_ch, K = wk->K, g = wk->given;
+    const double *tau = wk->tau;
+    const double *zg = &r->ZB[(b * nc + g) * p * k2];
+    for (size_t a = 0; a < p; ++a)
+    {
+        double v = 0.0;
+        for (size_t k = 0; k < k2; ++k)
+        {
+            v += zg[a * k2 + k] * tau[k];
+        }
+        ug[a] = v;
+    }
+    const double *bd = &r->BBd[(b * nc + g) * k2], *bo = &r->BBo[(b * nc + g) * k2];
+    double v = 0.0;
+    for (size_t k = 0; k < k2; ++k)
+    {
+        v += bd[k] * tau[k] * tau[k];
+        if (k % K + 1u < K)
+        {
+            v += 2.0 * bo[k] * tau[k] * tau[k + 1u];
+        }
+    }
+    *uu = v;
+    const size_t ch = wk->ch, lo = g < ch ? g : ch, hi = g < ch ? ch : g;
+    const double *bx = &r->BX[(b * (nc * (nc - 1u) / 2u) + pair_of(lo, hi, nc)) * k2 * k2];
+    for (size_t k = 0; k < k2; ++k)
+    {
+        double t = 0.0;
+        for (size_t l = 0; l < k2; ++l)
+        {
+            /* rows of bx are the lower channel's tents */
+            t += tau[l] * (g < ch ? bx[l * k2 + k] : bx[k * k2 + l]);
+        }
+        uB[k] = t;
+    }
+}
+
 /* Sum every block (only < 0) or block `only` into g. */
 static void gram_sum(const rfs_work_t *wk, int only, rfs_gram_t *g)
 {
@@ -349,6 +431,7 @@ static void gram_sum(const rfs_work_t *wk, int only, rfs_gram_t *g)
     memset(g->BBd, 0, k2 * sizeof(double));
     memset(g->BBo, 0, k2 * sizeof(double));
     g->yy = 0.0;
+    double ug[RFS_MAX_P], uu = 0.0, uB[2 * AENL_RFS_MAX_NODES];
     for (int b = 0; b < RFS_B; ++b)
     {
         if (only >= 0 && b != only)
@@ -357,13 +440,35 @@ static void gram_sum(const rfs_work_t *wk, int only, rfs_gram_t *g)
         }
         const double *G = &r->G[(size_t)b * p * p];
         const double *zb = &r->ZB[((size_t)b * nc + wk->ch) * p * k2];
+        if (wk->given != RFS_NONE)
+        {
+            given_sums(wk, (size_t)b, ug, &uu, uB);
+        }
         for (size_t a = 0; a < m; ++a)
         {
             const size_t ia = wk->idx[a];
             for (size_t c = 0; c < m; ++c)
             {
                 const size_t ic = wk->idx[c];
-                g->A[a * m + c] += ia <= ic ? G[ia * p + ic] : G[ic * p + ia];
+                double v;
+                if (ia == RFS_GIVEN || ic == RFS_GIVEN)
+                {
+                    v = ia == ic ? uu : ug[ia == RFS_GIVEN ? ic : ia];
+                }
+                else
+                {
+                    v = ia <= ic ? G[ia * p + ic] : G[ic * p + ia];
+                }
+                g->A[a * m + c] += v;
+            }
+            if (ia == RFS_GIVEN)
+            {
+                g->c[a] += ug[wk->iy];
+                for (size_t k = 0; k < k2; ++k)
+                {
+                    g->ZB[a * k2 + k] += uB[k];
+                }
+                continue;
             }
             g->c[a] += ia <= wk->iy ? G[ia * p + wk->iy] : G[wk->iy * p + ia];
             for (size_t k = 0; k < k2; ++k)
@@ -912,12 +1017,16 @@ static void work_free(rfs_work_t *wk)
     gram_free(&wk->tr);
 }
 
-/* The target channel ch: its regressors, tent nodes and scales (no allocation). */
-static void work_setup(rfs_work_t *wk, const aenl_rfs_t *r, size_t ch)
+/* The target channel ch: its regressors (and channel given's law tau, unless RFS_NONE), tent
+ * nodes and scales (no allocation). */
+static void work_setup(rfs_work_t *wk, const aenl_rfs_t *r, size_t ch, size_t given,
+                       const double *tau)
 {
     memset(wk, 0, sizeof(*wk));
     wk->rfs = r;
     wk->ch = ch;
+    wk->given = given;
+    wk->tau = tau;
     wk->K = r->cfg.n_nodes;
     wk->k2 = r->k2;
     wk->iy = 1u + ch * r->per_ch + 2u;
@@ -927,6 +1036,10 @@ static void work_setup(rfs_work_t *wk, const aenl_rfs_t *r, size_t ch)
         {
             wk->idx[wk->m++] = a;
         }
+    }
+    if (given != RFS_NONE)
+    {
+        wk->idx[wk->m++] = RFS_GIVEN;
     }
     const double lo = (r->cfg.lo[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
     const double hi = (r->cfg.hi[ch] - r->cfg.center[ch]) / r->cfg.scale[ch];
@@ -1039,17 +1152,13 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_
     return law;
 }
 
-aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out, aenl_err_t *err)
+static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const double *tau,
+                             aenl_rfs_fit_t *out, aenl_err_t *err)
 {
-    if (r == NULL || out == NULL || ch >= r->cfg.n_ch)
-    {
-        aenl_err_set(err, "restoring-force regression: bad channel");
-        return AENL_E_ARG;
-    }
     memset(out, 0, sizeof(*out));
     out->cls = AENL_CLASS_INSUFFICIENT;
     rfs_work_t wk;
-    work_setup(&wk, r, ch);
+    work_setup(&wk, r, ch, given, tau);
     size_t n_used = 0, min_rows = (size_t)-1;
     for (size_t b = 0; b < RFS_B; ++b)
     {
@@ -1154,6 +1263,22 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
         out->evidence = out->t[l] > out->evidence ? out->t[l] : out->evidence;
     }
     out->law = (aenl_rfs_law_t)best;
+    /* the law's values at the tents, fitted on all data: a regressor for another channel */
+    if (best != AENL_RFS_LINEAR)
+    {
+        double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES] = {0.0}, gb[RFS_MAX_Q] = {0.0};
+        const size_t q = law_map(&wk, &law[best], T);
+        if (map_gain(&wk, &wk.pj, T, q, gb) >= 0.0)
+        {
+            for (size_t k = 0; k < wk.k2; ++k)
+            {
+                for (size_t c = 0; c < q; ++c)
+                {
+                    out->tents[k] += T[c * wk.k2 + k] * gb[c];
+                }
+            }
+        }
+    }
     /* A symmetric two-stiffness law is freeplay only when the band is the softer part: d2 = -f,
      * so a positive clip coefficient takes stiffness away inside. Stiffer inside than outside is
      * a saturating spring: polynomial, softening. */
@@ -1242,6 +1367,33 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
     return AENL_OK;
 }
 
+aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out, aenl_err_t *err)
+{
+    if (r == NULL || out == NULL || ch >= r->cfg.n_ch)
+    {
+        aenl_err_set(err, "restoring-force regression: bad channel");
+        return AENL_E_ARG;
+    }
+    return analyse(r, ch, RFS_NONE, NULL, out, err);
+}
+
+aenl_status_t aenl_rfs_analyse_given(const aenl_rfs_t *r, size_t ch, size_t given,
+                                     const aenl_rfs_fit_t *given_fit, aenl_rfs_fit_t *out,
+                                     aenl_err_t *err)
+{
+    if (r == NULL || out == NULL || given_fit == NULL || ch >= r->cfg.n_ch ||
+        given >= r->cfg.n_ch || given == ch)
+    {
+        aenl_err_set(err, "restoring-force regression: bad channel");
+        return AENL_E_ARG;
+    }
+    if (given_fit->law == AENL_RFS_LINEAR || given_fit->cls <= AENL_CLASS_LINEAR)
+    {
+        return analyse(r, ch, RFS_NONE, NULL, out, err); /* nothing to add */
+    }
+    return analyse(r, ch, given, given_fit->tents, out, err);
+}
+
 /* ---- the free-law model: equation residuals ------------------------------------------------ */
 
 /* Channel ch's free law: every tent coefficient free on top of the linear terms, fitted on all
@@ -1252,7 +1404,7 @@ aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *o
 static int model_channel(const aenl_rfs_t *r, size_t ch, double *coef)
 {
     rfs_work_t wk;
-    work_setup(&wk, r, ch);
+    work_setup(&wk, r, ch, RFS_NONE, NULL);
     const size_t m = wk.m, k2 = wk.k2, st = k2 + 1u;
     if (m == 0 || k2 == 0)
     {

@@ -12,11 +12,14 @@
  * and (other channels only) second difference at n, every channel's position at a few longer lags
  * (the aerodynamic and turbulence memory), and a constant; f_i is the law to identify. Coupling to
  * the other degrees of freedom is linear in z, so a linear channel driven by a nonlinear one
- * shows no f: that is what names the channel. f_i is represented on a grid of tent (linear
- * B-spline) functions of x_i, separately for rising and falling motion; a law is a linear map T
- * from a few coefficients onto the tents (a polynomial up to x^5, one kink, a freeplay gap, a
- * direction-shifted hysteresis gap), so every candidate is a small projection on accumulated
- * cross-products.
+ * shows no f: that is what names the channel. Not always in full: noise on the other channels'
+ * second differences and aerodynamic states the lags span only in part let some of the force
+ * through, and in a channel whose position moves with the nonlinear one's it can pass for a law
+ * of its own; aenl_rfs_analyse_given() tells such an echo from its source. f_i is represented on a
+ * grid of tent (linear B-spline) functions of x_i, separately for rising and falling motion; a law
+ * is a linear map T from a few coefficients onto the tents (a polynomial up to x^5, one kink, a
+ * freeplay gap, a direction-shifted hysteresis gap), so every candidate is a small projection on
+ * accumulated cross-products.
  *
  * For a linear system driven by Gaussian turbulence the conditional mean of d2_i given z is
  * exactly linear, so no f is expected; for decays it is linear when the regressors span the
@@ -92,6 +95,9 @@ typedef struct aenl_rfs_fit
     double points[4];    /**< ascending, input units */
     double point_std[4]; /**< block-jackknife standard errors, input units */
     size_t n_used;       /**< samples in the regression */
+    /** The law chosen, fitted on all data, at the tent nodes (rising motion first, standardised
+     *  units; 0 for the linear law): what aenl_rfs_analyse_given() adds to another channel. */
+    double tents[2 * AENL_RFS_MAX_NODES];
 } aenl_rfs_fit_t;
 
 typedef struct aenl_rfs aenl_rfs_t;
@@ -113,6 +119,18 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row);
  */
 aenl_status_t aenl_rfs_analyse(const aenl_rfs_t *r, size_t ch, aenl_rfs_fit_t *out,
                                aenl_err_t *err);
+
+/**
+ * @brief As aenl_rfs_analyse(), with channel `given`'s law (given_fit, from aenl_rfs_analyse of
+ *        that channel) among channel ch's linear regressors, its coefficient free. A law that
+ *        channel ch shows only because the nonlinear force of channel `given` reaches its
+ *        equation (through the coupling, as a function of a position that moves with the other)
+ *        is explained by it and no longer stands out. A linear given law adds nothing.
+ * @return as aenl_rfs_analyse(); AENL_E_ARG also for given == ch or out of range.
+ */
+aenl_status_t aenl_rfs_analyse_given(const aenl_rfs_t *r, size_t ch, size_t given,
+                                     const aenl_rfs_fit_t *given_fit, aenl_rfs_fit_t *out,
+                                     aenl_err_t *err);
 
 /**
  * @brief Fit every channel's free law (every tent coefficient free, on top of the linear terms)
