@@ -169,6 +169,39 @@ static void test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis(voi
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, regression_class(84, AENL_CLASS_HYSTERESIS));
 }
 
+/* Eval-suite case `index`: the verdict names the nonlinear channel, and each channel in `echoes`
+ * (-1 ended) is linear, its law explained by that channel's. */
+static void check_echoes(size_t index, aenl_eval_regime_t regime, const long *echoes)
+{
+    aenl_eval_case_t c;
+    aenl_identify_result_t r;
+    identify_case(index, regime, AENL_CLASS_HYSTERESIS, &c, &r);
+    TEST_ASSERT_EQUAL_INT((long)c.channel_index, r.verdict);
+    TEST_ASSERT_EQUAL_INT(-1, r.ch[c.channel_index].explained_by);
+    for (size_t i = 0; echoes[i] >= 0; ++i)
+    {
+        const aenl_identify_channel_t *e = &r.ch[echoes[i]];
+        TEST_ASSERT_EQUAL_INT_MESSAGE((long)c.channel_index, e->explained_by, e->name);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_CLASS_LINEAR, e->res.cls, e->name);
+    }
+    aenl_identify_free(&r);
+    aenl_eval_case_free(&c);
+}
+
+/* A nonlinear force in one DOF reaches the equations of the others, where it can pass for a law
+ * of their own. Eval-suite case 189 (3-DOF, pitch hysteresis, noise-free turbulence): plunge
+ * showed a polynomial with more evidence than the pitch's loop and was named. Case 89 (3-DOF,
+ * plunge hysteresis, decay, SNR 3): pitch and flap showed laws, flap's hysteresis was named.
+ * With the named channel's law among their regressors, those laws are gone; the other way
+ * round, the true channel's law stays. */
+static void test_identify_an_echo_of_another_channels_law_is_linear(void)
+{
+    const long echo189[] = {0, -1}; /* h */
+    check_echoes(189, AENL_EVAL_TURBULENCE, echo189);
+    const long echo89[] = {1, 2, -1}; /* alpha, beta */
+    check_echoes(89, AENL_EVAL_DECAY, echo89);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -176,5 +209,6 @@ int main(void)
     RUN_TEST(test_identify_narrowband_gaussian_is_not_a_limit_cycle);
     RUN_TEST(test_identify_limit_cycle_is_not_linear);
     RUN_TEST(test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis);
+    RUN_TEST(test_identify_an_echo_of_another_channels_law_is_linear);
     return UNITY_END();
 }

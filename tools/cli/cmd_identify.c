@@ -617,6 +617,12 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
             printf("  %s: %zu missing sample%s (NaN cells) skipped\n", r->ch[i].name,
                    r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
         }
+        if (r->ch[i].explained_by >= 0)
+        {
+            printf("  %s: the law it shows is explained by that of %s (its force reaches %s "
+                   "through the coupling); %s taken as linear\n",
+                   r->ch[i].name, r->ch[r->ch[i].explained_by].name, r->ch[i].name, r->ch[i].name);
+        }
     }
     if (r->impulses > 0)
     {

@@ -1042,6 +1042,79 @@ static void rfs_to_result(const aenl_rfs_fit_t *f, aenl_classifier_result_t *r)
 }
 
 /*
+ * Which of several channels with a law holds the nonlinearity. A nonlinear force in one DOF
+ * reaches the equation of every other through the coupling, and there, as a function of a
+ * position that moves with its own, it can pass for a law of that channel. So each channel's
+ * law is analysed again with each other channel's law among its regressors: a law the other
+ * explains (the channel is then linear) while it does not explain the other's in turn is that
+ * other's echo, and the channel is linear. Two laws that explain each other cannot be told
+ * apart this way; both stand.
+ */
+static aenl_status_t explain_away(const aenl_rfs_t *rfs, aenl_identify_result_t *out,
+                                  aenl_err_t *err)
+{
+    const size_t n = out->n_channels;
+    int expl[AENL_RFS_MAX_CH][AENL_RFS_MAX_CH] = {{0}};
+    int any = 0;
+    for (size_t j = 0; j < n; ++j)
+    {
+        for (size_t i = 0; i < n; ++i)
+        {
+            if (i == j || out->ch[i].rfs.cls <= AENL_CLASS_LINEAR ||
+                out->ch[j].rfs.cls <= AENL_CLASS_LINEAR)
+            {
+                continue;
+            }
+            aenl_rfs_fit_t f;
+            aenl_err_t e2;
+            aenl_err_clear(&e2);
+            const aenl_status_t st = aenl_rfs_analyse_given(rfs, j, i, &out->ch[i].rfs, &f, &e2);
+            if (st != AENL_OK && st != AENL_E_NUMERIC)
+            {
+                *err = e2;
+                return st;
+            }
+            /* a law collinear with the linear terms (degenerate) explains nothing */
+            expl[j][i] = st == AENL_OK && f.cls == AENL_CLASS_LINEAR;
+            any |= expl[j][i];
+        }
+    }
+    long echo[AENL_RFS_MAX_CH];
+    for (size_t j = 0; j < n; ++j)
+    {
+        echo[j] = -1;
+        for (size_t i = 0; any && i < n && echo[j] < 0; ++i)
+        {
+            echo[j] = expl[j][i] && !expl[i][j] ? (long)i : -1;
+        }
+    }
+    /* an echo takes its analysis given the law that explains it (linear, with its weights);
+     * the others are judged on the laws as found, so the results are replaced only after */
+    aenl_rfs_fit_t given[AENL_RFS_MAX_CH];
+    for (size_t j = 0; j < n; ++j)
+    {
+        if (echo[j] >= 0)
+        {
+            const aenl_status_t st = aenl_rfs_analyse_given(rfs, j, (size_t)echo[j],
+                                                            &out->ch[echo[j]].rfs, &given[j], err);
+            if (st != AENL_OK)
+            {
+                return st;
+            }
+        }
+    }
+    for (size_t j = 0; j < n; ++j)
+    {
+        out->ch[j].explained_by = echo[j];
+        if (echo[j] >= 0)
+        {
+            out->ch[j].rfs = given[j];
+        }
+    }
+    return AENL_OK;
+}
+
+/*
  * The host verdict from both analyses. Where the restoring-force regression found a law in
  * some channel, it decides: it partials the other channels' motion out, so a linear channel
  * driven by a nonlinear one shows no law of its own, and it leaves impulsive excitation out
@@ -1198,6 +1271,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     for (size_t k = 0; k < run.n_ch; ++k)
     {
         run.col[k] = o.channel >= 0 ? (size_t)o.channel : k;
+        out->ch[k].explained_by = -1;
         run.ch[k].block = malloc(o.cv_max * sizeof(double));
         if (run.ch[k].block == NULL)
         {
@@ -1268,6 +1342,10 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
         {
             st = chan_export(&run.ch[k], c, cc.taylor_order, err);
         }
+    }
+    if (st == AENL_OK && run.rfs != NULL)
+    {
+        st = explain_away(run.rfs, out, err);
     }
     if (st == AENL_OK && !combine_verdicts(out, run.rfs != NULL))
     {

@@ -90,6 +90,8 @@ typedef struct aenl_identify_channel
     double period;       /**< dominant period, samples (0 when none was found) */
     double sustained;    /**< autocorrelation at 10 periods (near 1: a limit cycle; 0 none) */
     double kurtosis;     /**< of the pre-filtered signal: 1.5 a sinusoid, 3 a Gaussian process */
+    long explained_by;   /**< channel whose law explains the law the regression found here (an
+                              echo through the coupling; this channel is then linear), or -1 */
     double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
     double noise_std;    /**< white-noise level estimated from differences, channel units */
     double x_min, x_max; /**< grid ends */
