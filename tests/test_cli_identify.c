@@ -371,18 +371,21 @@ static void test_cli_identify_kicked_decay_train(void)
     cJSON_Delete(root);
 }
 
-/* Eval-suite case 1: a hardening pitch spring in a limit cycle (SNR 10), which the core
- * classifier calls linear in both channels. Unforced, a limit cycle is not linear; told that
- * the motion is forced (--forced), identify takes the oscillation for what forcing gives. */
+/* The table of identify on eval-suite case `index` (its record written to `file` once, path
+ * in p). */
+static const char *eval_table(size_t index, const char *file, char *p, size_t size, cli_result_t *r)
+{
+    const char *table[] = {"identify", eval_record(index, file, p, size), NULL};
+    return run_table(table, r);
+}
+
 /* Eval-suite case 189: 3-DOF section, pitch hysteresis, noise-free turbulence. Plunge shows a
  * law that the pitch's explains: the table says so, and the verdict is the pitch's loop. */
 static void test_cli_identify_echo_of_another_channel(void)
 {
     static char path[512];
-    const char *data = eval_record(189, "id_echo.csv", path, sizeof(path));
     static cli_result_t r;
-    const char *table[] = {"identify", data, NULL};
-    const char *out = run_table(table, &r);
+    const char *out = eval_table(189, "id_echo.csv", path, sizeof(path), &r);
     TEST_ASSERT_NOT_NULL_MESSAGE(
         strstr(out, "\n  h: the law it shows is explained by that of alpha (its force reaches h "
                     "through the coupling); h taken as linear\n"),
@@ -390,16 +393,17 @@ static void test_cli_identify_echo_of_another_channel(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: hysteresis in channel alpha"), out);
 }
 
+/* Eval-suite case 1: a hardening pitch spring in a limit cycle (SNR 10), which the core
+ * classifier calls linear in both channels. Unforced, a limit cycle is not linear; told that
+ * the motion is forced (--forced), identify takes the oscillation for what forcing gives. */
 static void test_cli_identify_limit_cycle_and_forced(void)
 {
     static char path[512];
-    const char *data = eval_record(1, "id_lco.csv", path, sizeof(path));
     static cli_result_t r;
-    const char *table[] = {"identify", data, NULL};
-    const char *out = run_table(table, &r);
+    const char *out = eval_table(1, "id_lco.csv", path, sizeof(path), &r);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  limit cycle: "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: polynomial"), out);
-    const char *forced[] = {"identify", data, "--forced", NULL};
+    const char *forced[] = {"identify", path, "--forced", NULL};
     out = run_table(forced, &r);
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "limit cycle"), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
