@@ -1054,8 +1054,13 @@ static aenl_status_t explain_away(const aenl_rfs_t *rfs, aenl_identify_result_t 
                                   aenl_err_t *err)
 {
     const size_t n = out->n_channels;
+    aenl_rfs_fit_t *given = malloc(n * n * sizeof(*given)); /* [j][i]: j given i's law */
     int expl[AENL_RFS_MAX_CH][AENL_RFS_MAX_CH] = {{0}};
-    int any = 0;
+    if (given == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
     for (size_t j = 0; j < n; ++j)
     {
         for (size_t i = 0; i < n; ++i)
@@ -1065,42 +1070,29 @@ static aenl_status_t explain_away(const aenl_rfs_t *rfs, aenl_identify_result_t 
             {
                 continue;
             }
-            aenl_rfs_fit_t f;
             aenl_err_t e2;
             aenl_err_clear(&e2);
-            const aenl_status_t st = aenl_rfs_analyse_given(rfs, j, i, &out->ch[i].rfs, &f, &e2);
+            const aenl_status_t st =
+                aenl_rfs_analyse_given(rfs, j, i, &out->ch[i].rfs, &given[j * n + i], &e2);
             if (st != AENL_OK && st != AENL_E_NUMERIC)
             {
                 *err = e2;
+                free(given);
                 return st;
             }
             /* a law collinear with the linear terms (degenerate) explains nothing */
-            expl[j][i] = st == AENL_OK && f.cls == AENL_CLASS_LINEAR;
-            any |= expl[j][i];
+            expl[j][i] = st == AENL_OK && given[j * n + i].cls == AENL_CLASS_LINEAR;
         }
     }
+    /* every echo is found on the laws as found; then it takes its analysis given the law that
+     * explains it (linear, with its weights) */
     long echo[AENL_RFS_MAX_CH];
     for (size_t j = 0; j < n; ++j)
     {
         echo[j] = -1;
-        for (size_t i = 0; any && i < n && echo[j] < 0; ++i)
+        for (size_t i = 0; i < n && echo[j] < 0; ++i)
         {
             echo[j] = expl[j][i] && !expl[i][j] ? (long)i : -1;
-        }
-    }
-    /* an echo takes its analysis given the law that explains it (linear, with its weights);
-     * the others are judged on the laws as found, so the results are replaced only after */
-    aenl_rfs_fit_t given[AENL_RFS_MAX_CH];
-    for (size_t j = 0; j < n; ++j)
-    {
-        if (echo[j] >= 0)
-        {
-            const aenl_status_t st = aenl_rfs_analyse_given(rfs, j, (size_t)echo[j],
-                                                            &out->ch[echo[j]].rfs, &given[j], err);
-            if (st != AENL_OK)
-            {
-                return st;
-            }
         }
     }
     for (size_t j = 0; j < n; ++j)
@@ -1108,9 +1100,10 @@ static aenl_status_t explain_away(const aenl_rfs_t *rfs, aenl_identify_result_t 
         out->ch[j].explained_by = echo[j];
         if (echo[j] >= 0)
         {
-            out->ch[j].rfs = given[j];
+            out->ch[j].rfs = given[j * n + (size_t)echo[j]];
         }
     }
+    free(given);
     return AENL_OK;
 }
 
