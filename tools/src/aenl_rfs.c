@@ -46,7 +46,7 @@ struct aenl_rfs
     double *ZB;   /* [B][n_ch][p][k2] */
     double *BBd;  /* [B][n_ch][k2] */
     double *BBo;  /* [B][n_ch][k2]: (k, k+1) inside one direction */
-    double *BX;   /* [B][pair][k2][k2]: B_i' B_j of channels i < j (pair_of), NULL for one */
+    double *BX;   /* [B][pair][k2][k2]: B_i' B_j of channels i < j (pair_block), NULL for one */
     double *coef; /* [n_ch][p + k2]: every channel's free-law model (aenl_rfs_model), or NULL */
 };
 
@@ -127,10 +127,11 @@ void aenl_rfs_free(aenl_rfs_t *r)
     }
 }
 
-/* Index of the channel pair i < j among n_ch channels' pairs. */
-static size_t pair_of(size_t i, size_t j, size_t n_ch)
+/* B_i'B_j of channels i < j in block b (k2 x k2, rows channel i's tents). */
+static double *pair_block(const aenl_rfs_t *r, size_t b, size_t i, size_t j)
 {
-    return i * n_ch - i * (i + 1u) / 2u + (j - i - 1u);
+    const size_t nc = r->cfg.n_ch, pair = i * nc - i * (i + 1u) / 2u + (j - i - 1u);
+    return &r->BX[(b * (nc * (nc - 1u) / 2u) + pair) * r->k2 * r->k2];
 }
 
 /* Sample `back` rows before the newest of channel j (standardised). */
@@ -257,7 +258,7 @@ void aenl_rfs_push(aenl_rfs_t *r, const double *row)
     {
         for (size_t j = i + 1u; j < nc; ++j)
         {
-            double *bx = &r->BX[(b * (nc * (nc - 1u) / 2u) + pair_of(i, j, nc)) * k2 * k2];
+            double *bx = pair_block(r, b, i, j);
             for (size_t u = 0; u < 2u; ++u)
             {
                 for (size_t v = 0; v < 2u; ++v)
@@ -406,7 +407,7 @@ static void given_sums(const rfs_work_t *wk, size_t b, double *ug, double *uu, d
     }
     *uu = v;
     const size_t ch = wk->ch, lo = g < ch ? g : ch, hi = g < ch ? ch : g;
-    const double *bx = &r->BX[(b * (nc * (nc - 1u) / 2u) + pair_of(lo, hi, nc)) * k2 * k2];
+    const double *bx = pair_block(r, b, lo, hi);
     for (size_t k = 0; k < k2; ++k)
     {
         double t = 0.0;
