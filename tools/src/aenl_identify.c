@@ -1054,6 +1054,15 @@ static aenl_status_t explain_away(const aenl_rfs_t *rfs, aenl_identify_result_t 
                                   aenl_err_t *err)
 {
     const size_t n = out->n_channels;
+    size_t with_law = 0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        with_law += out->ch[k].rfs.cls > AENL_CLASS_LINEAR;
+    }
+    if (with_law < 2u)
+    {
+        return AENL_OK; /* no other law to explain one */
+    }
     aenl_rfs_fit_t *given = malloc(n * n * sizeof(*given)); /* [j][i]: j given i's law */
     int expl[AENL_RFS_MAX_CH][AENL_RFS_MAX_CH] = {{0}};
     if (given == NULL)

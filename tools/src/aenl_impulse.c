@@ -24,8 +24,6 @@
 
 static size_t delay_of(const aenl_impulse_cfg_t *c);
 static int emit(aenl_impulse_t *s, double *out, int *left_out);
-static void span_energy(aenl_impulse_t *s, double v);
-static double row_energy(const aenl_impulse_t *s, const double *row);
 
 struct aenl_impulse
 {
@@ -221,7 +219,7 @@ static size_t delay_of(const aenl_impulse_cfg_t *c)
     return (a > b ? a : b) + 1u;
 }
 
-/* The mean square of one row of standardised motion (NaN when a value is missing). */
+/* The energy of one row: its standardised values' sum of squares (NaN when one is missing). */
 static double row_energy(const aenl_impulse_t *s, const double *row)
 {
     double v = 0.0;
