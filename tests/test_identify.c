@@ -106,6 +106,10 @@ static void test_identify_narrowband_gaussian_is_not_a_limit_cycle(void)
     TEST_ASSERT_DOUBLE_WITHIN(0.5, 3.0, r.ch[0].kurtosis);
     TEST_ASSERT_EQUAL_INT(-1, (int)r.limit_cycle);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.verdict_class);
+    /* no channel named: the verdict is as sure as the least sure of the linear channels */
+    TEST_ASSERT_EQUAL_INT(-1, (int)r.verdict);
+    TEST_ASSERT_EQUAL_DOUBLE(fmin((double)r.ch[0].res.confidence, (double)r.ch[1].res.confidence),
+                             r.verdict_confidence);
     aenl_identify_free(&r);
     free(a);
     free(b);
@@ -177,6 +181,7 @@ static void check_echoes(size_t index, aenl_eval_regime_t regime, const long *ec
     aenl_identify_result_t r;
     identify_case(index, regime, AENL_CLASS_HYSTERESIS, &c, &r);
     TEST_ASSERT_EQUAL_INT((long)c.channel_index, r.verdict);
+    TEST_ASSERT_EQUAL_DOUBLE((double)r.ch[r.verdict].res.confidence, r.verdict_confidence);
     TEST_ASSERT_EQUAL_INT(-1, r.ch[c.channel_index].explained_by);
     for (size_t i = 0; echoes[i] >= 0; ++i)
     {

@@ -366,34 +366,23 @@ typedef struct
     double confidence;
 } verdict_t;
 
-/* The pipeline's named channel, or, when none is nonlinear: linear with the smallest confidence
- * of the linear channels, or insufficient (confidence 0) when no channel was decided. */
+/* The pipeline's named channel, or, when none is nonlinear: linear, or insufficient when no
+ * channel was decided; the confidence is the pipeline's (verdict_confidence). */
 static verdict_t make_verdict(const aenl_identify_result_t *r)
 {
-    verdict_t v = {AENL_CLASS_INSUFFICIENT, -1, 0.0};
+    verdict_t v = {AENL_CLASS_INSUFFICIENT, -1, r->verdict_confidence};
     if (r->verdict >= 0 && (size_t)r->verdict < r->n_channels)
     {
-        const aenl_classifier_result_t *res = &r->ch[r->verdict].res;
-        v.cls = res->cls;
+        v.cls = r->ch[r->verdict].res.cls;
         v.channel = r->verdict;
-        v.confidence = (double)res->confidence;
         return v;
     }
-    double conf = 1.0;
-    int any = 0;
     for (size_t i = 0; i < r->n_channels; ++i)
     {
-        const aenl_classifier_result_t *res = &r->ch[i].res;
-        if (res->cls != AENL_CLASS_INSUFFICIENT)
+        if (r->ch[i].res.cls != AENL_CLASS_INSUFFICIENT)
         {
-            any = 1;
-            conf = fmin(conf, (double)res->confidence);
+            v.cls = AENL_CLASS_LINEAR;
         }
-    }
-    if (any)
-    {
-        v.cls = AENL_CLASS_LINEAR;
-        v.confidence = conf;
     }
     return v;
 }

@@ -1229,6 +1229,27 @@ static void limit_cycle_verdict(aenl_identify_result_t *out, int forced)
     out->verdict_class = AENL_CLASS_POLYNOMIAL;
 }
 
+/* The verdict's confidence (aenl_identify_result_t.verdict_confidence). */
+static double verdict_confidence(const aenl_identify_result_t *out)
+{
+    if (out->verdict >= 0 && (size_t)out->verdict < out->n_channels)
+    {
+        return (double)out->ch[out->verdict].res.confidence;
+    }
+    double conf = 1.0;
+    int any = 0;
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_classifier_result_t *r = &out->ch[k].res;
+        if (r->cls != AENL_CLASS_INSUFFICIENT)
+        {
+            any = 1;
+            conf = fmin(conf, (double)r->confidence);
+        }
+    }
+    return any ? conf : 0.0;
+}
+
 aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
                                 aenl_identify_result_t *out, aenl_err_t *err)
 {
@@ -1369,6 +1390,10 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
             }
         }
         limit_cycle_verdict(out, o.forced);
+    }
+    if (st == AENL_OK)
+    {
+        out->verdict_confidence = verdict_confidence(out);
     }
 done:
     for (size_t k = 0; run.ch != NULL && k < run.n_ch; ++k)

@@ -113,12 +113,15 @@ typedef struct aenl_identify_result
     aenl_identify_channel_t *ch;
     long verdict; /**< index of the channel named, -1 none (all linear or insufficient) */
     aenl_class_t verdict_class;
-    int decay_train;     /**< the motion decays between the impulses (aenl_impulse.h) */
-    size_t impulses;     /**< impulsive events left out of the regression (aenl_impulse.h) */
-    size_t impulse_rows; /**< rows they took out */
-    long limit_cycle;    /**< channel whose sustained, constant-amplitude oscillation shows the
-                              motion is a limit cycle (-1 none; set where the regression did not
-                              decide) */
+    double verdict_confidence; /**< the named channel's confidence; with none named, the
+                                    smallest of the decided channels' (linear), 0 when no
+                                    channel was decided */
+    int decay_train;           /**< the motion decays between the impulses (aenl_impulse.h) */
+    size_t impulses;           /**< impulsive events left out of the regression (aenl_impulse.h) */
+    size_t impulse_rows;       /**< rows they took out */
+    long limit_cycle; /**< channel whose sustained, constant-amplitude oscillation shows the
+                           motion is a limit cycle (-1 none; set where the regression did not
+                           decide) */
 } aenl_identify_result_t;
 
 void aenl_identify_opts_default(aenl_identify_opts_t *o);
