@@ -59,7 +59,12 @@ typedef struct outcome
     double err[AENL_EVAL_MAX_SWITCH];
     int count_differs; /* predicted point count != true count */
     int no_points;     /* gap truth, channel named right, but no point given */
+    double confidence; /* the verdict's */
 } outcome_t;
+
+/* Confidence bands of the reliability table: [k_band[i], k_band[i + 1]) */
+#define N_BANDS 5
+static const double k_band[N_BANDS + 1] = {0.0, 0.5, 0.7, 0.9, 0.99, 1.0 + 1e-9};
 
 /** Totals. */
 typedef struct tally
@@ -78,6 +83,10 @@ typedef struct tally
     /* each analysis alone: [0] core classifier, [1] restoring-force regression;
      * [SNR] x (class ok, channel ok) */
     size_t alone[2][N_SNR][2];
+    /* reliability of the verdict's confidence: per band, verdicts, right ones (class and
+     * channel), sum of confidences; per regime, sum of (confidence - right)^2 */
+    size_t band_n[N_BANDS], band_ok[N_BANDS];
+    double band_conf[N_BANDS], brier[AENL_EVAL_N_REGIMES];
 } tally_t;
 
 typedef struct args
@@ -211,6 +220,7 @@ static void score(const aenl_eval_case_t *c, const aenl_identify_result_t *r, ou
     o->class_ok = o->pred == o->truth;
     const long v = r != NULL ? r->verdict : -1;
     o->channel_ok = c->channel_index < 0 ? v < 0 : v == c->channel_index;
+    o->confidence = r != NULL ? r->verdict_confidence : 0.0;
     if (c->n_switch == 0 || !o->channel_ok || r == NULL)
     {
         return;
@@ -255,6 +265,17 @@ static int tally_add(tally_t *t, const outcome_t *o)
             return -1;
         }
     }
+    const int right = o->class_ok && o->channel_ok;
+    for (int b = 0; b < N_BANDS; ++b)
+    {
+        if (o->confidence >= k_band[b] && o->confidence < k_band[b + 1])
+        {
+            ++t->band_n[b];
+            t->band_ok[b] += (size_t)right;
+            t->band_conf[b] += o->confidence;
+        }
+    }
+    t->brier[o->st.regime] += (o->confidence - right) * (o->confidence - right);
     size_t *cells[3] = {t->by_regime[o->st.regime], t->by_model[o->st.model],
                         t->by_cell[o->st.variant][o->st.regime]};
     for (int k = 0; k < 3; ++k)
@@ -313,27 +334,19 @@ static void print_verbose(const aenl_eval_case_t *c, const aenl_identify_result_
         return;
     }
     const long v = r->verdict;
-    double conf = 1.0, pts[AENL_CLASSIFIER_MAX_SWITCH];
+    double pts[AENL_CLASSIFIER_MAX_SWITCH];
     size_t np = 0;
     if (v >= 0)
     {
         const aenl_classifier_result_t *cr = &r->ch[v].res;
-        conf = (double)cr->confidence;
         np = cr->n_switch;
         for (size_t i = 0; i < np; ++i)
         {
             pts[i] = (double)cr->switch_points[i];
         }
     }
-    else
-    {
-        for (size_t k = 0; k < r->n_channels; ++k)
-        {
-            conf = fmin(conf, (double)r->ch[k].res.confidence);
-        }
-    }
     printf(" | pred %-8s %-5s conf %.2f ", k_cls_short[o->pred], v >= 0 ? r->ch[v].name : "-",
-           conf);
+           o->confidence);
     print_points(pts, np);
     printf(" | %s%s\n", o->class_ok && o->channel_ok ? "ok" : "MISS",
            o->n_err > 0 ? "" : (c->n_switch > 0 && o->channel_ok ? " (no points)" : ""));
@@ -610,12 +623,13 @@ static void print_summary(tally_t *t)
         }
         printf("\n");
     }
-    printf("\nper regime    cases  class  channel\n");
+    printf("\nper regime    cases  class  channel  Brier score of the confidence\n");
     for (int r = 0; r < (int)AENL_EVAL_N_REGIMES; ++r)
     {
         const size_t *b = t->by_regime[r];
-        printf("  %-10s  %5zu  %5.1f %%  %5.1f %%\n", aenl_eval_regime_name((aenl_eval_regime_t)r),
-               b[0], pct(b[1], b[0]), pct(b[2], b[0]));
+        printf("  %-10s  %5zu  %5.1f %%  %5.1f %%  %6.3f\n",
+               aenl_eval_regime_name((aenl_eval_regime_t)r), b[0], pct(b[1], b[0]), pct(b[2], b[0]),
+               b[0] > 0 ? t->brier[r] / (double)b[0] : (double)NAN);
     }
     printf("per model\n");
     for (int m = 0; m < 2; ++m)
@@ -648,6 +662,30 @@ static void print_summary(tally_t *t)
             }
         }
         printf("\n");
+    }
+}
+
+/* How often a verdict given with a confidence is right (class and channel), and the Brier score
+ * (mean squared difference between the confidence and being right: 0 perfect, 0.25 for a
+ * confidence of 0.5 on everything). */
+static void print_reliability(const tally_t *t)
+{
+    double brier = 0.0;
+    for (int r = 0; r < (int)AENL_EVAL_N_REGIMES; ++r)
+    {
+        brier += t->brier[r];
+    }
+    printf("\nconfidence of the verdict vs right (class and channel); Brier score %.3f\n",
+           t->n > 0 ? brier / (double)t->n : (double)NAN);
+    printf("  confidence      verdicts  right     mean confidence\n");
+    for (int b = 0; b < N_BANDS; ++b)
+    {
+        char band[32];
+        (void)snprintf(band, sizeof(band), "[%.2f, %.2f%c", k_band[b], fmin(k_band[b + 1], 1.0),
+                       b + 1 == N_BANDS ? ']' : ')');
+        printf("  %-14s  %8zu  %5.1f %%  %6.3f\n", band, t->band_n[b],
+               pct(t->band_ok[b], t->band_n[b]),
+               t->band_n[b] > 0 ? t->band_conf[b] / (double)t->band_n[b] : (double)NAN);
     }
 }
 
@@ -757,6 +795,7 @@ int aenl_bench_identify(int argc, char **argv)
     }
     print_confusion(&t);
     print_summary(&t);
+    print_reliability(&t);
     printf("\ngeneration: %zu cases, %zu rejected attempts (in %zu cases), %zu not generated; "
            "%.2f s per case\n",
            t.n, t.rejections, t.cases_rejected, t.gen_failures,
