@@ -144,6 +144,23 @@ static void test_identify_limit_cycle_is_not_linear(void)
     }
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
     TEST_ASSERT_TRUE(r.verdict >= 0);
+    /* named by its polynomial weight among the channels called linear: as sure of the channel
+     * as its share of those weights */
+    double sum = 0.0;
+    for (size_t k = 0; k < r.n_channels; ++k)
+    {
+        sum += (long)k == r.verdict || r.ch[k].res.cls == AENL_CLASS_LINEAR
+                   ? (double)r.ch[k].res.prob[AENL_CLASS_POLYNOMIAL]
+                   : 0.0;
+    }
+    const double share = (double)r.ch[r.verdict].res.prob[AENL_CLASS_POLYNOMIAL] / sum;
+    char msg[64];
+    (void)snprintf(msg, sizeof(msg), "channel share %.4f", share);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE(share > 0.0 && share <= 1.0);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, share, r.verdict_share);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, (double)r.ch[r.verdict].res.confidence * share,
+                              r.verdict_confidence);
     aenl_identify_free(&r);
     aenl_eval_case_free(&c);
 }
@@ -181,6 +198,8 @@ static void check_echoes(size_t index, aenl_eval_regime_t regime, const long *ec
     aenl_identify_result_t r;
     identify_case(index, regime, AENL_CLASS_HYSTERESIS, &c, &r);
     TEST_ASSERT_EQUAL_INT((long)c.channel_index, r.verdict);
+    /* the only channel left with a law: its share of the evidence is all of it */
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, r.verdict_share);
     TEST_ASSERT_EQUAL_DOUBLE((double)r.ch[r.verdict].res.confidence, r.verdict_confidence);
     TEST_ASSERT_EQUAL_INT(-1, r.ch[c.channel_index].explained_by);
     for (size_t i = 0; echoes[i] >= 0; ++i)

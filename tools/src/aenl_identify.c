@@ -1175,11 +1175,12 @@ static int combine_verdicts(aenl_identify_result_t *out, int have_rfs)
  * every channel of such a record linear (its law is too smooth for the points to tell), the
  * verdict is the polynomial, in the channel where the polynomial's posterior weight is largest,
  * provided that weight is the largest among the nonlinear laws there; its confidence is that
- * weight relative to the nonlinear laws'. Only the polynomial needs no switching points, so the
+ * weight relative to the nonlinear laws', and the channel's share is its polynomial weight among
+ * those of the channels called linear. Only the polynomial needs no switching points, so the
  * gap laws are left to the classifier's own decision. A forced record (opts->forced: a shaker,
- * a stepped sine, a rotor tone) has no limit cycle to find.
+ * a stepped sine, a rotor tone) has no limit cycle to find. Returns 1 when it named the verdict.
  */
-static void limit_cycle_verdict(aenl_identify_result_t *out, int forced)
+static int limit_cycle_verdict(aenl_identify_result_t *out, int forced)
 {
     out->limit_cycle = -1;
     for (size_t k = 0; !forced && k < out->n_channels; ++k)
@@ -1193,7 +1194,7 @@ static void limit_cycle_verdict(aenl_identify_result_t *out, int forced)
     }
     if (out->limit_cycle < 0 || out->verdict_class != AENL_CLASS_LINEAR)
     {
-        return;
+        return 0;
     }
     long best = -1;
     for (size_t k = 0; k < out->n_channels; ++k)
@@ -1208,33 +1209,55 @@ static void limit_cycle_verdict(aenl_identify_result_t *out, int forced)
     }
     if (best < 0)
     {
-        return;
+        return 0;
     }
     aenl_classifier_result_t *r = &out->ch[best].res;
-    double nonlinear = 0.0;
+    double nonlinear = 0.0, linear_poly = 0.0;
     for (int c = AENL_CLASS_POLYNOMIAL; c < AENL_CLASS_COUNT; ++c)
     {
         nonlinear += r->prob[c];
+    }
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_classifier_result_t *rk = &out->ch[k].res;
+        linear_poly += rk->cls == AENL_CLASS_LINEAR ? (double)rk->prob[AENL_CLASS_POLYNOMIAL] : 0.0;
     }
     if (!(r->prob[AENL_CLASS_POLYNOMIAL] > 0.0) ||
         r->prob[AENL_CLASS_POLYNOMIAL] < r->prob[AENL_CLASS_FREEPLAY] ||
         r->prob[AENL_CLASS_POLYNOMIAL] < r->prob[AENL_CLASS_HYSTERESIS])
     {
-        return;
+        return 0;
     }
+    out->verdict_share = (double)r->prob[AENL_CLASS_POLYNOMIAL] / linear_poly;
     r->cls = AENL_CLASS_POLYNOMIAL;
     r->confidence = (aenl_real_t)(r->prob[AENL_CLASS_POLYNOMIAL] / nonlinear);
     r->n_switch = 0;
     out->verdict = best;
     out->verdict_class = AENL_CLASS_POLYNOMIAL;
+    return 1;
 }
 
-/* The verdict's confidence (aenl_identify_result_t.verdict_confidence). */
+/* The named channel's share of the evidence of the channels with a nonlinear law: the verdict
+ * names one of them, by its evidence, and is only as sure of the channel as that share. */
+static double evidence_share(const aenl_identify_result_t *out)
+{
+    double sum = 0.0;
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_identify_channel_t *c = &out->ch[k];
+        sum += c->res.cls > AENL_CLASS_LINEAR && c->evidence > 0.0 ? c->evidence : 0.0;
+    }
+    const double e = out->ch[out->verdict].evidence;
+    return sum > 0.0 && e > 0.0 ? e / sum : 1.0;
+}
+
+/* The verdict's confidence (aenl_identify_result_t.verdict_confidence): the class given the
+ * channel, as the channel's laws weigh it, times the channel's share. */
 static double verdict_confidence(const aenl_identify_result_t *out)
 {
     if (out->verdict >= 0 && (size_t)out->verdict < out->n_channels)
     {
-        return (double)out->ch[out->verdict].res.confidence;
+        return (double)out->ch[out->verdict].res.confidence * out->verdict_share;
     }
     double conf = 1.0;
     int any = 0;
@@ -1284,6 +1307,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     out->ch = calloc(run.n_ch, sizeof(aenl_identify_channel_t));
     aenl_classifier_t *cls = NULL;
     aenl_status_t st = AENL_OK;
+    int named_by_cycle = 0; /* the limit-cycle rule named the verdict */
     if (run.col == NULL || run.ch == NULL || row == NULL || out->ch == NULL)
     {
         aenl_err_set(err, "out of memory");
@@ -1389,10 +1413,14 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
                 out->verdict_class = c->res.cls;
             }
         }
-        limit_cycle_verdict(out, o.forced);
+        named_by_cycle = limit_cycle_verdict(out, o.forced);
     }
     if (st == AENL_OK)
     {
+        if (out->verdict >= 0 && !named_by_cycle)
+        {
+            out->verdict_share = evidence_share(out);
+        }
         out->verdict_confidence = verdict_confidence(out);
     }
 done:

@@ -113,9 +113,13 @@ typedef struct aenl_identify_result
     aenl_identify_channel_t *ch;
     long verdict; /**< index of the channel named, -1 none (all linear or insufficient) */
     aenl_class_t verdict_class;
-    double verdict_confidence; /**< the named channel's confidence; with none named, the
-                                    smallest of the decided channels' (linear), 0 when no
-                                    channel was decided */
+    double verdict_share;      /**< the named channel's share of what named it: its evidence
+                                    among the nonlinear channels', or, named by the limit-cycle
+                                    rule, its polynomial weight among the linear channels'
+                                    (1 when it is the only one; 0 when none is named) */
+    double verdict_confidence; /**< the named channel's confidence times verdict_share; with
+                                    none named, the smallest of the decided channels' (linear),
+                                    0 when no channel was decided */
     int decay_train;           /**< the motion decays between the impulses (aenl_impulse.h) */
     size_t impulses;           /**< impulsive events left out of the regression (aenl_impulse.h) */
     size_t impulse_rows;       /**< rows they took out */
