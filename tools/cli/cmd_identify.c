@@ -629,8 +629,14 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
     if (v->channel >= 0)
     {
         const aenl_identify_channel_t *ch = &r->ch[v->channel];
-        printf("verdict: %s in channel %s (confidence %.3f)", class_label(&ch->res), ch->name,
+        printf("verdict: %s in channel %s (confidence %.3f", class_label(&ch->res), ch->name,
                v->confidence);
+        if (r->verdict_share < 1.0)
+        {
+            printf(" = %.3f for the class in %s × %.3f for the channel",
+                   (double)ch->res.confidence, ch->name, r->verdict_share);
+        }
+        printf(")");
         if (ch->res.n_switch > 0)
         {
             printf(", switching points ");
