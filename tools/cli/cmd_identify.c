@@ -633,8 +633,8 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
                v->confidence);
         if (r->verdict_share < 1.0)
         {
-            printf(" = %.3f for the class in %s × %.3f for the channel",
-                   (double)ch->res.confidence, ch->name, r->verdict_share);
+            printf(" = %.3f for the class in %s × %.3f for the channel", (double)ch->res.confidence,
+                   ch->name, r->verdict_share);
         }
         printf(")");
         if (ch->res.n_switch > 0)
