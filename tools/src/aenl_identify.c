@@ -1237,15 +1237,18 @@ static int limit_cycle_verdict(aenl_identify_result_t *out, int forced)
     return 1;
 }
 
-/* The named channel's share of the evidence of the channels with a nonlinear law: the verdict
- * names one of them, by its evidence, and is only as sure of the channel as that share. */
-static double evidence_share(const aenl_identify_result_t *out)
+/* The named channel's share of the evidence of the channels with a nonlinear law that could
+ * have been named (by_rfs: the regression's laws, whose t is the evidence; else the core
+ * classifier's): the verdict names one of them, by its evidence, and is only as sure of the
+ * channel as that share. */
+static double evidence_share(const aenl_identify_result_t *out, int by_rfs)
 {
     double sum = 0.0;
     for (size_t k = 0; k < out->n_channels; ++k)
     {
         const aenl_identify_channel_t *c = &out->ch[k];
-        sum += c->res.cls > AENL_CLASS_LINEAR && c->evidence > 0.0 ? c->evidence : 0.0;
+        const aenl_class_t cls = by_rfs ? c->rfs.cls : c->res.cls;
+        sum += cls > AENL_CLASS_LINEAR && c->evidence > 0.0 ? c->evidence : 0.0;
     }
     const double e = out->ch[out->verdict].evidence;
     return sum > 0.0 && e > 0.0 ? e / sum : 1.0;
@@ -1307,7 +1310,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     out->ch = calloc(run.n_ch, sizeof(aenl_identify_channel_t));
     aenl_classifier_t *cls = NULL;
     aenl_status_t st = AENL_OK;
-    int named_by_cycle = 0; /* the limit-cycle rule named the verdict */
+    int named_by_cycle = 0, named_by_rfs = 0; /* which rule named the verdict */
     if (run.col == NULL || run.ch == NULL || row == NULL || out->ch == NULL)
     {
         aenl_err_set(err, "out of memory");
@@ -1394,7 +1397,11 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     {
         st = explain_away(run.rfs, out, err);
     }
-    if (st == AENL_OK && !combine_verdicts(out, run.rfs != NULL))
+    if (st == AENL_OK)
+    {
+        named_by_rfs = combine_verdicts(out, run.rfs != NULL);
+    }
+    if (st == AENL_OK && !named_by_rfs)
     {
         out->verdict = -1;
         out->verdict_class = AENL_CLASS_INSUFFICIENT;
@@ -1419,7 +1426,7 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     {
         if (out->verdict >= 0 && !named_by_cycle)
         {
-            out->verdict_share = evidence_share(out);
+            out->verdict_share = evidence_share(out, named_by_rfs);
         }
         out->verdict_confidence = verdict_confidence(out);
     }
