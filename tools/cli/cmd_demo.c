@@ -158,7 +158,7 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
     if (r.verdict >= 0)
     {
         const aenl_classifier_result_t *res = &r.ch[r.verdict].res;
-        printf(" (confidence %.2f", (double)res->confidence);
+        printf(" (confidence %.2f", r.verdict_confidence);
         for (uint8_t k = 0; k < res->n_switch; ++k)
         {
             printf("%s%.4g", k == 0 ? "; switching points " : ", ", (double)res->switch_points[k]);
