@@ -55,7 +55,8 @@ static void help(void)
         "--forced        the motion is forced (a shaker, a stepped sine, a rotor tone): a\n"
         "                sustained oscillation of constant amplitude is not taken for a limit\n"
         "                cycle, which an unforced linear structure cannot have\n\n"
-        "Verdict: the nonlinear channel with the strongest evidence; when none is nonlinear,\n"
+        "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
+        "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
         "channel could be decided, with channel null and no switching points.\n");
 }

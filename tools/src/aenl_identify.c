@@ -1197,12 +1197,17 @@ static int limit_cycle_verdict(aenl_identify_result_t *out, int forced)
         return 0;
     }
     long best = -1;
+    double linear_poly = 0.0; /* the polynomial weights of the channels called linear */
     for (size_t k = 0; k < out->n_channels; ++k)
     {
-        const aenl_classifier_result_t *r = &out->ch[k].res;
-        if (r->cls == AENL_CLASS_LINEAR &&
-            (best < 0 ||
-             r->prob[AENL_CLASS_POLYNOMIAL] > out->ch[best].res.prob[AENL_CLASS_POLYNOMIAL]))
+        const aenl_classifier_result_t *rk = &out->ch[k].res;
+        if (rk->cls != AENL_CLASS_LINEAR)
+        {
+            continue;
+        }
+        linear_poly += (double)rk->prob[AENL_CLASS_POLYNOMIAL];
+        if (best < 0 ||
+            rk->prob[AENL_CLASS_POLYNOMIAL] > out->ch[best].res.prob[AENL_CLASS_POLYNOMIAL])
         {
             best = (long)k;
         }
@@ -1212,15 +1217,10 @@ static int limit_cycle_verdict(aenl_identify_result_t *out, int forced)
         return 0;
     }
     aenl_classifier_result_t *r = &out->ch[best].res;
-    double nonlinear = 0.0, linear_poly = 0.0;
+    double nonlinear = 0.0;
     for (int c = AENL_CLASS_POLYNOMIAL; c < AENL_CLASS_COUNT; ++c)
     {
         nonlinear += r->prob[c];
-    }
-    for (size_t k = 0; k < out->n_channels; ++k)
-    {
-        const aenl_classifier_result_t *rk = &out->ch[k].res;
-        linear_poly += rk->cls == AENL_CLASS_LINEAR ? (double)rk->prob[AENL_CLASS_POLYNOMIAL] : 0.0;
     }
     if (!(r->prob[AENL_CLASS_POLYNOMIAL] > 0.0) ||
         r->prob[AENL_CLASS_POLYNOMIAL] < r->prob[AENL_CLASS_FREEPLAY] ||
