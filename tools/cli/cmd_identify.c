@@ -607,6 +607,12 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
             printf("  %s: %zu missing sample%s (NaN cells) skipped\n", r->ch[i].name,
                    r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
         }
+        if (r->ch[i].dither_std > 0.0)
+        {
+            printf("  %s: cleaner than the regression's noise floor (SNR 10); white noise of std "
+                   "%.3g dithered in for it\n",
+                   r->ch[i].name, r->ch[i].dither_std);
+        }
         if (r->ch[i].explained_by >= 0)
         {
             printf("  %s: the law it shows is explained by that of %s (its force reaches %s "

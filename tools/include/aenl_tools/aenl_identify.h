@@ -94,6 +94,8 @@ typedef struct aenl_identify_channel
                               echo through the coupling; this channel is then linear), or -1 */
     double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
     double noise_std;    /**< white-noise level estimated from differences, channel units */
+    double dither_std;   /**< white noise the restoring-force regression added to reach its
+                              noise floor (0.1 of the standard deviation), channel units; 0 */
     double x_min, x_max; /**< grid ends */
     uint16_t n_grid, n_lags;
     uint16_t lags[AENL_MOMENTS_MAX_LAGS];
