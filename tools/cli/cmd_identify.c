@@ -367,24 +367,13 @@ typedef struct
     double confidence;
 } verdict_t;
 
-/* The pipeline's named channel, or, when none is nonlinear: linear, or insufficient when no
- * channel was decided; the confidence is the pipeline's (verdict_confidence). */
+/* The pipeline's verdict (aenl_identify_result_t: verdict, verdict_class, verdict_confidence):
+ * the named channel, or, when none is named, linear, or insufficient when no channel was
+ * decided. */
 static verdict_t make_verdict(const aenl_identify_result_t *r)
 {
-    verdict_t v = {AENL_CLASS_INSUFFICIENT, -1, r->verdict_confidence};
-    if (r->verdict >= 0 && (size_t)r->verdict < r->n_channels)
-    {
-        v.cls = r->ch[r->verdict].res.cls;
-        v.channel = r->verdict;
-        return v;
-    }
-    for (size_t i = 0; i < r->n_channels; ++i)
-    {
-        if (r->ch[i].res.cls != AENL_CLASS_INSUFFICIENT)
-        {
-            v.cls = AENL_CLASS_LINEAR;
-        }
-    }
+    const int named = r->verdict >= 0 && (size_t)r->verdict < r->n_channels;
+    const verdict_t v = {r->verdict_class, named ? r->verdict : -1, r->verdict_confidence};
     return v;
 }
 
