@@ -596,7 +596,7 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
             printf("  %s: %zu missing sample%s (NaN cells) skipped\n", r->ch[i].name,
                    r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
         }
-        if (r->ch[i].dither_std > 0.0)
+        if (r->ch[i].dither_std > r->ch[i].noise_std) /* not a mere top-up of a noisy record */
         {
             printf("  %s: cleaner than the regression's noise floor (SNR 10); white noise of std "
                    "%.3g dithered in for it\n",
