@@ -13,12 +13,15 @@
  * Pass 2 (streaming): filter and push every sample into the channel's moments (direction split on)
  * and into a display estimator with the paper's lags 1, 10, 30; the classifier reads the former.
  * The same pass feeds the multi-channel restoring-force regression (aenl_rfs.h) through one
- * common low-pass at 5 / (shortest period).
+ * common low-pass at 5 / (shortest period), each channel first dithered up to a noise floor of
+ * 0.1 of its standard deviation when it is cleaner than that (dither_std).
  * Memory does not grow with the record's length.
- * Verdict: when the regression finds a law in some channel, the channels where it finds none are
- * linear and the others keep the core classifier's class if nonlinear (else the regression's);
- * when it finds none anywhere (a periodic limit cycle leaves it blind) the core classifier's
- * verdicts stand. The channel named is the nonlinear one with the largest evidence.
+ * Verdict: when the regression finds a law in some channel, it decides: every channel it judged
+ * takes its class, and the channel named is the nonlinear one with the largest t (a law another
+ * channel's explains is an echo and linear). When it finds none anywhere, a train of kicked
+ * decays is linear (decay_train), and otherwise the core classifier's verdicts stand (the
+ * regression does not run on a single channel or a periodic record); a limit cycle the core
+ * calls linear is polynomial (limit_cycle).
  */
 #ifndef AENL_TOOLS_IDENTIFY_H
 #define AENL_TOOLS_IDENTIFY_H
@@ -95,7 +98,8 @@ typedef struct aenl_identify_channel
     double prefilter;    /**< cutoff as a fraction of the sample rate (0 none) */
     double noise_std;    /**< white-noise level estimated from differences, channel units */
     double dither_std;   /**< white noise the restoring-force regression added to reach its
-                              noise floor (0.1 of the standard deviation), channel units; 0 */
+                              noise floor (0.1 of the standard deviation), channel units (0:
+                              none) */
     double x_min, x_max; /**< grid ends */
     uint16_t n_grid, n_lags;
     uint16_t lags[AENL_MOMENTS_MAX_LAGS];
