@@ -358,25 +358,6 @@ static long find_channel(const aenl_identify_source_t *src, const char *path, co
     return -1;
 }
 
-/* ---- the verdict ----------------------------------------------------------------------------- */
-
-typedef struct
-{
-    aenl_class_t cls;
-    long channel; /* -1: none named */
-    double confidence;
-} verdict_t;
-
-/* The pipeline's verdict (aenl_identify_result_t: verdict, verdict_class, verdict_confidence):
- * the named channel, or, when none is named, linear, or insufficient when no channel was
- * decided. */
-static verdict_t make_verdict(const aenl_identify_result_t *r)
-{
-    const int named = r->verdict >= 0 && (size_t)r->verdict < r->n_channels;
-    const verdict_t v = {r->verdict_class, named ? r->verdict : -1, r->verdict_confidence};
-    return v;
-}
-
 /* ---- JSON (DESIGN.md section 4) -------------------------------------------------------------- */
 
 static cJSON *num_or_null(double v)
@@ -456,7 +437,9 @@ static cJSON *json_channel(const aenl_identify_channel_t *ch)
 }
 
 /* Print the object; -1 when memory ran out (nothing printed). */
-static int print_json(const aenl_identify_result_t *r, const char *path, const verdict_t *v)
+/* The verdict is the pipeline's (aenl_identify_result_t: verdict, verdict_class,
+ * verdict_confidence). */
+static int print_json(const aenl_identify_result_t *r, const char *path)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON *verdict = cJSON_CreateObject();
@@ -465,13 +448,13 @@ static int print_json(const aenl_identify_result_t *r, const char *path, const v
     if (verdict != NULL)
     {
         static const aenl_classifier_result_t k_none; /* no switching points */
-        const aenl_classifier_result_t *res = v->channel >= 0 ? &r->ch[v->channel].res : &k_none;
-        bad |= add(verdict, "class", cJSON_CreateString(aenl_class_name(v->cls)));
+        const aenl_classifier_result_t *res = r->verdict >= 0 ? &r->ch[r->verdict].res : &k_none;
+        bad |= add(verdict, "class", cJSON_CreateString(aenl_class_name(r->verdict_class)));
         bad |=
             add(verdict, "channel",
-                v->channel >= 0 ? cJSON_CreateString(r->ch[v->channel].name) : cJSON_CreateNull());
+                r->verdict >= 0 ? cJSON_CreateString(r->ch[r->verdict].name) : cJSON_CreateNull());
         bad |= add(verdict, "switch_points", json_points(res, 0));
-        bad |= add(verdict, "confidence", num_or_null(v->confidence));
+        bad |= add(verdict, "confidence", num_or_null(r->verdict_confidence));
     }
     for (size_t i = 0; chans != NULL && i < r->n_channels; ++i)
     {
@@ -560,7 +543,7 @@ static void print_points(const aenl_classifier_result_t *res, int with_std)
 }
 
 static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
-                        const aenl_identify_opts_t *o, const verdict_t *v)
+                        const aenl_identify_opts_t *o)
 {
     int w_name = 7;
     for (size_t i = 0; i < r->n_channels; ++i)
@@ -622,11 +605,11 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
                r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
     }
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
-    if (v->channel >= 0)
+    if (r->verdict >= 0)
     {
-        const aenl_identify_channel_t *ch = &r->ch[v->channel];
+        const aenl_identify_channel_t *ch = &r->ch[r->verdict];
         printf("verdict: %s in channel %s (confidence %.3f", class_label(&ch->res), ch->name,
-               v->confidence);
+               r->verdict_confidence);
         if (r->verdict_share < 1.0)
         {
             printf(" = %.3f for the class in %s × %.3f for the channel", (double)ch->res.confidence,
@@ -640,10 +623,10 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
         }
         printf("\n");
     }
-    else if (v->cls == AENL_CLASS_LINEAR)
+    else if (r->verdict_class == AENL_CLASS_LINEAR)
     {
         printf("verdict: linear, no channel shows a nonlinearity (confidence %.3f)\n",
-               v->confidence);
+               r->verdict_confidence);
     }
     else
     {
@@ -1249,10 +1232,9 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
     }
     if (rc == AENL_EXIT_OK)
     {
-        const verdict_t v = make_verdict(&res);
         if (a->json)
         {
-            if (print_json(&res, a->data, &v) != 0)
+            if (print_json(&res, a->data) != 0)
             {
                 aenl_cli_error(k_cmd, "out of memory while writing the JSON");
                 rc = AENL_EXIT_FAIL;
@@ -1260,7 +1242,7 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
         }
         else
         {
-            print_table(&res, a->data, chk.n_rows_total, &opts, &v);
+            print_table(&res, a->data, chk.n_rows_total, &opts);
             for (size_t i = 0; i < outs.n_files; ++i)
             {
                 printf("%s %s\n", i ? "        " : "figures:", outs.files[i]);
