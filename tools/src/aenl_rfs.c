@@ -745,8 +745,10 @@ static int law_ok(const rfs_work_t *wk, const rfs_law_t *lw)
         case AENL_RFS_GAP:
             return lw->b - lw->a >= 0.999 * wk->cell && kink_ok(wk, lw->a) && kink_ok(wk, lw->b);
         case AENL_RFS_HYSTERESIS:
-            return lw->b - lw->a >= 0.999 * wk->cell && fabs(lw->s) >= 0.999 * wk->cell &&
-                   kink_ok(wk, lw->a - 0.5 * fabs(lw->s)) && kink_ok(wk, lw->b + 0.5 * fabs(lw->s));
+            /* the loop lags the motion (s > 0): rising motion meets the band later (MODELS.md:
+             * rising band [x_f, x_f + delta], falling [-x_f - delta, -x_f], s = 2 x_f + delta) */
+            return lw->b - lw->a >= 0.999 * wk->cell && lw->s >= 0.999 * wk->cell &&
+                   kink_ok(wk, lw->a - 0.5 * lw->s) && kink_ok(wk, lw->b + 0.5 * lw->s);
         case AENL_RFS_LINEAR:
         case AENL_RFS_POLY:
             return 1;
@@ -779,8 +781,8 @@ static double law_search(rfs_work_t *wk, const rfs_proj_t *pj, rfs_law_t *lw, do
     {
         a0 = b0 = wk->lo_q;
         a1 = b1 = wk->hi_q;
-        s0 = -(wk->hi_q - wk->lo_q);
-        s1 = -s0;
+        s0 = 0.0;
+        s1 = wk->hi_q - wk->lo_q;
     }
     if (lw->law != AENL_RFS_HYSTERESIS)
     {
@@ -950,7 +952,7 @@ static size_t law_points(const rfs_law_t *lw, double *pt)
             return 2;
         case AENL_RFS_HYSTERESIS:
         {
-            const double h = 0.5 * fabs(lw->s);
+            const double h = 0.5 * lw->s;
             pt[0] = lw->a - h;
             pt[1] = lw->a + h;
             pt[2] = lw->b - h;
