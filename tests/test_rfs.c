@@ -47,12 +47,16 @@ typedef enum
     LAW_FRICTION, /* LAW_GAP plus dry friction FRICTION sign(v) on oscillator 0 */
     LAW_HYST,     /* MODELS.md's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
                      no stiffness in [0, 2 GAP] rising, in [-2 GAP, 0] falling, offset +-M0 */
+    LAW_ANTI,     /* LAW_GAP with its contacts reached early in the direction of motion (the
+                     gap shifted by -ANTI rising, +ANTI falling), as a freeplay looks through
+                     a position sensor that lags: a loop that anticipates the motion */
     LAW_BOTH      /* LAW_GAP on oscillator 0 and LAW_CUBIC on oscillator 1 */
 } law_t;
 
 #define GAP      0.4
 #define FRICTION 0.15
 #define HYST_M0  0.1
+#define ANTI     0.1
 
 static double clip(double x, double a, double b)
 {
@@ -81,6 +85,11 @@ static double *simulate(law_t law, uint64_t seed)
         {
             f0 = v0 > 0.0 ? p0 - clip(p0, 0.0, 2.0 * GAP) + HYST_M0
                           : p0 - clip(p0, -2.0 * GAP, 0.0) - HYST_M0;
+        }
+        if (law == LAW_ANTI)
+        {
+            f0 = v0 > 0.0 ? p0 - clip(p0, -GAP - ANTI, GAP - ANTI)
+                          : p0 - clip(p0, -GAP + ANTI, GAP + ANTI);
         }
         if (law == LAW_CUBIC || law == LAW_BOTH)
         {
@@ -597,15 +606,26 @@ static void test_rfs_softening_spring_is_not_freeplay(void)
     free(x);
 }
 
-/* Hysteresis is switching points that move with the direction of motion. A freeplay gap with
- * dry friction also has a force that follows the motion, but its gap stays put: not hysteresis
- * (this record does not tell the gap from a polynomial, either is a fair answer). */
-static void test_rfs_hysteresis_is_a_moving_gap_not_friction(void)
+/* Hysteresis is switching points that move with the direction of motion, lagging it. A freeplay
+ * gap with dry friction also has a force that follows the motion, but its gap stays put: not
+ * hysteresis (this record does not tell the gap from a polynomial, either is a fair answer). */
+static void test_rfs_hysteresis_is_a_lagging_moving_gap(void)
 {
     aenl_rfs_cfg_t c;
     aenl_rfs_fit_t fit[2];
     double *x = fit_record(LAW_HYST, 17u, 24, &c, fit);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, fit[0].cls);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
+    /* the outer switching points: -2 GAP falling, +2 GAP rising */
+    TEST_ASSERT_EQUAL_size_t(4, fit[0].n_points);
+    TEST_ASSERT_DOUBLE_WITHIN(0.25 * GAP, -2.0 * GAP, fit[0].points[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.25 * GAP, 2.0 * GAP, fit[0].points[3]);
+    free(x);
+    /* a loop that anticipates the motion is a lagging sensor's view of a freeplay, not
+     * hysteresis: the shift must lag the motion */
+    x = fit_record(LAW_ANTI, 17u, 24, &c, fit);
+    TEST_ASSERT_TRUE(fit[0].evidence >= AENL_RFS_T_CRIT);
+    TEST_ASSERT_TRUE(fit[0].cls == AENL_CLASS_FREEPLAY || fit[0].cls == AENL_CLASS_POLYNOMIAL);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, fit[1].cls);
     free(x);
     x = fit_record(LAW_FRICTION, 19u, 24, &c, fit);
@@ -658,7 +678,7 @@ int main(void)
     RUN_TEST(test_rfs_names_the_freeplay_channel_and_its_gap);
     RUN_TEST(test_rfs_names_the_cubic_channel_hardening);
     RUN_TEST(test_rfs_softening_spring_is_not_freeplay);
-    RUN_TEST(test_rfs_hysteresis_is_a_moving_gap_not_friction);
+    RUN_TEST(test_rfs_hysteresis_is_a_lagging_moving_gap);
     RUN_TEST(test_rfs_bad_configuration_and_short_records);
     return UNITY_END();
 }
