@@ -147,6 +147,7 @@ static void test_ini_write_reads_back(void)
         run.turb_intensity = 0.011;
         run.turb_length = type == 0 ? 2.5 : 0.3;
         run.turb_seed = 12345678901ull;
+        run.turb_spectrum = type == 1 ? AENL_SIM_GUST_DRYDEN : AENL_SIM_GUST_FIRST_ORDER;
         run.snr = 3.25;
         run.noise_seed = 77u;
         run.duration = type == 0 ? 123.5 : 2.5;
@@ -236,6 +237,10 @@ static void test_ini_rejects_bad_files(void)
                  "[model]\ntype = section3dof\nvelocity = 10\nustar = 3\n"
                  "[run]\nduration = 1\ndt = 0.5\n",
                  "3dof_key.ini:4:", "ustar");
+    expect_error("bad_spectrum.ini",
+                 GOOD_MODEL "[excitation]\ntype = turbulence\nintensity = 0.01\n"
+                            "spectrum = von_karman\n[run]\nduration = 1\ndt = 0.5\n",
+                 "bad_spectrum.ini:7:", "spectrum");
     {
         aenl_sim_model_t m;
         aenl_sim_run_t r;

@@ -6,6 +6,7 @@
  *        linear case against an exact matrix exponential (§5.2).
  */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -275,6 +276,123 @@ static void test_linear_rk4_converges_to_expm_solution(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 0.0, d);
 }
 
+/* Sample autocorrelation of w[0..n) at lag l (w has mean 0 by construction; the sample mean is
+ * taken out all the same). */
+static double autocorr(const double *w, size_t n, size_t l)
+{
+    double mean = 0.0, c0 = 0.0, cl = 0.0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        mean += w[k];
+    }
+    mean /= (double)n;
+    for (size_t k = 0; k < n; ++k)
+    {
+        c0 += (w[k] - mean) * (w[k] - mean);
+        if (k + l < n)
+        {
+            cl += (w[k] - mean) * (w[k + l] - mean);
+        }
+    }
+    return (cl / (double)(n - l)) / (c0 / (double)n);
+}
+
+static void test_gust_series_has_the_textbook_autocorrelation(void)
+{
+    /* The gust sequences the integrators are driven with: unit variance, and the autocorrelation
+     * of the continuous filters, exp(-t/T) (first order) and (1 - t/(2T)) exp(-t/T) (Dryden
+     * vertical gust), at t = T/2, T, 2T, 3T. 4e5 samples at dt = T/20 hold about 1e4 correlation
+     * times: the sample variance is good to about 1.5 %, each correlation to about 0.015. */
+    enum
+    {
+        N = 400000
+    };
+    static double w[N];
+    const double T = 1.3, dt = T / 20.0;
+    aenl_sim_run_t run;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    run.dt = dt;
+    run.turb_seed = 20261121u;
+    for (int spec = 0; spec < 2; ++spec)
+    {
+        run.turb_spectrum = spec ? AENL_SIM_GUST_DRYDEN : AENL_SIM_GUST_FIRST_ORDER;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_gust_series(&run, T, N, w, &err), err.msg);
+        double m2 = 0.0;
+        for (size_t k = 0; k < N; ++k)
+        {
+            m2 += w[k] * w[k];
+        }
+        TEST_ASSERT_DOUBLE_WITHIN(0.05, 1.0, m2 / N);
+        const size_t lags[4] = {10, 20, 40, 60};
+        for (int i = 0; i < 4; ++i)
+        {
+            const double t = (double)lags[i] * dt / T;
+            const double want = spec ? (1.0 - 0.5 * t) * exp(-t) : exp(-t);
+            char msg[96];
+            (void)snprintf(msg, sizeof(msg), "%s, lag %.1f T", spec ? "Dryden" : "first order", t);
+            TEST_ASSERT_DOUBLE_WITHIN_MESSAGE(0.04, want, autocorr(w, N, lags[i]), msg);
+        }
+    }
+    /* The filter starts stationary: the first value over many seeds has unit variance too. */
+    for (int spec = 0; spec < 2; ++spec)
+    {
+        double m2 = 0.0;
+        run.turb_spectrum = spec ? AENL_SIM_GUST_DRYDEN : AENL_SIM_GUST_FIRST_ORDER;
+        for (uint64_t seed = 1; seed <= 4000; ++seed)
+        {
+            run.turb_seed = seed;
+            TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_gust_series(&run, T, 1, w, &err));
+            m2 += w[0] * w[0];
+        }
+        TEST_ASSERT_DOUBLE_WITHIN(0.1, 1.0, m2 / 4000.0);
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_gust_series(&run, 0.0, 10, w, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_gust_series(&run, T, 0, w, &err));
+}
+
+static void test_dryden_turbulence_event_matches_rk4(void)
+{
+    /* Both integrators drive the linear airfoil through the two-lag Dryden filter with the same
+     * held inputs: their responses agree, and differ from the first-order spectrum's. */
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_result_t a, b, c;
+    aenl_err_t err;
+    double d = 0.0, dfo = 0.0, scale = 0.0;
+    aenl_err_clear(&err);
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    m.airfoil.ustar = 4.0;
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    run.duration = 300.0;
+    run.dt = 0.5;
+    run.turbulence = 1;
+    run.turb_intensity = 0.01;
+    run.turb_seed = 99u;
+    run.turb_spectrum = AENL_SIM_GUST_DRYDEN;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &a, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_simulate_rk4(&m, &run, 0.01, &b, &err));
+    run.turb_spectrum = AENL_SIM_GUST_FIRST_ORDER;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_simulate(&m, &run, &c, &err));
+    for (size_t k = 0; k < a.n_samples * a.n_channels; ++k)
+    {
+        d = fmax(d, fabs(a.y[k] - b.y[k]));
+        dfo = fmax(dfo, fabs(a.y[k] - c.y[k]));
+        scale = fmax(scale, fabs(a.y[k]));
+    }
+    aenl_sim_result_free(&a);
+    aenl_sim_result_free(&b);
+    aenl_sim_result_free(&c);
+    char msg[128];
+    (void)snprintf(msg, sizeof(msg), "max |event - rk4| %.3g, |dryden - first order| %.3g, of %.3g",
+                   d, dfo, scale);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_TRUE(scale > 0.0);
+    TEST_ASSERT_TRUE(d < 1e-6 * scale);
+    TEST_ASSERT_TRUE(dfo > 0.1 * scale);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -284,5 +402,7 @@ int main(void)
     RUN_TEST(test_flutter_freeplay_inner_slope);
     RUN_TEST(test_linear_time_response_matches_expm);
     RUN_TEST(test_linear_rk4_converges_to_expm_solution);
+    RUN_TEST(test_gust_series_has_the_textbook_autocorrelation);
+    RUN_TEST(test_dryden_turbulence_event_matches_rk4);
     return UNITY_END();
 }

@@ -553,11 +553,25 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             {
                 return parse_seed(c, e, &r->turb_seed);
             }
+            if (strcmp(e->key, "spectrum") == 0)
+            {
+                if (strcmp(e->value, "first_order") == 0)
+                {
+                    r->turb_spectrum = AENL_SIM_GUST_FIRST_ORDER;
+                    return AENL_OK;
+                }
+                if (strcmp(e->value, "dryden") == 0)
+                {
+                    r->turb_spectrum = AENL_SIM_GUST_DRYDEN;
+                    return AENL_OK;
+                }
+                return bad(c, e, "expected first_order or dryden");
+            }
             if (apply_table(c, e, tab, 2, &st))
             {
                 return st;
             }
-            return unknown_key(c, e, " (type, intensity, length_scale, seed)");
+            return unknown_key(c, e, " (type, intensity, length_scale, spectrum, seed)");
         }
         case 6:
         {
@@ -880,8 +894,10 @@ void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_
     {
         fprintf(fp,
                 "\n[excitation]\ntype = turbulence\nintensity = %.17g\nlength_scale = %.17g\n"
-                "seed = %llu\n",
-                run->turb_intensity, run->turb_length, (unsigned long long)run->turb_seed);
+                "spectrum = %s\nseed = %llu\n",
+                run->turb_intensity, run->turb_length,
+                run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? "dryden" : "first_order",
+                (unsigned long long)run->turb_seed);
     }
     fprintf(fp, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n",
             run->duration, run->dt, run->rtol, run->atol);

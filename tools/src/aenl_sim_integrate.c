@@ -616,13 +616,71 @@ static void initial_state(const aenl_sim_model_t *model, const sim_sys_t *s, dou
     }
 }
 
-/* Gust: stationary first-order filter output with std = intensity (see aenl_sim.h). */
+/* Gust: the filter's output has std = intensity (see aenl_sim.h). */
 typedef struct gust_gen
 {
     aenl_rng_t rng;
     double sigma_u;
     int on;
+    int n;          /* filter states: 1 first order, 2 Dryden */
+    double e, hold; /* exp(-dt/T); dt/T */
+    double g1, g2;  /* the held input's weights on the states over one interval (Dryden) */
 } gust_gen_t;
+
+/* 1 - exp(-h) (1 + h), the second lag's step response after h time constants, without the
+ * cancellation of the direct form for small h. */
+static double second_lag_step(double h)
+{
+    if (h >= 1.0)
+    {
+        return 1.0 - exp(-h) * (1.0 + h);
+    }
+    double term = 0.5 * h * h, sum = 0.0;
+    for (int k = 2; k < 40 && term > 1e-18 * sum; ++k)
+    {
+        sum += term;
+        term *= h / (double)(k + 1);
+    }
+    return exp(-h) * sum;
+}
+
+/* Seed the generator and set the input's std so that the filter output has std `intensity`;
+ * z[0..n) receives a draw from the filter's stationary distribution (state order as in x). */
+static void gust_setup(gust_gen_t *g, const aenl_sim_run_t *run, int n, double T, double intensity,
+                       double *z)
+{
+    memset(g, 0, sizeof(*g));
+    g->on = 1;
+    g->n = n;
+    aenl_rng_seed(&g->rng, run->turb_seed);
+    const double h = run->dt / T, e = exp(-h);
+    g->e = e;
+    g->hold = h;
+    if (n == 1)
+    {
+        g->sigma_u = intensity * sqrt((1.0 + e) / (1.0 - e));
+        z[0] = intensity * aenl_rng_gauss(&g->rng);
+        return;
+    }
+    /* Dryden: z' = A z + b u, A = [[-1, 0], [1, -1]] / T, b = [1, 0]' / T; over one held
+     * interval z <- Phi z + gam u with Phi = e [[1, 0], [h, 1]], gam = [1 - e, 1 - e (1 + h)]'.
+     * Stationary covariance per unit input variance, P = Phi P Phi' + gam gam', solved in
+     * closed form (lower-triangular Phi), then scaled so that var(sqrt3 z1 + (1 - sqrt3) z2) is
+     * the intensity squared. */
+    g->g1 = -expm1(-h);
+    g->g2 = second_lag_step(h);
+    const double e2 = e * e, den = -expm1(-2.0 * h);
+    const double p11 = g->g1 * g->g1 / den;
+    const double p12 = (e2 * h * p11 + g->g1 * g->g2) / den;
+    const double p22 = (e2 * (h * h * p11 + 2.0 * h * p12) + g->g2 * g->g2) / den;
+    const double c1 = SIM_SQRT3, c2 = 1.0 - SIM_SQRT3;
+    const double var_g = c1 * c1 * p11 + 2.0 * c1 * c2 * p12 + c2 * c2 * p22;
+    g->sigma_u = intensity / sqrt(var_g);
+    const double l11 = sqrt(p11), l21 = p12 / l11, l22 = sqrt(fmax(p22 - l21 * l21, 0.0));
+    const double n1 = aenl_rng_gauss(&g->rng), n2 = aenl_rng_gauss(&g->rng);
+    z[0] = g->sigma_u * l11 * n1;
+    z[1] = g->sigma_u * (l21 * n1 + l22 * n2);
+}
 
 static void gust_init(gust_gen_t *g, const aenl_sim_run_t *run, const sim_sys_t *s, double *x)
 {
@@ -631,18 +689,43 @@ static void gust_init(gust_gen_t *g, const aenl_sim_run_t *run, const sim_sys_t 
     {
         return;
     }
-    g->on = 1;
-    aenl_rng_seed(&g->rng, run->turb_seed);
-    {
-        const double e = exp(-run->dt / s->gust_T);
-        g->sigma_u = run->turb_intensity * sqrt((1.0 + e) / (1.0 - e));
-    }
-    x[s->nx - 1] = run->turb_intensity * aenl_rng_gauss(&g->rng);
+    gust_setup(g, run, s->gust, s->gust_T, run->turb_intensity, &x[s->nx - s->gust]);
 }
 
 static double gust_next(gust_gen_t *g)
 {
     return g->on ? g->sigma_u * aenl_rng_gauss(&g->rng) : 0.0;
+}
+
+aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n, double *w,
+                                   aenl_err_t *err)
+{
+    if (run == NULL || w == NULL || n == 0 || !isfinite(run->dt) || !(run->dt > 0.0) ||
+        !isfinite(T) || !(T > 0.0))
+    {
+        aenl_err_set(err, "gust series: need a run, n > 0 and finite dt > 0, T > 0");
+        return AENL_E_ARG;
+    }
+    gust_gen_t g;
+    double z[2] = {0.0, 0.0};
+    const int ns = run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
+    gust_setup(&g, run, ns, T, 1.0, z);
+    for (size_t k = 0; k < n; ++k)
+    {
+        w[k] = ns == 1 ? z[0] : SIM_SQRT3 * z[0] + (1.0 - SIM_SQRT3) * z[1];
+        const double u = gust_next(&g);
+        if (ns == 1)
+        {
+            z[0] = g.e * z[0] + (1.0 - g.e) * u;
+        }
+        else
+        {
+            const double z1 = z[0];
+            z[0] = g.e * z1 + g.g1 * u;
+            z[1] = g.e * (g.hold * z1 + z[1]) + g.g2 * u;
+        }
+    }
+    return AENL_OK;
 }
 
 static void add_noise(aenl_sim_result_t *res, const aenl_sim_run_t *run)
@@ -738,7 +821,7 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
         return AENL_E_ARG;
     }
     if ((st = aenl_sim_validate(model, run, err)) != AENL_OK ||
-        (st = sim_sys_build(model, aenl_sim_velocity(model), run->turbulence, run->turb_length,
+        (st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
                             &sys, err)) != AENL_OK ||
         (st = alloc_result(&sys, run, res, err)) != AENL_OK)
     {
@@ -855,7 +938,7 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         return AENL_E_ARG;
     }
     if ((st = aenl_sim_validate(model, run, err)) != AENL_OK ||
-        (st = sim_sys_build(model, aenl_sim_velocity(model), run->turbulence, run->turb_length,
+        (st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
                             &sys, err)) != AENL_OK ||
         (st = alloc_result(&sys, run, res, err)) != AENL_OK)
     {

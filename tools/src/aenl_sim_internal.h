@@ -9,10 +9,11 @@
  *
  *     M q̈ = −C q̇ − K q − κ∘R(q) + Ez z + Eg g + fvec φ(t)
  *     ż   = Zq q + Zqd q̇ + diag(Zz) z + Zg g
- *     ġ   = (−g + u(t)) / T_g                               (only with turbulence)
+ *     ġ   = (−g + u(t)) / T_g                               (turbulence, first order)
  *
- * with state x = [q, q̇, z, g] and φ(t) = Σ_i f_amp[i] exp(−f_rate[i] t) (the airfoil2dof
- * start-up terms f, g of MODELS.md §1.3).
+ * or, for the Dryden spectrum, g = √3 g1 + (1 − √3) g2 with T_g ġ1 = −g1 + u, T_g ġ2 = −g2 + g1,
+ * with state x = [q, q̇, z, g] or [q, q̇, z, g1, g2] and φ(t) = Σ_i f_amp[i] exp(−f_rate[i] t) (the
+ * airfoil2dof start-up terms f, g of MODELS.md §1.3).
  */
 #ifndef AENL_SIM_INTERNAL_H
 #define AENL_SIM_INTERNAL_H
@@ -24,12 +25,15 @@
 #define SIM_PSI2 0.335
 #define SIM_EPS1 0.0455
 #define SIM_EPS2 0.3
+/* sqrt(3), the lead of the Dryden vertical-gust filter (1 + sqrt(3) T s) */
+#define SIM_SQRT3 1.7320508075688772
 
 typedef struct sim_sys
 {
     aenl_sim_type_t type;
     int nq, nz, nx;
-    int gust;                           /* 1: x[nx-1] is the gust angle */
+    int gust; /* gust filter states at the end of x: 0, 1 (x[nx-1] is the gust angle) or 2 (Dryden)
+               */
     int dof[AENL_SIM_MAX_Q];            /* law slot (aenl_sim_dof_t) of each q */
     aenl_sim_law_t law[AENL_SIM_MAX_Q]; /* law of each q */
     double M[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
@@ -65,9 +69,15 @@ typedef struct sim_mode
     sim_branch_t b[AENL_SIM_MAX_Q];
 } sim_mode_t;
 
-/** Assemble the generic form at `velocity`; gust states added when with_gust. */
-aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int with_gust,
+/** Gust filter states a run needs: 0 without turbulence, 1 first order, 2 Dryden. */
+int sim_gust_states(const aenl_sim_run_t *run);
+
+/** Assemble the generic form at `velocity` with n_gust gust filter states (sim_gust_states). */
+aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int n_gust,
                             double gust_length, sim_sys_t *sys, aenl_err_t *err);
+
+/** The gust angle g of state x (0 without turbulence). */
+double sim_gust_angle(const sim_sys_t *sys, const double *x);
 
 /** Gap boundaries of law on the branch of direction dir. */
 void sim_law_bounds(const aenl_sim_law_t *law, int dir, double *lo, double *hi);

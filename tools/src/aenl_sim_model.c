@@ -640,7 +640,29 @@ static void build_section(const aenl_sim_model_t *model, double U, int with_gust
     s->out_q[2] = 2;
 }
 
-aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int with_gust,
+int sim_gust_states(const aenl_sim_run_t *run)
+{
+    if (!run->turbulence)
+    {
+        return 0;
+    }
+    return run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
+}
+
+double sim_gust_angle(const sim_sys_t *s, const double *x)
+{
+    switch (s->gust)
+    {
+        case 1:
+            return x[s->nx - 1];
+        case 2:
+            return SIM_SQRT3 * x[s->nx - 2] + (1.0 - SIM_SQRT3) * x[s->nx - 1];
+        default:
+            return 0.0;
+    }
+}
+
+aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int n_gust,
                             double gust_length, sim_sys_t *sys, aenl_err_t *err)
 {
     int i;
@@ -653,13 +675,13 @@ aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int 
     sys->type = model->type;
     if (model->type == AENL_SIM_AIRFOIL2DOF)
     {
-        build_airfoil(model, velocity, with_gust, gust_length, sys);
+        build_airfoil(model, velocity, n_gust > 0, gust_length, sys);
     }
     else
     {
-        build_section(model, velocity, with_gust, gust_length, sys);
+        build_section(model, velocity, n_gust > 0, gust_length, sys);
     }
-    sys->gust = with_gust ? 1 : 0;
+    sys->gust = n_gust > 2 ? 2 : (n_gust < 0 ? 0 : n_gust);
     sys->nx = 2 * sys->nq + sys->nz + sys->gust;
     for (i = 0; i < sys->nq; ++i)
     {
@@ -680,7 +702,7 @@ static void loads(const sim_sys_t *s, double t, const double *x, int with_forcin
 {
     const int nq = s->nq, nz = s->nz;
     const double *q = x, *qd = x + nq, *z = x + (ptrdiff_t)2 * nq;
-    const double g = s->gust ? x[s->nx - 1] : 0.0;
+    const double g = sim_gust_angle(s, x);
     double phi = 0.0;
     int i, j;
     if (with_forcing && s->forcing)
@@ -706,7 +728,7 @@ static void lag_rhs(const sim_sys_t *s, const double *x, double u, double *dx)
 {
     const int nq = s->nq, nz = s->nz;
     const double *q = x, *qd = x + nq, *z = x + (ptrdiff_t)2 * nq;
-    const double g = s->gust ? x[s->nx - 1] : 0.0;
+    const double g = sim_gust_angle(s, x);
     int k, j;
     for (k = 0; k < nz; ++k)
     {
@@ -717,9 +739,14 @@ static void lag_rhs(const sim_sys_t *s, const double *x, double u, double *dx)
         }
         dx[2 * nq + k] = acc;
     }
-    if (s->gust)
+    if (s->gust == 1)
     {
         dx[s->nx - 1] = (u - g) / s->gust_T;
+    }
+    else if (s->gust == 2)
+    {
+        dx[s->nx - 2] = (u - x[s->nx - 2]) / s->gust_T;
+        dx[s->nx - 1] = (x[s->nx - 2] - x[s->nx - 1]) / s->gust_T;
     }
 }
 

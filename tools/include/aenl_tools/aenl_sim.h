@@ -27,12 +27,19 @@
  * [M−(x), M+(x)]. Output is sampled on the uniform grid t_k = k dt from the dense output.
  *
  * Turbulence (optional broadband forcing, [excitation] type = turbulence): a vertical gust
- * velocity w_g, first-order (Dryden-like) filtered white noise with time constant T = L/U:
- *     dw_g/dt = (−w_g + u(t)) / T,
- * where u is white noise held constant over each output interval dt (a new Gaussian value per
+ * velocity w_g, filtered white noise with time constant T = L/U, of one of two spectra
+ * ([excitation] spectrum):
+ *  - first_order (default): dw_g/dt = (−w_g + u(t)) / T, autocorrelation σ² exp(−|τ|/T);
+ *  - dryden: the Dryden vertical-gust filter (1 + √3 T s)/(1 + T s)² as two lags in series,
+ *    T z1' = −z1 + u, T z2' = −z2 + z1, w_g = √3 z1 + (1 − √3) z2; autocorrelation
+ *    σ² (1 − |τ|/(2T)) exp(−|τ|/T): at the same variance half the first order's spectral
+ *    density at low frequency and 1.5 times it at high frequency (both fall as ω⁻²).
+ * u is white noise held constant over each output interval dt (a new Gaussian value per
  * interval from the seeded portable generator). The variance of u is chosen so that the sampled
- * gust has the exact stationary standard deviation std(w_g) = intensity · U: with e = exp(−dt/T),
- * var(u) = (intensity U)² (1 + e)/(1 − e). The gust enters as a gust angle of attack w_g/U added
+ * gust has the exact stationary standard deviation std(w_g) = intensity · U (the stationary
+ * covariance of the exactly discretised filter; first order: with e = exp(−dt/T),
+ * var(u) = (intensity U)² (1 + e)/(1 − e)), and the filter starts in a draw from that stationary
+ * distribution. The gust enters as a gust angle of attack w_g/U added
  * to the 3/4-chord downwash and passes through the same Wagner filter as the motion-induced
  * downwash (a simplification of the Küssner sharp-edged-gust function). L is `length_scale`:
  * semichords for airfoil2dof (default 2), metres for section3dof (default 0.25 m). The hold
@@ -56,7 +63,7 @@
 
 #define AENL_SIM_MAX_Q    3 /**< structural DOFs */
 #define AENL_SIM_MAX_Z    8 /**< aerodynamic lag states (incl. gust filter states) */
-#define AENL_SIM_MAX_X    (2 * AENL_SIM_MAX_Q + AENL_SIM_MAX_Z + 1)
+#define AENL_SIM_MAX_X    (2 * AENL_SIM_MAX_Q + AENL_SIM_MAX_Z + 2)
 #define AENL_SIM_MAX_POLY 9 /**< polynomial restoring law: up to x^9 */
 #define AENL_SIM_N_DOF    3 /**< law slots: pitch, plunge, flap */
 
@@ -126,6 +133,13 @@ typedef struct aenl_sim_model
     double v0[AENL_SIM_N_DOF];          /**< initial velocity per DOF, per model time unit */
 } aenl_sim_model_t;
 
+/** Spectrum of the turbulence's gust velocity (see the file comment). */
+typedef enum aenl_sim_gust
+{
+    AENL_SIM_GUST_FIRST_ORDER = 0, /**< one lag: exp(−|τ|/T) autocorrelation */
+    AENL_SIM_GUST_DRYDEN = 1       /**< the Dryden vertical-gust filter (two lags) */
+} aenl_sim_gust_t;
+
 /** How to run a simulation: grid, tolerances, excitation and measurement noise. */
 typedef struct aenl_sim_run
 {
@@ -137,7 +151,8 @@ typedef struct aenl_sim_run
     double turb_intensity; /**< std(w_g)/U >= 0 */
     double turb_length;    /**< L: semichords (airfoil2dof) or m (section3dof) > 0 */
     uint64_t turb_seed;
-    double snr; /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
+    aenl_sim_gust_t turb_spectrum; /**< gust spectrum (default first order) */
+    double snr;                    /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
     uint64_t noise_seed;
 } aenl_sim_run_t;
 
@@ -230,7 +245,7 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
  *    as <name>_dot[_deg] (rate per model time unit). Default 0.
  *  - [excitation] type = none | turbulence, intensity (std(w_g)/U, >= 0), length_scale (L:
- *    semichords or m), seed.
+ *    semichords or m), spectrum = first_order | dryden (first_order), seed.
  *  - [run] duration*, dt* (model time unit), rtol (1e-10), atol (1e-12).
  *  - [noise] snr* (> 0, std(signal)/std(noise) per channel), seed (42).
  *  Unknown sections or keys, a key given twice, a missing required key, a non-numeric, NaN or
@@ -271,6 +286,16 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
  */
 aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
                                     double h, aenl_sim_result_t *res, aenl_err_t *err);
+
+/**
+ * @brief The gust velocity over intensity and U, w_g/(intensity U), at the output instants
+ *        t_k = k dt, k = 0 .. n-1, for time constant T = L/U (model time unit): the sequence the
+ *        integrators drive the model with for run's turb_seed, turb_spectrum and dt (the filter's
+ *        exact discretisation under the held input). Its stationary variance is 1.
+ * @return AENL_OK; AENL_E_ARG for NULL w, n = 0, or dt or T not finite and > 0.
+ */
+aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n, double *w,
+                                   aenl_err_t *err);
 
 /** @brief Release a result and zero it. Safe on a zeroed result. */
 void aenl_sim_result_free(aenl_sim_result_t *res);
