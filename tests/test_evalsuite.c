@@ -606,6 +606,44 @@ static void test_ini_and_noise_reproduce_the_record(void)
     aenl_eval_case_free(&c);
 }
 
+static void test_another_simulator_keeps_the_design(void)
+{
+    /* --rk4 --dryden: a turbulence case from RK4 and the Dryden spectrum is drawn as the suite's
+     * (same stratum, law and sampling; its gap is scaled to that simulator's own pilot runs), has
+     * a record of its own and says so in its INI. */
+    const long i = find_index(AENL_EVAL_FREEPLAY, AENL_SIM_AIRFOIL2DOF, AENL_SIM_DOF_PITCH,
+                              AENL_EVAL_TURBULENCE);
+    aenl_eval_case_t a, b;
+    make(i, &a);
+    const aenl_eval_options_t opt = {1, AENL_SIM_GUST_DRYDEN};
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        AENL_OK, aenl_eval_case_make_with(SEED, (size_t)i, &opt, &b, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_GUST_FIRST_ORDER, a.run.turb_spectrum);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_GUST_DRYDEN, b.run.turb_spectrum);
+    TEST_ASSERT_EQUAL_INT(a.stratum.variant, b.stratum.variant);
+    TEST_ASSERT_EQUAL_INT(a.model.law[AENL_SIM_DOF_PITCH].kind,
+                          b.model.law[AENL_SIM_DOF_PITCH].kind);
+    if (a.attempt == b.attempt)
+    {
+        TEST_ASSERT_EQUAL_DOUBLE(aenl_sim_velocity(&a.model), aenl_sim_velocity(&b.model));
+        TEST_ASSERT_EQUAL_DOUBLE(a.run.dt, b.run.dt);
+    }
+    check_truth(&b);
+    TEST_ASSERT_TRUE(a.n_samples != b.n_samples ||
+                     memcmp(a.clean, b.clean, a.n_samples * a.n_channels * sizeof(double)) != 0);
+    char path[512];
+    (void)snprintf(path, sizeof(path), "%s/dryden_case.ini", AENL_TEST_TMP_DIR);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_eval_case_write_ini(&b, path, &err), err.msg);
+    aenl_sim_model_t m;
+    aenl_sim_run_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &m, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_GUST_DRYDEN, r.turb_spectrum);
+    aenl_eval_case_free(&a);
+    aenl_eval_case_free(&b);
+}
+
 static void test_rejects_null(void)
 {
     aenl_err_t err;
@@ -626,6 +664,7 @@ int main(void)
     RUN_TEST(test_generated_cases_are_material);
     RUN_TEST(test_case_is_a_function_of_seed_and_index);
     RUN_TEST(test_ini_and_noise_reproduce_the_record);
+    RUN_TEST(test_another_simulator_keeps_the_design);
     RUN_TEST(test_rejects_null);
     return UNITY_END();
 }

@@ -326,12 +326,14 @@ int aenl_cmd_bench(int argc, char **argv)
     const char *what = argc > 1 ? argv[1] : "all";
     if (strcmp(what, "--help") == 0 || strcmp(what, "-h") == 0)
     {
-        printf("usage: aenl bench [moments|simulate|fit|all]\n"
-               "       aenl bench diagnose [--long] [--seeds N]   (hidden-effect matrix; minutes)\n"
-               "       aenl bench identify [--cases N] [--seed S] [--write DIR] [--verbose]\n"
-               "                                         (identification suite; minutes)\n"
-               "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
-               "double; minutes)\n");
+        printf(
+            "usage: aenl bench [moments|simulate|fit|all]\n"
+            "       aenl bench diagnose [--long] [--seeds N]   (hidden-effect matrix; minutes)\n"
+            "       aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
+            "                           [--verbose]\n"
+            "                                         (identification suite; minutes)\n"
+            "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
+            "double; minutes)\n");
         return AENL_EXIT_OK;
     }
     if (strcmp(what, "moments") == 0)

@@ -409,15 +409,27 @@ typedef struct design
     aenl_rng_t rng;
     aenl_eval_case_t *c;
     int dof;
-    aenl_sim_law_t unit; /* the law at unit amplitude */
-    double center;       /* centre of the unit-amplitude oscillation */
-    double v_lo, v_hi;   /* velocities a test could fly */
-    double omega;        /* dominant angular frequency, per model time unit */
-    double decay_factor; /* decay: designed amplitude ratio over one release */
-    int kick_dof;        /* the DOF kicked (decay), displaced (LCO) or watched (turbulence) */
-    double kick_gain;    /* decay: kick scale from the pilot ring-down */
-    char why[96];        /* rejection reason */
+    aenl_sim_law_t unit;     /* the law at unit amplitude */
+    double center;           /* centre of the unit-amplitude oscillation */
+    double v_lo, v_hi;       /* velocities a test could fly */
+    double omega;            /* dominant angular frequency, per model time unit */
+    double decay_factor;     /* decay: designed amplitude ratio over one release */
+    int kick_dof;            /* the DOF kicked (decay), displaced (LCO) or watched (turbulence) */
+    double kick_gain;        /* decay: kick scale from the pilot ring-down */
+    char why[96];            /* rejection reason */
+    aenl_eval_options_t opt; /* simulator variant */
 } design_t;
+
+/* One run of the design's simulator (the event integrator, or naive RK4 at 8 steps a sample). */
+static aenl_status_t simulate(const design_t *d, const aenl_sim_model_t *m, const aenl_sim_run_t *r,
+                              aenl_sim_result_t *res, aenl_err_t *err)
+{
+    if (d->opt.rk4)
+    {
+        return aenl_sim_simulate_rk4(m, r, r->dt / 8.0, res, err);
+    }
+    return aenl_sim_simulate(m, r, res, err);
+}
 
 static void draw_model(design_t *d)
 {
@@ -783,7 +795,7 @@ static aenl_status_t pilot_rms(design_t *d, double *rms, aenl_err_t *err)
     m.law[d->dof].kind = AENL_SIM_LAW_LINEAR;
     r.duration = (double)(n - 1) * r.dt;
     r.snr = 0.0;
-    if ((st = aenl_sim_simulate(&m, &r, &res, err)) != AENL_OK)
+    if ((st = simulate(d, &m, &r, &res, err)) != AENL_OK)
     {
         return st;
     }
@@ -957,6 +969,7 @@ static aenl_status_t design_attempt(design_t *d, aenl_err_t *err)
     if (c->stratum.regime == AENL_EVAL_TURBULENCE)
     {
         c->run.turbulence = 1;
+        c->run.turb_spectrum = d->opt.spectrum;
         c->run.turb_intensity = logu(&d->rng, 0.002, 0.02);
         c->run.turb_seed = aenl_rng_next(&d->rng) >> 16;
         c->amplitude = logu(&d->rng, lo, hi);
@@ -1259,7 +1272,7 @@ static aenl_status_t run_piece(design_t *d, const aenl_sim_model_t *model, size_
     aenl_status_t st;
     r.snr = 0.0;
     r.duration = (double)m * r.dt;
-    if ((st = aenl_sim_simulate(model, &r, &res, e2)) != AENL_OK)
+    if ((st = simulate(d, model, &r, &res, e2)) != AENL_OK)
     {
         return st;
     }
@@ -1330,7 +1343,7 @@ static aenl_status_t pilot_ring(design_t *d, double omega, double *peak, size_t 
     m.v0[d->kick_dof] = d->kick_gain * kick_speed(d, c->amplitude) * omega;
     r.snr = 0.0;
     r.duration = (double)steps * r.dt;
-    if ((st = aenl_sim_simulate(&m, &r, &res, e2)) != AENL_OK)
+    if ((st = simulate(d, &m, &r, &res, e2)) != AENL_OK)
     {
         return st;
     }
@@ -1513,6 +1526,13 @@ static void append_reason(char *buf, size_t cap, const char *why)
 aenl_status_t aenl_eval_case_make(uint64_t suite_seed, size_t index, aenl_eval_case_t *out,
                                   aenl_err_t *err)
 {
+    return aenl_eval_case_make_with(suite_seed, index, NULL, out, err);
+}
+
+aenl_status_t aenl_eval_case_make_with(uint64_t suite_seed, size_t index,
+                                       const aenl_eval_options_t *opt, aenl_eval_case_t *out,
+                                       aenl_err_t *err)
+{
     char reasons[AENL_EVAL_REASONS_CAP] = "";
     if (out == NULL)
     {
@@ -1526,6 +1546,10 @@ aenl_status_t aenl_eval_case_make(uint64_t suite_seed, size_t index, aenl_eval_c
         aenl_err_t e2;
         aenl_err_clear(&e2);
         design_init(&d, out, suite_seed, index, attempt);
+        if (opt != NULL)
+        {
+            d.opt = *opt;
+        }
         st = design_attempt(&d, &e2);
         if (st == AENL_OK)
         {

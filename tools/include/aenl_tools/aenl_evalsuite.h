@@ -222,6 +222,23 @@ const char *aenl_eval_dof_name(int dof);
 aenl_status_t aenl_eval_case_make(uint64_t suite_seed, size_t index, aenl_eval_case_t *out,
                                   aenl_err_t *err);
 
+/** A simulator other than the suite's own, for a look at how identification carries over. */
+typedef struct aenl_eval_options
+{
+    int rk4;                  /**< naive fixed-step RK4 at 8 steps a sample (aenl_sim_simulate_rk4:
+                                   no event location; hysteresis switches on the rate's sign and
+                                   never sticks) instead of the event-located integrator */
+    aenl_sim_gust_t spectrum; /**< gust spectrum of the turbulence records (first order: 0) */
+} aenl_eval_options_t;
+
+/**
+ * @brief aenl_eval_case_make with another simulator (opt NULL: the suite's own). The design and
+ *        truth are drawn the same way, every run of the design (pilots included) uses opt.
+ */
+aenl_status_t aenl_eval_case_make_with(uint64_t suite_seed, size_t index,
+                                       const aenl_eval_options_t *opt, aenl_eval_case_t *out,
+                                       aenl_err_t *err);
+
 /**
  * @brief The design of one attempt without simulating: stratum, model, run and truth (the
  *        record fields stay empty). For checks of the truth against the law.
