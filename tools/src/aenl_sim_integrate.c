@@ -622,7 +622,6 @@ typedef struct gust_gen
     aenl_rng_t rng;
     double sigma_u;
     int on;
-    int n;          /* filter states: 1 first order, 2 Dryden */
     double e, hold; /* exp(-dt/T); dt/T */
     double g1, g2;  /* the held input's weights on the states over one interval (Dryden) */
 } gust_gen_t;
@@ -651,7 +650,6 @@ static void gust_setup(gust_gen_t *g, const aenl_sim_run_t *run, int n, double T
 {
     memset(g, 0, sizeof(*g));
     g->on = 1;
-    g->n = n;
     aenl_rng_seed(&g->rng, run->turb_seed);
     const double h = run->dt / T, e = exp(-h);
     g->e = e;
@@ -712,7 +710,7 @@ aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n
     gust_setup(&g, run, ns, T, 1.0, z);
     for (size_t k = 0; k < n; ++k)
     {
-        w[k] = ns == 1 ? z[0] : SIM_SQRT3 * z[0] + (1.0 - SIM_SQRT3) * z[1];
+        w[k] = ns == 1 ? z[0] : sim_dryden_output(z[0], z[1]);
         const double u = gust_next(&g);
         if (ns == 1)
         {

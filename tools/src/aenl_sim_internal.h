@@ -76,6 +76,9 @@ int sim_gust_states(const aenl_sim_run_t *run);
 aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int n_gust,
                             double gust_length, sim_sys_t *sys, aenl_err_t *err);
 
+/** The Dryden filter's output from its two lag states: sqrt(3) z1 + (1 - sqrt(3)) z2. */
+double sim_dryden_output(double z1, double z2);
+
 /** The gust angle g of state x (0 without turbulence). */
 double sim_gust_angle(const sim_sys_t *sys, const double *x);
 

@@ -649,6 +649,11 @@ int sim_gust_states(const aenl_sim_run_t *run)
     return run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
 }
 
+double sim_dryden_output(double z1, double z2)
+{
+    return SIM_SQRT3 * z1 + (1.0 - SIM_SQRT3) * z2;
+}
+
 double sim_gust_angle(const sim_sys_t *s, const double *x)
 {
     switch (s->gust)
@@ -656,7 +661,7 @@ double sim_gust_angle(const sim_sys_t *s, const double *x)
         case 1:
             return x[s->nx - 1];
         case 2:
-            return SIM_SQRT3 * x[s->nx - 2] + (1.0 - SIM_SQRT3) * x[s->nx - 1];
+            return sim_dryden_output(x[s->nx - 2], x[s->nx - 1]);
         default:
             return 0.0;
     }
