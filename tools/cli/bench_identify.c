@@ -110,11 +110,12 @@ static void usage(void)
            "The identification evaluation suite (issue 4): N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
-           "the suite's designs with naive fixed-step RK4 (8 steps a sample, no event location,\n"
+           "the suite's designs with naive fixed-step RK4 (%d steps a sample, no event location,\n"
            "hysteresis without sticking) and --dryden drives the turbulence records with the\n"
            "Dryden gust spectrum: records from another simulator. --write DIR saves every\n"
-           "case's INI (rerun with `aenl simulate`, plus --rk4 dt/8 for --rk4), the CSV of\n"
-           "every miss and results.tsv; --verbose prints one line per case.\n");
+           "case's INI (rerun with `aenl simulate`, plus --rk4 dt/%d for --rk4), the CSV of\n"
+           "every miss and results.tsv; --verbose prints one line per case.\n",
+           AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
 static int parse_args(int argc, char **argv, args_t *a)
@@ -797,11 +798,17 @@ int aenl_bench_identify(int argc, char **argv)
            a.cases, a.seed);
     if (a.sim.rk4 || a.sim.spectrum == AENL_SIM_GUST_DRYDEN)
     {
-        printf("records from another simulator:%s%s\n",
-               a.sim.rk4 ? " naive fixed-step RK4 (8 steps a sample, no event location, no "
-                           "sticking)"
-                         : "",
-               a.sim.spectrum == AENL_SIM_GUST_DRYDEN ? " Dryden gust spectrum" : "");
+        printf("records from another simulator:");
+        if (a.sim.rk4)
+        {
+            printf(" naive fixed-step RK4 (%d steps a sample, no event location, no sticking)",
+                   AENL_EVAL_RK4_STEPS);
+        }
+        if (a.sim.spectrum == AENL_SIM_GUST_DRYDEN)
+        {
+            printf("%s Dryden gust spectrum", a.sim.rk4 ? ";" : "");
+        }
+        printf("\n");
     }
     (void)fflush(stdout);
     const double t_start = now_s();

@@ -420,13 +420,13 @@ typedef struct design
     aenl_eval_options_t opt; /* simulator variant */
 } design_t;
 
-/* One run of the design's simulator (the event integrator, or naive RK4 at 8 steps a sample). */
+/* One run of the design's simulator (the event integrator, or naive RK4). */
 static aenl_status_t simulate(const design_t *d, const aenl_sim_model_t *m, const aenl_sim_run_t *r,
                               aenl_sim_result_t *res, aenl_err_t *err)
 {
     if (d->opt.rk4)
     {
-        return aenl_sim_simulate_rk4(m, r, r->dt / 8.0, res, err);
+        return aenl_sim_simulate_rk4(m, r, r->dt / AENL_EVAL_RK4_STEPS, res, err);
     }
     return aenl_sim_simulate(m, r, res, err);
 }

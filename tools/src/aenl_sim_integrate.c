@@ -706,7 +706,7 @@ aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n
     }
     gust_gen_t g;
     double z[2] = {0.0, 0.0};
-    const int ns = run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
+    const int ns = sim_gust_order(run->turb_spectrum);
     gust_setup(&g, run, ns, T, 1.0, z);
     for (size_t k = 0; k < n; ++k)
     {

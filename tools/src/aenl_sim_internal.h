@@ -69,7 +69,10 @@ typedef struct sim_mode
     sim_branch_t b[AENL_SIM_MAX_Q];
 } sim_mode_t;
 
-/** Gust filter states a run needs: 0 without turbulence, 1 first order, 2 Dryden. */
+/** Lag states of a gust spectrum's filter: 1 first order, 2 Dryden. */
+int sim_gust_order(aenl_sim_gust_t spectrum);
+
+/** Gust filter states a run needs: 0 without turbulence, else sim_gust_order. */
 int sim_gust_states(const aenl_sim_run_t *run);
 
 /** Assemble the generic form at `velocity` with n_gust gust filter states (sim_gust_states). */

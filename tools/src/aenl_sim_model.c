@@ -640,13 +640,14 @@ static void build_section(const aenl_sim_model_t *model, double U, int with_gust
     s->out_q[2] = 2;
 }
 
+int sim_gust_order(aenl_sim_gust_t spectrum)
+{
+    return spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
+}
+
 int sim_gust_states(const aenl_sim_run_t *run)
 {
-    if (!run->turbulence)
-    {
-        return 0;
-    }
-    return run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? 2 : 1;
+    return run->turbulence ? sim_gust_order(run->turb_spectrum) : 0;
 }
 
 double sim_dryden_output(double z1, double z2)
@@ -686,7 +687,7 @@ aenl_status_t sim_sys_build(const aenl_sim_model_t *model, double velocity, int 
     {
         build_section(model, velocity, n_gust > 0, gust_length, sys);
     }
-    sys->gust = n_gust > 2 ? 2 : (n_gust < 0 ? 0 : n_gust);
+    sys->gust = n_gust;
     sys->nx = 2 * sys->nq + sys->nz + sys->gust;
     for (i = 0; i < sys->nq; ++i)
     {

@@ -222,12 +222,15 @@ const char *aenl_eval_dof_name(int dof);
 aenl_status_t aenl_eval_case_make(uint64_t suite_seed, size_t index, aenl_eval_case_t *out,
                                   aenl_err_t *err);
 
+/** RK4 steps per output sample of aenl_eval_options_t's rk4. */
+#define AENL_EVAL_RK4_STEPS 8
+
 /** A simulator other than the suite's own, for a look at how identification carries over. */
 typedef struct aenl_eval_options
 {
-    int rk4;                  /**< naive fixed-step RK4 at 8 steps a sample (aenl_sim_simulate_rk4:
-                                   no event location; hysteresis switches on the rate's sign and
-                                   never sticks) instead of the event-located integrator */
+    int rk4; /**< naive fixed-step RK4, AENL_EVAL_RK4_STEPS a sample (aenl_sim_simulate_rk4:
+                  no event location; hysteresis switches on the rate's sign and
+                  never sticks) instead of the event-located integrator */
     aenl_sim_gust_t spectrum; /**< gust spectrum of the turbulence records (first order: 0) */
 } aenl_eval_options_t;
 
