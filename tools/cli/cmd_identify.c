@@ -603,6 +603,11 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
         printf("  limit cycle: sustained oscillation of constant amplitude in %s (kurtosis %.2f); "
                "a linear structure has none\n",
                r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
+        if (r->verdict >= 0)
+        {
+            printf("  one orbit does not tell polynomial, freeplay and hysteresis apart: the class "
+                   "is a guess among the three (confidence 1/3 for the class)\n");
+        }
     }
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
     if (r->verdict >= 0)
@@ -610,10 +615,10 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
         const aenl_identify_channel_t *ch = &r->ch[r->verdict];
         printf("verdict: %s in channel %s (confidence %.3f", class_label(&ch->res), ch->name,
                r->verdict_confidence);
-        if (r->verdict_share < 1.0)
+        if (r->verdict_share > 0.0 && r->verdict_share < 1.0)
         {
-            printf(" = %.3f for the class in %s × %.3f for the channel", (double)ch->res.confidence,
-                   ch->name, r->verdict_share);
+            printf(" = %.3f for the class in %s × %.3f for the channel",
+                   r->verdict_confidence / r->verdict_share, ch->name, r->verdict_share);
         }
         printf(")");
         if (ch->res.n_switch > 0)

@@ -1273,12 +1273,20 @@ static double evidence_share(const aenl_identify_result_t *out, int by_rfs)
 }
 
 /* The verdict's confidence (aenl_identify_result_t.verdict_confidence): the class given the
- * channel, as the channel's laws weigh it, times the channel's share. */
+ * channel, as the channel's laws weigh it, times the channel's share. On a limit cycle the laws
+ * are not weighed: over one orbit every channel is a periodic function of one phase, a law
+ * depending on the direction of motion is any function of it and a law the same both ways any
+ * even one of it, so the coupling's harmonics match each law as well as the law itself does and
+ * the criterion gains between the nonlinear laws measure the orbit's shape, not the law. The
+ * record says only that the structure is nonlinear: each of the nonlinear classes is as likely. */
 static double verdict_confidence(const aenl_identify_result_t *out)
 {
     if (out->verdict >= 0 && (size_t)out->verdict < out->n_channels)
     {
-        return (double)out->ch[out->verdict].res.confidence * out->verdict_share;
+        const double cls = out->limit_cycle >= 0
+                               ? 1.0 / (double)(AENL_CLASS_COUNT - AENL_CLASS_POLYNOMIAL)
+                               : (double)out->ch[out->verdict].res.confidence;
+        return cls * out->verdict_share;
     }
     double conf = 1.0;
     int any = 0;

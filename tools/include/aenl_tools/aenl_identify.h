@@ -123,7 +123,9 @@ typedef struct aenl_identify_result
                                     among the nonlinear channels', or, named by the limit-cycle
                                     rule, its polynomial weight among the linear channels'
                                     (1 when it is the only one; 0 when none is named) */
-    double verdict_confidence; /**< the named channel's confidence times verdict_share; with
+    double verdict_confidence; /**< the named channel's confidence times verdict_share (on a
+                                    limit cycle 1/3, each nonlinear class as likely, times
+                                    verdict_share: one orbit does not tell the laws apart); with
                                     none named, the smallest of the decided channels' (linear),
                                     0 when no channel was decided */
     int decay_train;           /**< the motion decays between the impulses (aenl_impulse.h) */
