@@ -181,8 +181,8 @@ static void test_identify_limit_cycle_does_not_weigh_the_laws(void)
     double sum = 0.0;
     for (size_t k = 0; k < r.n_channels; ++k)
     {
-        sum += r.ch[k].res.cls > AENL_CLASS_LINEAR && r.ch[k].evidence > 0.0 ? r.ch[k].evidence
-                                                                              : 0.0;
+        sum +=
+            r.ch[k].res.cls > AENL_CLASS_LINEAR && r.ch[k].evidence > 0.0 ? r.ch[k].evidence : 0.0;
     }
     TEST_ASSERT_TRUE(sum > 0.0);
     const double share = r.ch[r.verdict].evidence / sum;
