@@ -408,13 +408,16 @@ static void test_cli_identify_limit_cycle_and_forced(void)
     const char *out = eval_table(1, "id_lco.csv", path, sizeof(path), &r);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  limit cycle: "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: polynomial"), out);
-    /* the other channel's polynomial weight takes a share of the verdict's confidence: the
-     * line gives both factors */
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, " for the class in alpha × "), out);
+    /* one orbit does not tell the laws apart: the class counts a third, and the other
+     * channel's polynomial weight takes a share of the verdict's confidence; the line gives
+     * both factors */
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  one orbit does not tell "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, " = 0.333 for the class in alpha × "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, " for the channel)"), out);
     const char *forced[] = {"identify", path, "--forced", NULL};
     out = run_table(forced, &r);
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "limit cycle"), out);
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "one orbit"), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
 }
 
