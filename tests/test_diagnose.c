@@ -4,11 +4,9 @@
  * @brief aenl_diagnose: the signature pieces (Welch peak, noise estimate, distance properties,
  *        rejected records) and representative hidden-effect cases (issue 6): measured data from a
  *        truth model with the effect (parameters and seeds drawn from a seed the diagnosis never
- *        sees, SNR 3), a baseline lacking it. Goals checked: effect and DOF named, the true
- *        parameters inside the reported ranges, the determined ones within 15 % (a hysteresis
- *        loop's alpha_f and M0 on a large limit cycle are reported as not determined), gap
- *        reduced at least 5-fold; null case: none, gap within 2x the noise floor. The full matrix
- * is `aenl bench diagnose` (too slow for CI under the sanitizers).
+ *        sees, SNR 3), a baseline lacking it. Goals checked: effect and DOF named, parameters
+ *        within 15 %, gap reduced at least 5-fold; null case: none, gap within 2x the noise
+ *        floor. The full matrix is `aenl bench diagnose` (too slow for CI under the sanitizers).
  */
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -101,49 +99,6 @@ static void test_chan_setup_noise_and_period(void)
     free(x);
 }
 
-/* The dominant frequency of a sustained oscillation to a small fraction of the record's
- * resolution 1/span (analytic: the sinusoid's own frequency, off the Welch and DFT grids), and
- * its phase wander: a few hundredths of a cycle for the sinusoid in noise, more than a cycle for
- * a noise-driven resonance (AR(2), damping ratio 0.05) whose peak frequency says little. */
-static void test_signature_frequency_and_wander(void)
-{
-    const size_t n = 20000;
-    const double f_true = 1.0 / 97.3;
-    double *x = malloc(n * sizeof(double));
-    TEST_ASSERT_NOT_NULL(x);
-    aenl_rng_t g;
-    aenl_rng_seed(&g, 9);
-    for (size_t i = 0; i < n; ++i)
-    {
-        x[i] = sin(2.0 * PI * f_true * (double)i + 0.3) + 0.3 * aenl_rng_gauss(&g);
-    }
-    aenl_diagnose_chan_t c;
-    aenl_diagnose_sig_t a;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_chan_setup(x, n, &c, &err));
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &a, NULL, &err));
-    printf("sinusoid: frequency error %.3g of 1/span, wander %.3g cycles\n",
-           (a.freq - f_true) * a.span, a.wander);
-    TEST_ASSERT_DOUBLE_WITHIN(0.05 / a.span, f_true, a.freq);
-    TEST_ASSERT_TRUE(a.wander < 0.1);
-    const double w0 = 2.0 * PI / 80.0, zeta = 0.05;
-    const double r = exp(-zeta * w0), a1 = 2.0 * r * cos(w0 * sqrt(1.0 - zeta * zeta));
-    double y1 = 0.0, y2 = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        const double y = a1 * y1 - r * r * y2 + aenl_rng_gauss(&g);
-        y2 = y1;
-        y1 = y;
-        x[i] = y;
-    }
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_chan_setup(x, n, &c, &err));
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &a, NULL, &err));
-    printf("resonance: wander %.3g cycles\n", a.wander);
-    TEST_ASSERT_TRUE(a.wander > 1.0);
-    free(x);
-}
-
 static void test_chan_setup_rejects(void)
 {
     double x[1000];
@@ -230,29 +185,14 @@ static void check_case(const char *name)
     {
         TEST_ASSERT_EQUAL_STRING_MESSAGE(aenl_diagnose_dof_name(c.dof),
                                          aenl_diagnose_dof_name(r.dof), name);
-        double rel[AENL_DIAGNOSE_MAX_PAR], pt[AENL_DIAGNOSE_MAX_PAR], sc[AENL_DIAGNOSE_MAX_PAR];
+        double rel[AENL_DIAGNOSE_MAX_PAR];
         const size_t np =
             aenl_diagnose_param_errors(c.effect, &c.truth.law[c.dof], &r.updated.law[c.dof], rel);
         TEST_ASSERT_TRUE(np >= 1u);
-        TEST_ASSERT_EQUAL_size_t(np,
-                                 aenl_diagnose_law_params(c.effect, &c.truth.law[c.dof], pt, sc));
-        TEST_ASSERT_EQUAL_UINT(np, r.n_par);
         for (size_t i = 0; i < np; ++i)
         {
-            printf("  parameter %zu: relative error %.2f %%, truth %.4g, range %.4g..%.4g%s\n", i,
-                   100.0 * rel[i], pt[i], r.par_lo[i], r.par_hi[i],
-                   r.determined[i] ? "" : " (not determined)");
-            /* the truth lies within the range the diagnosis reports */
-            TEST_ASSERT_TRUE_MESSAGE(pt[i] >= r.par_lo[i] && pt[i] <= r.par_hi[i], name);
-            /* on a large limit cycle a hysteresis loop's describing function fixes delta and
-             * alpha_f - M0 only: alpha_f and M0 are reported as not determined; every other
-             * parameter is determined and within the issue's 15 % */
-            const int ridge = c.effect == AENL_DIAGNOSE_HYSTERESIS && i > 0u;
-            TEST_ASSERT_EQUAL_INT_MESSAGE(!ridge, r.determined[i], name);
-            if (r.determined[i])
-            {
-                TEST_ASSERT_TRUE_MESSAGE(rel[i] <= 0.15, name);
-            }
+            printf("  parameter %zu: relative error %.2f %%\n", i, 100.0 * rel[i]);
+            TEST_ASSERT_TRUE_MESSAGE(rel[i] <= 0.15, name);
         }
         TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] >= 5.0 * r.gap_after[nc], name);
         TEST_ASSERT_TRUE(r.n_dis >= 1u);
@@ -268,22 +208,6 @@ static void check_case(const char *name)
     TEST_ASSERT_EQUAL_STRING(aenl_diagnose_effect_name(c.effect),
                              cJSON_GetObjectItemCaseSensitive(me, "type")->valuestring);
     TEST_ASSERT_TRUE(cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(me, "params")));
-    const cJSON *range = cJSON_GetObjectItemCaseSensitive(me, "params_range");
-    const cJSON *undet = cJSON_GetObjectItemCaseSensitive(me, "undetermined");
-    TEST_ASSERT_TRUE(cJSON_IsObject(range) && cJSON_IsArray(undet));
-    TEST_ASSERT_EQUAL_INT((int)r.n_par, cJSON_GetArraySize(range));
-    int n_undet = 0;
-    for (unsigned i = 0; i < r.n_par; ++i)
-    {
-        n_undet += !r.determined[i];
-    }
-    TEST_ASSERT_EQUAL_INT(n_undet, cJSON_GetArraySize(undet));
-    for (const cJSON *a = range->child; a != NULL; a = a->next)
-    {
-        TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(a));
-        TEST_ASSERT_TRUE(cJSON_GetArrayItem(a, 0)->valuedouble <=
-                         cJSON_GetArrayItem(a, 1)->valuedouble);
-    }
     TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_before")));
     TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_after")));
     TEST_ASSERT_TRUE(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(root, "updated_model")));
@@ -334,7 +258,6 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_welch_peak_at_sinusoid);
     RUN_TEST(test_chan_setup_noise_and_period);
-    RUN_TEST(test_signature_frequency_and_wander);
     RUN_TEST(test_chan_setup_rejects);
     RUN_TEST(test_run_rejects_wrong_step_and_channels);
     RUN_TEST(test_hidden_freeplay_airfoil2dof);

@@ -24,17 +24,12 @@ static void help(void)
            "parameters and seeds drawn from S, S+1, ... (N seeds, default 1), SNR 3, a baseline\n"
            "lacking the effect. --long uses 60 s at 1 kHz (3-DOF) and 12000 samples (2-DOF).\n"
            "Goals (issue 6): effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
-           "null cases: none, gap within 2x the noise floor. A parameter error marked u is one\n"
-           "the diagnosis itself reports as not determined by the record; 'in range' counts the\n"
-           "true parameters inside the reported ranges (README \"Which parameters the record\n"
-           "determines\"); for hysteresis, (af-M0 X) is the error of alpha_f - M0 in %% of the\n"
-           "true gap.\n");
+           "null cases: none, gap within 2x the noise floor.\n");
 }
 
 typedef struct
 {
     unsigned n, named_ok, params_ok, gap_ok;
-    unsigned n_par, in_range, n_undet, undet_miss; /* over named effects' parameters */
     double seconds;
 } tally_t;
 
@@ -68,18 +63,11 @@ static void run_case(size_t k, uint64_t seed, int long_rec, int verbose, tally_t
     {
         np = aenl_diagnose_param_errors(c.effect, &c.truth.law[c.dof], &r.updated.law[c.dof], rel);
     }
-    double worst = 0.0, pt[AENL_DIAGNOSE_MAX_PAR] = {0}, sc[AENL_DIAGNOSE_MAX_PAR];
-    (void)aenl_diagnose_law_params(c.effect, &c.truth.law[c.dof], pt, sc);
-    unsigned in_range = 0;
+    double worst = 0.0;
     for (size_t i = 0; i < np; ++i)
     {
         worst = fmax(worst, rel[i]);
-        in_range += (unsigned)(pt[i] >= r.par_lo[i] && pt[i] <= r.par_hi[i]);
-        t->n_undet += (unsigned)!r.determined[i];
-        t->undet_miss += (unsigned)(!r.determined[i] && rel[i] > 0.15);
     }
-    t->n_par += (unsigned)np;
-    t->in_range += in_range;
     const size_t nc = r.n_channels;
     const double ratio = r.gap_before[nc] / fmax(r.gap_after[nc], 1e-300);
     const double floor_ratio = r.gap_before[nc] / fmax(r.floor_before[nc], 1e-300);
@@ -89,34 +77,18 @@ static void run_case(size_t k, uint64_t seed, int long_rec, int verbose, tally_t
     size_t len = 0;
     for (size_t i = 0; i < np && len < sizeof(errs); ++i)
     {
-        const int w = snprintf(errs + len, sizeof(errs) - len, "%s%.1f%s", i ? "/" : "",
-                               100.0 * rel[i], r.determined[i] ? "" : "u");
+        const int w =
+            snprintf(errs + len, sizeof(errs) - len, "%s%.1f", i ? "/" : "", 100.0 * rel[i]);
         len += w > 0 ? (size_t)w : 0u;
     }
-    if (named && c.effect == AENL_DIAGNOSE_HYSTERESIS)
-    {
-        /* the combination a large limit cycle determines (README "Which parameters the
-         * record determines"), as a fraction of the true gap */
-        const aenl_sim_law_t *tl = &c.truth.law[c.dof], *fl = &r.updated.law[c.dof];
-        const double e = fabs((fl->x_f - fl->preload) - (tl->x_f - tl->preload)) / tl->delta;
-        if (len < sizeof(errs))
-        {
-            (void)snprintf(errs + len, sizeof(errs) - len, " (af-M0 %.1f)", 100.0 * e);
-        }
-    }
-    char range[48] = "-";
-    if (np > 0u)
-    {
-        (void)snprintf(range, sizeof(range), "%u/%zu", in_range, np);
-    }
-    printf("%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-32s in range %-4s  gap %.3g -> "
-           "%.3g (x%.1f, floor %.3g)  %4u sims %6.1f s  %s\n",
+    printf("%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-16s  gap %.3g -> %.3g (x%.1f, "
+           "floor %.3g)  %4u sims %6.1f s  %s\n",
            c.name, (unsigned long long)seed, aenl_diagnose_effect_name(c.effect),
            c.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(c.dof),
            aenl_diagnose_effect_name(r.effect),
            r.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(r.dof),
-           named ? "ok" : "NO", errs, range, r.gap_before[nc], r.gap_after[nc], ratio,
-           r.floor_after[nc], r.n_sims, r.seconds,
+           named ? "ok" : "NO", errs, r.gap_before[nc], r.gap_after[nc], ratio, r.floor_after[nc],
+           r.n_sims, r.seconds,
            (named && (params_ok || c.effect == AENL_DIAGNOSE_NONE) && gap_ok) ? "PASS" : "MISS");
     (void)fflush(stdout);
     t->n++;
@@ -181,8 +153,8 @@ int aenl_bench_diagnose(int argc, char **argv)
     printf("aenl bench diagnose: hidden-effect matrix, SNR 3, %s records\n",
            long_rec ? "long (3-DOF 60 s at 1 kHz, 2-DOF 12000 samples)"
                     : "short (3-DOF 12 s at 500 Hz, 2-DOF 6000 samples)");
-    printf("%-20s %4s  %-17s -> %-17s %-3s  %-51s  %s\n", "case", "seed", "truth", "named", "",
-           "param errors (%), u: not determined; true values in range", "gap before -> after");
+    printf("%-20s %4s  %-17s -> %-17s %-3s  %-21s  %s\n", "case", "seed", "truth", "named", "",
+           "param errors (%)", "gap before -> after");
     tally_t t;
     memset(&t, 0, sizeof(t));
     int found = only == NULL;
@@ -211,8 +183,5 @@ int aenl_bench_diagnose(int argc, char **argv)
            "(%.1f s per case)\n",
            t.n, t.named_ok, t.n, t.params_ok, t.n, t.gap_ok, t.n, t.seconds,
            t.n ? t.seconds / t.n : 0.0);
-    printf("parameters of named effects: %u; true value inside the reported range %u; reported "
-           "not determined %u, of which off by more than 15 %% %u\n",
-           t.n_par, t.in_range, t.n_undet, t.undet_miss);
     return AENL_EXIT_OK;
 }

@@ -17,8 +17,6 @@
 #include "aenl_diagnose_internal.h"
 #include "aenl_tools/aenl_rng.h"
 
-#include <lapacke.h>
-
 #define N_CH_MAX AENL_SIM_MAX_Q
 #define N_FAM    AENL_DIAGNOSE_N_FAMILY
 
@@ -121,37 +119,6 @@ size_t aenl_diagnose_dof_channel(aenl_sim_type_t type, aenl_sim_dof_t dof)
         return dof == AENL_SIM_DOF_PLUNGE ? 1u : 0u;
     }
     return dof == AENL_SIM_DOF_PLUNGE ? 0u : (dof == AENL_SIM_DOF_PITCH ? 1u : 2u);
-}
-
-size_t aenl_diagnose_law_params(aenl_diagnose_effect_t effect, const aenl_sim_law_t *law,
-                                double p[AENL_DIAGNOSE_MAX_PAR],
-                                double scale[AENL_DIAGNOSE_MAX_PAR])
-{
-    switch (effect)
-    {
-        case AENL_DIAGNOSE_FREEPLAY:
-            p[0] = law->delta;
-            p[1] = law->x_f;
-            scale[0] = scale[1] = fabs(law->delta);
-            return 2;
-        case AENL_DIAGNOSE_HYSTERESIS:
-            p[0] = law->delta;
-            p[1] = law->x_f;
-            p[2] = law->preload;
-            scale[0] = scale[1] = scale[2] = fabs(law->delta);
-            return 3;
-        case AENL_DIAGNOSE_POLYNOMIAL:
-            p[0] = law->n_coeffs >= 3u ? law->coeffs[2] : 0.0;
-            scale[0] = fabs(p[0]);
-            return 1;
-        case AENL_DIAGNOSE_PRELOAD:
-            p[0] = law->preload;
-            scale[0] = fabs(p[0]);
-            return 1;
-        case AENL_DIAGNOSE_NONE:
-        default:
-            return 0;
-    }
 }
 
 /* ---- simulation of one model under the record's conditions ------------------------------- */
@@ -660,128 +627,6 @@ static void spec_step(const spec_t *sp, double *step)
     }
 }
 
-/* ---- which parameters the record determines ------------------------------------------------ */
-
-/* Largest span (theta units) of a direction the gap does not bend: beyond it the quadratic model
- * says nothing, and a parameter moving that far along it is not determined. */
-#define RANGE_MAX_SPAN 1.0
-
-/* The range of each parameter of candidate sp over which the model stays within the noise floor
- * of the record: a finite-difference Hessian H of gap^2 in theta at the fit (steps a quarter of
- * the Nelder-Mead steps, the main seeds), the region dtheta' H dtheta / 2 <= floor^2, mapped to
- * the parameters through the Jacobian of theta -> law. Directions H bends less than over
- * RANGE_MAX_SPAN are taken at that span. */
-static aenl_status_t param_ranges(ctx_t *x, const aenl_sim_model_t *base, const spec_t *sp0,
-                                  double floor, aenl_diagnose_result_t *r, aenl_err_t *err)
-{
-    enum
-    {
-        NP = AENL_DIAGNOSE_MAX_PAR
-    };
-    spec_t sp = *sp0; /* objective() records its best on this copy */
-    const unsigned np = sp.n_par;
-    double th[NP], h[NP], p0[NP], sc[NP];
-    memcpy(th, sp0->theta, sizeof(th));
-    spec_step(&sp, h);
-    aenl_sim_law_t law;
-    spec_law(&sp, th, &law);
-    r->n_par = (unsigned)aenl_diagnose_law_params(sp.effect, &law, p0, sc);
-    memcpy(r->par, p0, sizeof(p0));
-    aenl_diagnose_sig_t *sig = malloc(x->n_ch * sizeof(*sig));
-    if (sig == NULL)
-    {
-        aenl_err_set(err, "out of memory (signatures)");
-        return AENL_E_DIM;
-    }
-    obj_t o = {x, base, &sp, sig, err, AENL_OK};
-    double hess[NP * NP] = {0}, jac[NP * NP] = {0};
-    const double j0 = sp0->best;
-    for (unsigned i = 0; i < np; ++i)
-    {
-        h[i] *= 0.25;
-        double t[NP], pp[NP], pm[NP], s_[NP];
-        memcpy(t, th, sizeof(t));
-        t[i] = th[i] + h[i];
-        const double jp = objective(&o, t);
-        spec_law(&sp, t, &law);
-        (void)aenl_diagnose_law_params(sp.effect, &law, pp, s_);
-        t[i] = th[i] - h[i];
-        const double jm = objective(&o, t);
-        spec_law(&sp, t, &law);
-        (void)aenl_diagnose_law_params(sp.effect, &law, pm, s_);
-        hess[i * np + i] = (jp - 2.0 * j0 + jm) / (h[i] * h[i]);
-        for (unsigned k = 0; k < np; ++k)
-        {
-            jac[k * np + i] = (pp[k] - pm[k]) / (2.0 * h[i]);
-        }
-    }
-    for (unsigned i = 0; i < np && o.st == AENL_OK; ++i)
-    {
-        for (unsigned k = i + 1u; k < np && o.st == AENL_OK; ++k)
-        {
-            double v[4];
-            for (unsigned q = 0; q < 4u; ++q)
-            {
-                double t[NP];
-                memcpy(t, th, sizeof(t));
-                t[i] += (q & 1u) ? -h[i] : h[i];
-                t[k] += (q & 2u) ? -h[k] : h[k];
-                v[q] = objective(&o, t);
-            }
-            hess[i * np + k] = hess[k * np + i] = (v[0] - v[1] - v[2] + v[3]) / (4.0 * h[i] * h[k]);
-        }
-    }
-    free(sig);
-    if (o.st != AENL_OK)
-    {
-        return o.st;
-    }
-    /* covariance-like matrix of theta: sum over eigenvectors of 2 floor^2 / lambda v v' */
-    double w[NP];
-    int ok = 1;
-    for (unsigned i = 0; i < np * np; ++i)
-    {
-        ok = ok && isfinite(hess[i]);
-    }
-    if (ok)
-    {
-        ok =
-            LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', (lapack_int)np, hess, (lapack_int)np, w) == 0;
-    }
-    const double f2 = 2.0 * floor * floor;
-    const double lam_min = f2 / (RANGE_MAX_SPAN * RANGE_MAX_SPAN);
-    double cov[NP * NP] = {0};
-    for (unsigned e = 0; e < np; ++e)
-    {
-        const double lam = ok ? fmax(w[e], lam_min) : lam_min;
-        for (unsigned i = 0; i < np; ++i)
-        {
-            for (unsigned k = 0; k < np; ++k)
-            {
-                const double vi = ok ? hess[i * np + e] : (i == e),
-                             vk = ok ? hess[k * np + e] : (k == e);
-                cov[i * np + k] += f2 / lam * vi * vk;
-            }
-        }
-    }
-    for (unsigned k = 0; k < np; ++k)
-    {
-        double var = 0.0;
-        for (unsigned i = 0; i < np; ++i)
-        {
-            for (unsigned j = 0; j < np; ++j)
-            {
-                var += jac[k * np + i] * cov[i * np + j] * jac[k * np + j];
-            }
-        }
-        const double half = sqrt(fmax(var, 0.0));
-        r->par_lo[k] = p0[k] - half;
-        r->par_hi[k] = p0[k] + half;
-        r->determined[k] = half < 0.5 * sc[k];
-    }
-    return AENL_OK;
-}
-
 /* ---- the record ----------------------------------------------------------------------------- */
 
 static int is_time_name(const char *s)
@@ -909,11 +754,6 @@ static void add_disagreements(aenl_diagnose_result_t *r, const double *elem, dou
                     const double env = fmax(a->env[k], b->valid ? b->env[k] : 0.0);
                     p0 = ch->mean - env;
                     p1 = ch->mean + env;
-                }
-                else if (f == AENL_DIAGNOSE_SPECTRUM && e == ch->n_bands)
-                {
-                    p0 = a->freq / r->dt;
-                    p1 = b->valid ? b->freq / r->dt : p0;
                 }
                 else if (f == AENL_DIAGNOSE_SPECTRUM)
                 {
@@ -1280,15 +1120,6 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     }
     memcpy(r->floor_after, fl_after->ch, sizeof(r->floor_after));
     set_sig(r, fl_after, r->fam_after, r->sig_after);
-    if (r->chosen < n_sp)
-    {
-        st = param_ranges(&x, base, &sp[order[r->chosen]],
-                          fmax(fl_after->ch[n_ch], AENL_DIAGNOSE_MIN_FLOOR), r, err);
-        if (st != AENL_OK)
-        {
-            return st;
-        }
-    }
     /* Measurement SNR of the record against the updated model's clean response. */
     for (size_t c = 0; c < n_ch; ++c)
     {

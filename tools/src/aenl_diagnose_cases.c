@@ -200,15 +200,33 @@ aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_tab
     return st;
 }
 
+static double rel_err(double fit, double truth)
+{
+    return fabs(fit - truth) / fmax(fabs(truth), 1e-300);
+}
+
 size_t aenl_diagnose_param_errors(aenl_diagnose_effect_t effect, const aenl_sim_law_t *truth,
                                   const aenl_sim_law_t *fit, double rel[AENL_DIAGNOSE_MAX_PAR])
 {
-    double pt[AENL_DIAGNOSE_MAX_PAR], pf[AENL_DIAGNOSE_MAX_PAR], sc[AENL_DIAGNOSE_MAX_PAR];
-    const size_t n = aenl_diagnose_law_params(effect, truth, pt, sc);
-    (void)aenl_diagnose_law_params(effect, fit, pf, sc);
-    for (size_t i = 0; i < n; ++i)
+    switch (effect)
     {
-        rel[i] = fabs(pf[i] - pt[i]) / fmax(fabs(pt[i]), 1e-300);
+        case AENL_DIAGNOSE_FREEPLAY:
+            rel[0] = rel_err(fit->delta, truth->delta);
+            rel[1] = rel_err(fit->x_f, truth->x_f);
+            return 2;
+        case AENL_DIAGNOSE_HYSTERESIS:
+            rel[0] = rel_err(fit->delta, truth->delta);
+            rel[1] = rel_err(fit->x_f, truth->x_f);
+            rel[2] = rel_err(fit->preload, truth->preload);
+            return 3;
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            rel[0] = rel_err(fit->n_coeffs >= 3u ? fit->coeffs[2] : 0.0, truth->coeffs[2]);
+            return 1;
+        case AENL_DIAGNOSE_PRELOAD:
+            rel[0] = rel_err(fit->preload, truth->preload);
+            return 1;
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return 0;
     }
-    return n;
 }

@@ -17,9 +17,6 @@
 /** Fewest effective samples for a curve node to count. */
 #define AENL_DIAGNOSE_MIN_WEIGHT 10.0
 
-/** Largest phase wander (cycles over the record) of an oscillation whose frequency counts. */
-#define AENL_DIAGNOSE_MAX_WANDER 1.0
-
 /** Quantile probabilities of the amplitude family. */
 extern const double aenl_diagnose_quant_p[AENL_DIAGNOSE_N_QUANT];
 

@@ -319,27 +319,6 @@ aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const ch
     return st;
 }
 
-/* Parameter names of the named effect, in the order of aenl_diagnose_law_params. */
-static const char *par_name(aenl_diagnose_effect_t e, unsigned i)
-{
-    static const char *const fp[] = {"delta", "alpha_f"};
-    static const char *const hy[] = {"delta", "alpha_f", "preload"};
-    switch (e)
-    {
-        case AENL_DIAGNOSE_FREEPLAY:
-            return i < 2u ? fp[i] : "?";
-        case AENL_DIAGNOSE_HYSTERESIS:
-            return i < 3u ? hy[i] : "?";
-        case AENL_DIAGNOSE_POLYNOMIAL:
-            return "c3";
-        case AENL_DIAGNOSE_PRELOAD:
-            return "preload";
-        case AENL_DIAGNOSE_NONE:
-        default:
-            return "?";
-    }
-}
-
 /* ---- JSON
  * ---------------------------------------------------------------------------------------- */
 
@@ -416,18 +395,6 @@ char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_pa
         {
             add_params(params, r);
         }
-        cJSON *range = cJSON_AddObjectToObject(me, "params_range");
-        cJSON *undet = cJSON_AddArrayToObject(me, "undetermined");
-        for (unsigned i = 0; range != NULL && undet != NULL && i < r->n_par; ++i)
-        {
-            cJSON *a = cJSON_AddArrayToObject(range, par_name(r->effect, i));
-            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(r->par_lo[i]));
-            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(r->par_hi[i]));
-            if (!r->determined[i])
-            {
-                (void)cJSON_AddItemToArray(undet, cJSON_CreateString(par_name(r->effect, i)));
-            }
-        }
     }
     (void)cJSON_AddNumberToObject(root, "gap_before", r->gap_before[r->n_channels]);
     (void)cJSON_AddNumberToObject(root, "gap_after", r->gap_after[r->n_channels]);
@@ -474,27 +441,6 @@ static void print_law(FILE *fp, const aenl_sim_law_t *law, aenl_sim_dof_t d)
         default:
             fprintf(fp, "linear");
             break;
-    }
-}
-
-static void print_ranges(FILE *fp, const aenl_diagnose_result_t *r)
-{
-    const int ang = r->effect != AENL_DIAGNOSE_POLYNOMIAL && is_angular(r->dof);
-    const double u = ang ? k_deg : 1.0;
-    unsigned n_undet = 0;
-    fprintf(fp, "\n  range within the noise floor:");
-    for (unsigned i = 0; i < r->n_par; ++i)
-    {
-        fprintf(fp, "%s %s %.4g..%.4g%s%s", i ? ";" : "", par_name(r->effect, i), r->par_lo[i] * u,
-                r->par_hi[i] * u, ang ? " deg" : "",
-                r->determined[i] ? "" : " (not determined by this record)");
-        n_undet += (unsigned)!r->determined[i];
-    }
-    if (n_undet > 0u)
-    {
-        fprintf(fp, "\n  the gap stays within the noise floor while the undetermined parameters "
-                    "move over a range as wide as the gap itself: a record that sweeps the "
-                    "amplitude (a decay, or runs at other speeds) is needed to fix them");
     }
 }
 
@@ -565,7 +511,6 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     {
         fprintf(fp, " in %s: ", aenl_diagnose_dof_name(r->dof));
         print_law(fp, &r->updated.law[r->dof], r->dof);
-        print_ranges(fp, r);
     }
     else if (!r->explained)
     {

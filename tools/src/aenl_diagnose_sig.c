@@ -153,54 +153,6 @@ static size_t pow2_floor(size_t v)
     return p;
 }
 
-/* Dominant frequency of y (cycles per sample) within [f_lo, f_hi]: the largest magnitude of the
- * Hann-windowed, mean-removed y, zero-padded to at least twice its length so that the grid is
- * half the record's resolution, refined by a parabola through the log magnitudes (the peak of a
- * sustained oscillation is then located to a small fraction of 1/n). -1: out of memory. */
-static double peak_freq(const double *y, size_t n, double f_lo, double f_hi)
-{
-    size_t p = 1;
-    while (p < 2u * n)
-    {
-        p *= 2u;
-    }
-    double *re = calloc(2u * p, sizeof(double));
-    if (re == NULL)
-    {
-        return -1.0;
-    }
-    double *im = re + p;
-    double mean = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        mean += y[i];
-    }
-    mean /= (double)n;
-    for (size_t i = 0; i < n; ++i)
-    {
-        re[i] = (0.5 - 0.5 * cos(2.0 * k_pi * (double)i / (double)n)) * (y[i] - mean);
-    }
-    fft(re, im, p);
-    size_t k0 = (size_t)fmax(1.0, floor(f_lo * (double)p));
-    size_t k1 = (size_t)fmin((double)(p / 2u - 1u), ceil(f_hi * (double)p));
-    size_t kb = k0;
-    for (size_t k = k0; k <= k1; ++k)
-    {
-        re[k] = re[k] * re[k] + im[k] * im[k];
-        kb = re[k] > re[kb] ? k : kb;
-    }
-    double off = 0.0;
-    if (kb > k0 && kb < k1 && re[kb - 1u] > 0.0 && re[kb + 1u] > 0.0 && re[kb] > 0.0)
-    {
-        const double a = log(re[kb - 1u]), b = log(re[kb]), c = log(re[kb + 1u]);
-        const double den = a - 2.0 * b + c;
-        off = den < 0.0 ? 0.5 * (a - c) / den : 0.0;
-        off = fabs(off) < 1.0 ? off : 0.0;
-    }
-    free(re);
-    return ((double)kb + off) / (double)p;
-}
-
 /* ---- pre-filter ----------------------------------------------------------------------------- */
 
 /* Low-pass copy of x (4th-order Butterworth); NULL when out of memory or a bad cutoff. */
@@ -519,32 +471,12 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
             acc /= (double)(c->band_hi[b] - c->band_lo[b]);
             s->lpsd[b] = log(fmax(acc, 1e-300));
         }
-        /* the Welch peak to within a Welch bin, then over the whole span and its quarters */
-        const double f0 = psd_peak(p, nb) / (double)c->seg, bin = 1.0 / (double)c->seg;
-        s->freq = peak_freq(ys, m, f0 - bin, f0 + bin);
-        s->span = (double)m;
-        double fq[4], fm = 0.0, v = 0.0;
-        for (size_t q = 0; q < 4u; ++q)
-        {
-            const size_t a = q * m / 4u, b = (q + 1u) * m / 4u;
-            fq[q] = peak_freq(ys + a, b - a, f0 - bin, f0 + bin);
-            fm += 0.25 * fq[q];
-        }
-        for (size_t q = 0; q < 4u; ++q)
-        {
-            v += (fq[q] - fm) * (fq[q] - fm) / 3.0;
-        }
-        s->wander = sqrt(v) * s->span;
-        if (!(s->freq >= 0.0 && fq[0] >= 0.0 && fq[1] >= 0.0 && fq[2] >= 0.0 && fq[3] >= 0.0))
-        {
-            aenl_err_set(err, "out of memory (frequency)");
-            st = AENL_E_DIM;
-        }
+        s->freq = psd_peak(p, nb) / (double)c->seg;
         if (psd != NULL)
         {
             memcpy(psd, p, nb * sizeof(double));
         }
-        s->valid = st == AENL_OK;
+        s->valid = 1;
     }
     free(y);
     free(p);
@@ -563,7 +495,7 @@ size_t aenl_diagnose_n_elements(const aenl_diagnose_chan_t *c, aenl_diagnose_fam
         case AENL_DIAGNOSE_STD:
             return AENL_DIAGNOSE_N_CURVE;
         case AENL_DIAGNOSE_SPECTRUM:
-            return c->n_bands + 1u;
+            return c->n_bands;
         default:
             return 0;
     }
@@ -612,25 +544,7 @@ double aenl_diagnose_element(const aenl_diagnose_chan_t *c, const aenl_diagnose_
             return f == AENL_DIAGNOSE_MEAN ? clampd((a->mean[i] - b->mean[i]) / c->scale)
                                            : clampd((a->sd[i] - b->sd[i]) / c->scale);
         case AENL_DIAGNOSE_SPECTRUM:
-            if (i < c->n_bands)
-            {
-                return clampd(0.5 * (a->lpsd[i] - b->lpsd[i]));
-            }
-            {
-                /* The phase drift between the two over the span, in cycles, where the reference
-                 * keeps its phase to within AENL_DIAGNOSE_MAX_WANDER cycles (a sustained
-                 * oscillation: its frequency is then known to a small fraction of 1/span; a
-                 * broadband response's peak frequency says little). An other record that wanders
-                 * by e cycles more than the reference tends to one cycle of drift as e grows. */
-                if (!(a->wander < AENL_DIAGNOSE_MAX_WANDER))
-                {
-                    *w = 0.0;
-                    return (double)NAN;
-                }
-                const double e = fmax(0.0, b->wander - a->wander);
-                const double d = clampd((a->freq - b->freq) * a->span);
-                return copysign(sqrt((d * d + e * e) / (1.0 + e * e)), d);
-            }
+            return clampd(0.5 * (a->lpsd[i] - b->lpsd[i]));
         default:
             *w = 0.0;
             return (double)NAN;

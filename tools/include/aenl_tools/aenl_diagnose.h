@@ -133,11 +133,8 @@ typedef struct aenl_diagnose_sig
     double sd[AENL_DIAGNOSE_N_CURVE];
     double weight[AENL_DIAGNOSE_N_CURVE]; /**< effective sample size, 0 empty */
     double lpsd[AENL_DIAGNOSE_N_BANDS];   /**< ln of the band-mean PSD */
-    double freq;   /**< dominant frequency, cycles per sample (to a fraction of 1/span) */
-    double span;   /**< samples analysed (after the settling samples) */
-    double wander; /**< SD of the dominant frequency over the span's quarters times span:
-                        cycles the oscillation's phase wanders over the record */
-    double amp;    /**< half of the 1..99 % quantile range */
+    double freq;                          /**< dominant frequency, cycles per sample */
+    double amp;                           /**< half of the 1..99 % quantile range */
 } aenl_diagnose_sig_t;
 
 /** Everything one diagnosis found. */
@@ -159,13 +156,6 @@ typedef struct aenl_diagnose_result
     size_t n_dis;
     aenl_diagnose_cand_t cand[AENL_DIAGNOSE_MAX_CAND];
     size_t n_cand;
-    /** The named effect's parameters (order of aenl_diagnose_param_errors; c3 for the
-     *  polynomial) and the range of each over which the updated model stays within its noise
-     *  floor of the record (README "Which parameters the record determines"); determined[i]
-     *  is 0 where that range spans the parameter's own scale. n_par 0 for NONE. */
-    unsigned n_par;
-    double par[AENL_DIAGNOSE_MAX_PAR], par_lo[AENL_DIAGNOSE_MAX_PAR], par_hi[AENL_DIAGNOSE_MAX_PAR];
-    int determined[AENL_DIAGNOSE_MAX_PAR];
     aenl_diagnose_effect_t effect; /**< the named effect */
     aenl_sim_dof_t dof;            /**< its DOF (meaningless for NONE) */
     size_t chosen;                 /**< index into cand, or n_cand for NONE */
@@ -296,16 +286,6 @@ aenl_status_t aenl_diagnose_case_make(size_t index, uint64_t seed, int long_reco
 /** Simulate a case's truth and return it as a measured table (t + channels). */
 aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_table_t *out,
                                          aenl_err_t *err);
-
-/**
- * @brief The parameters that define `effect` in `law` (freeplay: delta, alpha_f; hysteresis:
- *        delta, alpha_f, preload; polynomial: c3; preload: preload) into p[0..], and the scale
- *        each is judged against (|delta| for the gap's parameters, else its own magnitude);
- *        returns their count (0 for NONE).
- */
-size_t aenl_diagnose_law_params(aenl_diagnose_effect_t effect, const aenl_sim_law_t *law,
-                                double p[AENL_DIAGNOSE_MAX_PAR],
-                                double scale[AENL_DIAGNOSE_MAX_PAR]);
 
 /**
  * @brief Relative errors |fit - truth| / |truth| of the parameters that define `effect`
