@@ -32,8 +32,8 @@ typedef struct sim_sys
 {
     aenl_sim_type_t type;
     int nq, nz, nx;
-    int gust; /* gust filter states at the end of x: 0, 1 (x[nx-1] is the gust angle) or 2 (Dryden)
-               */
+    /* gust filter states at the end of x: 0, 1 (x[nx-1] is the gust angle) or 2 (Dryden) */
+    int gust;
     int dof[AENL_SIM_MAX_Q];            /* law slot (aenl_sim_dof_t) of each q */
     aenl_sim_law_t law[AENL_SIM_MAX_Q]; /* law of each q */
     double M[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q];
