@@ -297,6 +297,29 @@ static void skf_m4f(void)
 #define MS_ITER   2000 /* SQUAREM iterations at most; stops when the log-likelihood levels off */
 #define MS_TOL    1e-9 /* relative log-likelihood gain per iteration that counts as levelled */
 #define MS_PI     3.14159265358979323846
+#define MS_MAX_Q  16 /* compared quantities per record (2 outer modes x 2 pairs x f, zeta) */
+
+/* The compared quantities of one record: relative error and Cramer-Rao floor of each. */
+typedef struct
+{
+    size_t n;
+    size_t mode[MS_MAX_Q];
+    const char *what[MS_MAX_Q]; /* "f" or "zeta" */
+    double err[MS_MAX_Q];       /* identified / true - 1; NaN: no identified pair */
+    double crb[MS_MAX_Q];       /* relative Cramer-Rao floor from this mode's transitions */
+} ms_errs_t;
+
+static void ms_errs_add(ms_errs_t *e, size_t mode, double err, double crb, const char *what)
+{
+    if (e != NULL && e->n < MS_MAX_Q)
+    {
+        e->mode[e->n] = mode;
+        e->what[e->n] = what;
+        e->err[e->n] = err;
+        e->crb[e->n] = crb;
+        e->n++;
+    }
+}
 
 /* Half peak-to-peak and centre of channel 0 over samples [k0, n) (stride 1 or 2). */
 static void amplitude(const double *a, size_t k0, size_t n, size_t stride, double *half,
@@ -342,7 +365,7 @@ static void crb_mode(double f, double zeta, double dt, double n, double *sf, dou
  * pair (the gap: zero pitch stiffness) the positive real eigenvalues (divergence) are compared.
  * Returns the number of compared quantities within 2 % (*n_cmp: compared). */
 static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit, size_t s,
-                        double slope, int *n_cmp)
+                        double slope, int *n_cmp, ms_errs_t *out, int verbose)
 {
     const aenl_em_model_t *em = &fit->model;
     const double u = sm->airfoil.ustar, sl[AENL_SIM_N_DOF] = {slope, 1.0, 1.0};
@@ -355,11 +378,17 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
     if (aenl_sim_modes(sm, u, sl, tm, AENL_SIM_MAX_X, &nt, &err) != AENL_OK ||
         aenl_em_modal(em, s, e, &ne, &no, &err) != AENL_OK)
     {
-        printf("    mode %zu: %s\n", s, err.msg);
+        if (verbose)
+        {
+            printf("    mode %zu: %s\n", s, err.msg);
+        }
         return 0;
     }
     const double n_tr = (double)fit->mode_count[s];
-    printf("    mode %zu (pitch slope %g, %.0f transitions):\n", s, slope, n_tr);
+    if (verbose)
+    {
+        printf("    mode %zu (pitch slope %g, %.0f transitions):\n", s, slope, n_tr);
+    }
     int shown = 0;
     for (size_t i = 0; i < nt; ++i)
     {
@@ -369,6 +398,8 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
         }
         shown = 1;
         const double ft = tm[i].frequency / (2.0 * MS_PI * u); /* omega/omega_alpha -> per tau */
+        double cf, cz;
+        crb_mode(ft, tm[i].damping, em->dt, n_tr, &cf, &cz);
         size_t best = no;
         for (size_t j = 0; j < no; ++j)
         {
@@ -377,23 +408,30 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
                 best = j;
             }
         }
-        double cf, cz;
-        crb_mode(ft, tm[i].damping, em->dt, n_tr, &cf, &cz);
+        const double df = (best == no) ? (double)NAN : e[best].frequency / ft - 1.0;
+        const double dz = (best == no) ? (double)NAN : e[best].damping / tm[i].damping - 1.0;
+        ms_errs_add(out, s, df, cf, "f");
+        ms_errs_add(out, s, dz, cz, "zeta");
+        *n_cmp += 2;
         if (best == no)
         {
-            printf("      true f %.5f zeta %.4f: no identified pair\n", ft, tm[i].damping);
-            *n_cmp += 2;
+            if (verbose)
+            {
+                printf("      true f %.5f zeta %.4f: no identified pair\n", ft, tm[i].damping);
+            }
             continue;
         }
-        const double df = e[best].frequency / ft - 1.0, dz = e[best].damping / tm[i].damping - 1.0;
         n_ok += (fabs(df) <= 0.02) + (fabs(dz) <= 0.02);
-        *n_cmp += 2;
+        if (!verbose)
+        {
+            continue;
+        }
         printf("      f %.5f/%.5f (%+.1f %%, CRB floor %.1f %%)  zeta %.4f/%.4f (%+.1f %%, CRB "
                "floor %.1f %%)\n",
                ft, e[best].frequency, 100.0 * df, 100.0 * cf, tm[i].damping, e[best].damping,
                100.0 * dz, 100.0 * cz);
     }
-    if (!shown)
+    if (!shown && verbose)
     {
         double wr[AENL_SIM_MAX_X], wi[AENL_SIM_MAX_X], A[AENL_SIM_MAX_X * AENL_SIM_MAX_X];
         size_t n = 0;
@@ -418,39 +456,33 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
     return n_ok;
 }
 
-static void must_show(void)
+/* Simulate the must-show record of (sm, run), alpha and xi interleaved into *y (caller frees),
+ * and identify it (fit: caller frees). */
+static aenl_status_t fit_record(const aenl_sim_model_t *sm, const aenl_sim_run_t *run, double **y,
+                                size_t *n, aenl_em_result_t *fit, aenl_err_t *err)
 {
-    const char *ini = AENL_SOURCE_DIR "/tools/examples/fit_airfoil_turbulence.ini";
-    aenl_sim_model_t sm;
-    aenl_sim_run_t run;
-    aenl_sim_result_t rec, lco;
-    aenl_em_result_t fit;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    const double t0 = now_s();
-    if (aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK ||
-        aenl_sim_simulate(&sm, &run, &rec, &err) != AENL_OK)
+    aenl_sim_result_t rec;
+    *y = NULL;
+    aenl_status_t st = aenl_sim_simulate(sm, run, &rec, err);
+    if (st != AENL_OK)
     {
-        printf("  must-show: %s\n", err.msg);
-        return;
+        return st;
     }
-    const size_t n = rec.n_samples;
-    double *y = malloc(2 * n * sizeof(double));
-    double *ys = malloc(sizeof(double) * 2 * 6000);
-    if (y == NULL || ys == NULL)
+    *n = rec.n_samples;
+    *y = malloc(2 * rec.n_samples * sizeof(double));
+    if (*y == NULL)
     {
-        free(y);
-        free(ys);
         aenl_sim_result_free(&rec);
-        return;
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
     }
-    for (size_t k = 0; k < n; ++k)
+    for (size_t k = 0; k < rec.n_samples; ++k)
     {
-        y[2 * k] = rec.y[k];
-        y[2 * k + 1] = rec.y[n + k];
+        (*y)[2 * k] = rec.y[k];
+        (*y)[2 * k + 1] = rec.y[rec.n_samples + k];
     }
     aenl_sim_result_free(&rec);
-    const aenl_sim_law_t *law = &sm.law[AENL_SIM_DOF_PITCH];
+    const aenl_sim_law_t *law = &sm->law[AENL_SIM_DOF_PITCH];
     aenl_em_opts_t o;
     aenl_em_opts_default(&o);
     o.n_states = MS_STATES;
@@ -459,12 +491,50 @@ static void must_show(void)
     o.thresholds[1] = law->x_f + law->delta;
     o.max_iter = MS_ITER;
     o.tol = MS_TOL;
-    o.dt = run.dt;
-    if (aenl_em_fit(y, n, 2, &o, &fit, &err) != AENL_OK)
+    o.dt = run->dt;
+    st = aenl_em_fit(*y, *n, 2, &o, fit, err);
+    if (st != AENL_OK)
+    {
+        free(*y);
+        *y = NULL;
+    }
+    return st;
+}
+
+/* The two outer modes and the inner one of a fit against the true sub-models. */
+static int compare_fit(const aenl_sim_model_t *sm, const aenl_em_result_t *fit, int *n_cmp,
+                       ms_errs_t *out, int verbose)
+{
+    const double inner = sm->law[AENL_SIM_DOF_PITCH].inner_stiffness;
+    int n_ok = compare_mode(sm, fit, 0, 1.0, n_cmp, out, verbose);
+    n_ok += compare_mode(sm, fit, 1, inner, n_cmp, out, verbose);
+    n_ok += compare_mode(sm, fit, 2, 1.0, n_cmp, out, verbose);
+    return n_ok;
+}
+
+static void must_show(void)
+{
+    const char *ini = AENL_SOURCE_DIR "/tools/examples/fit_airfoil_turbulence.ini";
+    aenl_sim_model_t sm;
+    aenl_sim_run_t run;
+    aenl_sim_result_t lco;
+    aenl_em_result_t fit;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    const double t0 = now_s();
+    double *y = NULL;
+    size_t n = 0;
+    if (aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK ||
+        fit_record(&sm, &run, &y, &n, &fit, &err) != AENL_OK)
     {
         printf("  must-show: %s\n", err.msg);
+        return;
+    }
+    double *ys = malloc(sizeof(double) * 2 * 6000);
+    if (ys == NULL)
+    {
         free(y);
-        free(ys);
+        aenl_em_result_free(&fit);
         return;
     }
     const double gain = (fit.n_iter > 10)
@@ -478,9 +548,8 @@ static void must_show(void)
     printf("    true/identified frequency (cycles per tau) and damping of the true sub-models'"
            " oscillatory pairs (goal: within 2 %%);\n    CRB floor: 1-sigma relative error of"
            " the best unbiased estimate of that pair alone from this mode's transitions\n");
-    int n_cmp = 0, n_ok = compare_mode(&sm, &fit, 0, 1.0, &n_cmp);
-    n_ok += compare_mode(&sm, &fit, 1, law->inner_stiffness, &n_cmp);
-    n_ok += compare_mode(&sm, &fit, 2, 1.0, &n_cmp);
+    int n_cmp = 0;
+    const int n_ok = compare_fit(&sm, &fit, &n_cmp, NULL, 1);
     printf("    within 2 %%: %d of %d (a floor above 2 %% makes the goal a matter of luck)\n", n_ok,
            n_cmp);
     /* LCO: the simulator without turbulence from alpha = 1 deg, and the identified model from
@@ -534,17 +603,120 @@ static void must_show(void)
     free(ys);
 }
 
+/* The must-show over n_rec records that differ only in their turbulence and noise seeds (the
+ * first is the INI's): the spread of each identified quantity, next to its Cramer-Rao floor. The
+ * errors of one record say little when the floor is near the goal; their distribution says how
+ * often the goal is met and whether the estimate is biased. */
+static void monte_carlo(size_t n_rec)
+{
+    const char *ini = AENL_SOURCE_DIR "/tools/examples/fit_airfoil_turbulence.ini";
+    aenl_sim_model_t sm;
+    aenl_sim_run_t run;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    if (aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK)
+    {
+        printf("  Monte Carlo: %s\n", err.msg);
+        return;
+    }
+    const uint64_t turb0 = run.turb_seed, noise0 = run.noise_seed;
+    double *e = calloc(n_rec * MS_MAX_Q, sizeof(double));
+    ms_errs_t first;
+    memset(&first, 0, sizeof(first));
+    if (e == NULL)
+    {
+        return;
+    }
+    printf("  Monte Carlo over %zu records of fit_airfoil_turbulence.ini (turbulence and noise "
+           "seeds +0 .. +%zu), errors in %% (identified/true - 1):\n",
+           n_rec, n_rec - 1);
+    size_t n_q = 0, n_done = 0;
+    for (size_t r = 0; r < n_rec; ++r)
+    {
+        run.turb_seed = turb0 + r;
+        run.noise_seed = noise0 + r;
+        double *y = NULL;
+        size_t n = 0;
+        aenl_em_result_t fit;
+        ms_errs_t q;
+        memset(&q, 0, sizeof(q));
+        const double t0 = now_s();
+        if (fit_record(&sm, &run, &y, &n, &fit, &err) != AENL_OK)
+        {
+            printf("    record %zu: %s\n", r, err.msg);
+            continue;
+        }
+        int n_cmp = 0;
+        const int n_ok = compare_fit(&sm, &fit, &n_cmp, &q, 0);
+        if (n_done == 0)
+        {
+            first = q;
+            n_q = q.n;
+        }
+        printf("    record %zu (seeds %llu, %llu; %zu iterations, %.0f s): within 2 %% %d of %d:",
+               r, (unsigned long long)run.turb_seed, (unsigned long long)run.noise_seed, fit.n_iter,
+               now_s() - t0, n_ok, n_cmp);
+        for (size_t i = 0; i < n_q && i < q.n; ++i)
+        {
+            e[n_done * MS_MAX_Q + i] = q.err[i];
+            printf(" %+.1f", 100.0 * q.err[i]);
+        }
+        printf("\n");
+        ++n_done;
+        free(y);
+        aenl_em_result_free(&fit);
+    }
+    printf("    per quantity over %zu records: mean, standard deviation, records within 2 %%, "
+           "Cramer-Rao floor (1 sigma, record 0)\n",
+           n_done);
+    for (size_t i = 0; i < n_q; ++i)
+    {
+        double sum = 0.0, sum2 = 0.0;
+        size_t m = 0, ok = 0;
+        for (size_t r = 0; r < n_done; ++r)
+        {
+            const double v = e[r * MS_MAX_Q + i];
+            if (isfinite(v))
+            {
+                sum += v;
+                sum2 += v * v;
+                ok += fabs(v) <= 0.02;
+                ++m;
+            }
+        }
+        const double mean = (m > 0) ? sum / (double)m : (double)NAN;
+        const double sd = (m > 1)
+                              ? sqrt(fmax(0.0, (sum2 - (double)m * mean * mean) / (double)(m - 1)))
+                              : (double)NAN;
+        printf("      mode %zu %-4s: mean %+5.1f %%, sd %4.1f %%, within 2 %% in %zu of %zu, floor "
+               "%.1f %%\n",
+               first.mode[i], first.what[i], 100.0 * mean, 100.0 * sd, ok, m, 100.0 * first.crb[i]);
+    }
+    free(e);
+}
+
 int aenl_bench_fit(int argc, char **argv)
 {
+    size_t n_rec = 0;
     if (argc > 1)
     {
         if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)
         {
-            printf("usage: aenl bench fit\n");
+            printf("usage: aenl bench fit [--records N]\n"
+                   "  --records N  also identify N records of the must-show (seeds +0 .. +N-1;\n"
+                   "               about 45 s each) and print the spread of every error\n");
             return AENL_EXIT_OK;
         }
-        aenl_cli_error("bench", "bench fit takes no options");
-        return AENL_EXIT_USAGE;
+        char *end = NULL;
+        errno = 0;
+        const long v =
+            (argc == 3 && strcmp(argv[1], "--records") == 0) ? strtol(argv[2], &end, 10) : -1;
+        if (v < 2 || v > 1000 || errno != 0 || end == NULL || *end != '\0')
+        {
+            aenl_cli_error("bench", "bench fit takes only --records N (2 .. 1000)");
+            return AENL_EXIT_USAGE;
+        }
+        n_rec = (size_t)v;
     }
     printf("fit: switching Kalman filter (core) and EM identification (host)\n");
     skf_step_bench();
@@ -598,5 +770,9 @@ int aenl_bench_fit(int argc, char **argv)
         "\n  (time ~ N n_x^3: the E-step's n_x x n_x products and the Cholesky solve per step)\n");
     free(y);
     must_show();
+    if (n_rec > 0)
+    {
+        monte_carlo(n_rec);
+    }
     return AENL_EXIT_OK;
 }
