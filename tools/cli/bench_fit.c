@@ -307,9 +307,11 @@ typedef struct
     const char *what[MS_MAX_Q]; /* "f" or "zeta" */
     double err[MS_MAX_Q];       /* identified / true - 1; NaN: no identified pair */
     double crb[MS_MAX_Q];       /* relative Cramer-Rao floor from this mode's transitions */
+    double f_true[MS_MAX_Q];    /* the true pair's frequency (cycles per tau) */
 } ms_errs_t;
 
-static void ms_errs_add(ms_errs_t *e, size_t mode, double err, double crb, const char *what)
+static void ms_errs_add(ms_errs_t *e, size_t mode, double f_true, double err, double crb,
+                        const char *what)
 {
     if (e != NULL && e->n < MS_MAX_Q)
     {
@@ -317,6 +319,7 @@ static void ms_errs_add(ms_errs_t *e, size_t mode, double err, double crb, const
         e->what[e->n] = what;
         e->err[e->n] = err;
         e->crb[e->n] = crb;
+        e->f_true[e->n] = f_true;
         e->n++;
     }
 }
@@ -410,8 +413,8 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
         }
         const double df = (best == no) ? (double)NAN : e[best].frequency / ft - 1.0;
         const double dz = (best == no) ? (double)NAN : e[best].damping / tm[i].damping - 1.0;
-        ms_errs_add(out, s, df, cf, "f");
-        ms_errs_add(out, s, dz, cz, "zeta");
+        ms_errs_add(out, s, ft, df, cf, "f");
+        ms_errs_add(out, s, ft, dz, cz, "zeta");
         *n_cmp += 2;
         if (best == no)
         {
@@ -688,9 +691,11 @@ static void monte_carlo(size_t n_rec)
         const double sd = (m > 1)
                               ? sqrt(fmax(0.0, (sum2 - (double)m * mean * mean) / (double)(m - 1)))
                               : (double)NAN;
-        printf("      mode %zu %-4s: mean %+5.1f %%, sd %4.1f %%, within 2 %% in %zu of %zu, floor "
-               "%.1f %%\n",
-               first.mode[i], first.what[i], 100.0 * mean, 100.0 * sd, ok, m, 100.0 * first.crb[i]);
+        printf(
+            "      mode %zu, pair f = %.5f, %-4s: mean %+5.1f %%, sd %4.1f %%, within 2 %% in %zu "
+            "of %zu, floor %.1f %%\n",
+            first.mode[i], first.f_true[i], first.what[i], 100.0 * mean, 100.0 * sd, ok, m,
+            100.0 * first.crb[i]);
     }
     free(e);
 }
