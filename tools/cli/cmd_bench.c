@@ -328,7 +328,8 @@ int aenl_cmd_bench(int argc, char **argv)
     {
         printf(
             "usage: aenl bench [moments|simulate|fit|all]\n"
-            "       aenl bench diagnose [--long] [--seeds N]   (hidden-effect matrix; minutes)\n"
+            "       aenl bench diagnose [--long] [--seeds N] [--rk4] [--dryden]\n"
+            "                                         (hidden-effect matrix; minutes)\n"
             "       aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
             "                           [--verbose]\n"
             "                                         (identification suite; minutes)\n"

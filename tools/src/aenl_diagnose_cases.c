@@ -180,7 +180,11 @@ aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_tab
 {
     memset(out, 0, sizeof(*out));
     aenl_sim_result_t r;
-    aenl_status_t st = aenl_sim_simulate(&c->truth, &c->truth_run, &r, err);
+    aenl_status_t st =
+        c->truth_rk4_steps > 0u
+            ? aenl_sim_simulate_rk4(&c->truth, &c->truth_run,
+                                    c->truth_run.dt / (double)c->truth_rk4_steps, &r, err)
+            : aenl_sim_simulate(&c->truth, &c->truth_run, &r, err);
     if (st != AENL_OK)
     {
         return st;

@@ -269,6 +269,11 @@ typedef struct aenl_diagnose_case
     aenl_sim_run_t truth_run, base_run; /**< truth: its own seeds, SNR 3; base: other seeds */
     aenl_diagnose_effect_t effect;
     aenl_sim_dof_t dof;
+    /** 0: the truth is measured with the event-located integrator the diagnosis simulates with;
+     *  n > 0: with naive fixed-step RK4, n steps a sample (aenl_sim_simulate_rk4: no event
+     *  location, hysteresis without sticking), a simulator the diagnosis does not share.
+     *  aenl_diagnose_case_make() sets 0. */
+    unsigned truth_rk4_steps;
 } aenl_diagnose_case_t;
 
 /** Number of built-in hidden-effect cases. */
@@ -283,7 +288,8 @@ size_t aenl_diagnose_n_cases(void);
 aenl_status_t aenl_diagnose_case_make(size_t index, uint64_t seed, int long_record,
                                       aenl_diagnose_case_t *c, aenl_err_t *err);
 
-/** Simulate a case's truth and return it as a measured table (t + channels). */
+/** Simulate a case's truth (with truth_run, and RK4 when truth_rk4_steps > 0) and return it as a
+ *  measured table (t + channels). */
 aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_table_t *out,
                                          aenl_err_t *err);
 
