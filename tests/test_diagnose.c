@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "aenl_tools/aenl_diagnose.h"
+#include "aenl_tools/aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
 #include "unity.h"
 
@@ -146,8 +147,8 @@ static void test_run_rejects_wrong_step_and_channels(void)
 }
 
 /* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too.
- * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, 8
- * steps a sample, no event location; Dryden gusts where the baseline assumes first-order ones). */
+ * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, no
+ * event location; Dryden gusts where the baseline assumes first-order ones). */
 static void check_case(const char *name, int other_sim)
 {
     aenl_diagnose_case_t c;
@@ -166,7 +167,7 @@ static void check_case(const char *name, int other_sim)
     TEST_ASSERT_TRUE_MESSAGE(k < aenl_diagnose_n_cases(), name);
     if (other_sim)
     {
-        c.truth_rk4_steps = 8u;
+        c.truth_rk4_steps = (unsigned)AENL_EVAL_RK4_STEPS; /* as bench identify --rk4 */
         c.truth_run.turb_spectrum = AENL_SIM_GUST_DRYDEN;
         TEST_ASSERT_EQUAL_INT(AENL_SIM_GUST_FIRST_ORDER, c.base_run.turb_spectrum);
     }

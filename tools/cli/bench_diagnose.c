@@ -14,11 +14,9 @@
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_diagnose.h"
+#include "aenl_tools/aenl_evalsuite.h"
 
 static const char *const k_cmd = "bench diagnose";
-
-/** --rk4: integration steps a sample (as `aenl bench identify --rk4`). */
-#define BD_RK4_STEPS 8u
 
 typedef struct
 {
@@ -38,7 +36,7 @@ static void help(void)
            "integrator, the baseline's first-order gusts): a simulator it does not share.\n"
            "Goals (issue 6): effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
            "null cases: none, gap within 2x the noise floor.\n",
-           BD_RK4_STEPS);
+           (unsigned)AENL_EVAL_RK4_STEPS);
 }
 
 typedef struct
@@ -56,7 +54,7 @@ static void run_case(size_t k, uint64_t seed, const bd_opts_t *bo, tally_t *t)
     aenl_status_t made = aenl_diagnose_case_make(k, seed, bo->long_rec, &c, &err);
     if (made == AENL_OK)
     {
-        c.truth_rk4_steps = bo->rk4 ? BD_RK4_STEPS : 0u;
+        c.truth_rk4_steps = bo->rk4 ? (unsigned)AENL_EVAL_RK4_STEPS : 0u; /* as bench identify */
         if (bo->dryden)
         {
             c.truth_run.turb_spectrum = AENL_SIM_GUST_DRYDEN;
