@@ -88,6 +88,12 @@ static void test_diagnose_names_freeplay_and_updates(void)
                               cJSON_GetObjectItemCaseSensitive(params, "delta")->valuedouble);
     TEST_ASSERT_DOUBLE_WITHIN(0.15 * 0.2 * deg, 0.2 * deg,
                               cJSON_GetObjectItemCaseSensitive(params, "alpha_f")->valuedouble);
+    /* The summary fit's standard errors, under the parameters' keys. */
+    const cJSON *sd = cJSON_GetObjectItemCaseSensitive(me, "params_sd");
+    TEST_ASSERT_TRUE(cJSON_IsObject(sd));
+    const cJSON *sd_delta = cJSON_GetObjectItemCaseSensitive(sd, "delta");
+    TEST_ASSERT_TRUE(cJSON_IsNumber(sd_delta));
+    TEST_ASSERT_TRUE(sd_delta->valuedouble > 0.0 && sd_delta->valuedouble < 0.1 * 0.5 * deg);
     const double before = cJSON_GetObjectItemCaseSensitive(root, "gap_before")->valuedouble;
     const double after = cJSON_GetObjectItemCaseSensitive(root, "gap_after")->valuedouble;
     TEST_ASSERT_TRUE(before >= 5.0 * after);
@@ -134,6 +140,10 @@ static void test_diagnose_bad_input(void)
     expect_usage(unknown, "--bogus");
     const char *missing_file[] = {"diagnose", "--measured", "nope.csv", "--model", base, NULL};
     expect_usage(missing_file, "nope.csv");
+    const char *few[] = {"diagnose", "--measured", "measured2.csv",
+                         "--model",  base,         "--summary-records",
+                         "10",       NULL};
+    expect_usage(few, "--summary-records");
     /* The record of the wrong model: no channel 'h'. */
     const char *wrong_model[] = {"diagnose",
                                  "--measured",

@@ -60,6 +60,52 @@ static void test_welch_peak_at_sinusoid(void)
     free(p);
 }
 
+/* The periodogram peak against a brute-force maximisation of the same windowed power over a
+ * fine frequency grid, on a sinusoid in noise at SNR 3 (std ratio). */
+static void test_peak_freq_matches_brute_force(void)
+{
+    const size_t n = 6000;
+    const double f0 = 0.0123456;
+    double *x = malloc(n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 7u);
+    const double noise = 1.0 / (sqrt(2.0) * 3.0);
+    double mean = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        x[i] = 0.4 + cos(2.0 * PI * f0 * (double)i + 0.3) + noise * aenl_rng_gauss(&g);
+        mean += x[i] / (double)n;
+    }
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    double f = 0.0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_peak_freq(x, n, &f, &err));
+    double f_best = 0.0, p_best = -1.0;
+    for (double ft = f0 - 2e-4; ft <= f0 + 2e-4; ft += 1e-8)
+    {
+        double re = 0.0, im = 0.0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            const double w = 0.5 - 0.5 * cos(2.0 * PI * ((double)i + 0.5) / (double)n);
+            re += w * (x[i] - mean) * cos(2.0 * PI * ft * (double)i);
+            im -= w * (x[i] - mean) * sin(2.0 * PI * ft * (double)i);
+        }
+        if (re * re + im * im > p_best)
+        {
+            p_best = re * re + im * im;
+            f_best = ft;
+        }
+    }
+    /* Within 1 % of a padded bin (1/32768) of the brute-force peak. And near the truth: the
+     * Cramer-Rao sd of a sinusoid's frequency here is sqrt(12 sigma^2 / (A^2 N^3)) / (2 pi) =
+     * 2.8e-7 (the Hann window widens it); 1.5e-6 is a seven-hundredth of a 1024-point bin. */
+    TEST_ASSERT_DOUBLE_WITHIN(3e-7, f_best, f);
+    TEST_ASSERT_DOUBLE_WITHIN(1.5e-6, f0, f);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_peak_freq(x, 8, &f, &err));
+    free(x);
+}
+
 static void test_chan_setup_noise_and_period(void)
 {
     const size_t n = 20000;
@@ -146,6 +192,23 @@ static void test_run_rejects_wrong_step_and_channels(void)
     aenl_table_free(&t);
 }
 
+/* |truth| of parameter i of an effect (the order of aenl_diagnose_param_errors). */
+static double rel_scale(aenl_diagnose_effect_t e, const aenl_sim_law_t *law, size_t i)
+{
+    switch (e)
+    {
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            return fabs(law->coeffs[2]);
+        case AENL_DIAGNOSE_PRELOAD:
+            return fabs(law->preload);
+        case AENL_DIAGNOSE_FREEPLAY:
+        case AENL_DIAGNOSE_HYSTERESIS:
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return fabs(i == 0u ? law->delta : (i == 1u ? law->x_f : law->preload));
+    }
+}
+
 /* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too.
  * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, no
  * event location; Dryden gusts where the baseline assumes first-order ones). */
@@ -198,10 +261,17 @@ static void check_case(const char *name, int other_sim)
         const size_t np =
             aenl_diagnose_param_errors(c.effect, &c.truth.law[c.dof], &r.updated.law[c.dof], rel);
         TEST_ASSERT_TRUE(np >= 1u);
+        /* The summary fit's standard errors cover the errors (at 5 sd: a check that they are
+         * not too small, not a coverage test). */
+        TEST_ASSERT_EQUAL_size_t(np, r.n_param_sd);
+        TEST_ASSERT_TRUE(r.chi2_dof > 0u && r.chi2 <= r.chi2_start);
         for (size_t i = 0; i < np; ++i)
         {
-            printf("  parameter %zu: relative error %.2f %%\n", i, 100.0 * rel[i]);
+            const double sd_rel = r.param_sd[i] / rel_scale(c.effect, &c.truth.law[c.dof], i);
+            printf("  parameter %zu: relative error %.2f %%, standard error %.2f %%\n", i,
+                   100.0 * rel[i], 100.0 * sd_rel);
             TEST_ASSERT_TRUE_MESSAGE(rel[i] <= 0.15, name);
+            TEST_ASSERT_TRUE_MESSAGE(sd_rel > 0.0 && rel[i] <= 5.0 * sd_rel, name);
         }
         TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] >= 5.0 * r.gap_after[nc], name);
         TEST_ASSERT_TRUE(r.n_dis >= 1u);
@@ -268,10 +338,42 @@ static void test_null_section3dof(void)
     check_case("s3_none", 0);
 }
 
+/* The information floor tells a determined parameter from a ridge: the 2-DOF hysteresis loop
+ * in a limit cycle much larger than the loop fixes delta, while alpha_f and M0 moving together
+ * leave amplitude and waveform almost unchanged (README "Hidden-effect results"); the freeplay
+ * gap and offset are both fixed. */
+static void test_bound_tells_ridge_from_determined(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    double sd[AENL_DIAGNOSE_MAX_PAR] = {0};
+    size_t np = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(1, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_HYSTERESIS, c.effect);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_case_bound(&c, 64, 16, sd, &np, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_size_t(3, np);
+    TEST_ASSERT_TRUE(sd[0] > 0.0 && sd[0] < 0.03);
+    TEST_ASSERT_TRUE(sd[1] > 10.0 * sd[0] && sd[2] > 10.0 * sd[0]);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(0, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_FREEPLAY, c.effect);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_case_bound(&c, 64, 16, sd, &np, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_size_t(2, np);
+    TEST_ASSERT_TRUE(sd[0] > 0.0 && sd[0] < 0.03 && sd[1] > 0.0 && sd[1] < 0.03);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_diagnose_case_bound(&c, 16, 8, sd, &np, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, c.effect);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_bound(&c, 64, 16, sd, &np, &err));
+    TEST_ASSERT_EQUAL_size_t(0, np);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_welch_peak_at_sinusoid);
+    RUN_TEST(test_peak_freq_matches_brute_force);
     RUN_TEST(test_chan_setup_noise_and_period);
     RUN_TEST(test_chan_setup_rejects);
     RUN_TEST(test_run_rejects_wrong_step_and_channels);
@@ -281,5 +383,6 @@ int main(void)
     RUN_TEST(test_hidden_preload_airfoil2dof);
     RUN_TEST(test_hidden_hysteresis_section3dof);
     RUN_TEST(test_null_section3dof);
+    RUN_TEST(test_bound_tells_ridge_from_determined);
     return UNITY_END();
 }

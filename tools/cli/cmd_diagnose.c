@@ -26,7 +26,8 @@ static void help(void)
     printf(
         "usage: aenl diagnose --measured DATA.csv --model BASE.ini [--out DIR] [--json]\n"
         "                     [--replicates N] [--penalty P] [--seed S] [--refine K]\n"
-        "                     [--max-evals M] [--no-plots] [-v]\n\n"
+        "                     [--max-evals M] [--summary-records N] [--no-plots]\n"
+        "                     [-v]\n\n"
         "Simulates the baseline model BASE.ini under the conditions of the record (its [run] dt\n"
         "must be the record's sample step; the record's length sets the duration), compares\n"
         "per-channel signatures (amplitude quantiles and envelope, conditional mean and std\n"
@@ -48,6 +49,10 @@ static void help(void)
         "--seed S         seed of the simulated measurement noise (default 1)\n"
         "--refine K       candidates refined by Nelder-Mead after the grid (default 4)\n"
         "--max-evals M    Nelder-Mead simulations per refined candidate (default 40)\n"
+        "--summary-records N  records simulated to refit the named effect's parameters to the\n"
+        "                 record's summaries (amplitude, frequency, kurtosis, harmonics of every\n"
+        "                 channel, efficiently weighted) and give their standard errors\n"
+        "                 (params_sd in JSON); 32..4096, default 64; 0: keep the gap's fit\n"
         "--no-plots       no figures\n"
         "-v               progress on stderr\n");
 }
@@ -235,6 +240,20 @@ int aenl_cmd_diagnose(int argc, char **argv)
                 return AENL_EXIT_USAGE;
             }
             o.max_evals = (unsigned)lv;
+        }
+        else if (strcmp(a, "--summary-records") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
+                aenl_cli_parse_long(k_cmd, "--summary-records", v, 0, 4096, &lv) != 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (lv > 0 && lv < 32)
+            {
+                aenl_cli_error(k_cmd, "--summary-records: %s must be 0 or 32..4096", v);
+                return AENL_EXIT_USAGE;
+            }
+            o.summary_records = (unsigned)lv;
         }
         else if (strcmp(a, "--seed") == 0)
         {

@@ -358,6 +358,53 @@ static void add_params(cJSON *params, const aenl_diagnose_result_t *r)
     }
 }
 
+/* The standard errors of the summary fit under the same keys as the parameters (null where not
+ * determined; the fixed polynomial coefficients 0). */
+static void add_param_sd(cJSON *me, const aenl_diagnose_result_t *r)
+{
+    if (r->n_param_sd == 0u)
+    {
+        return;
+    }
+    cJSON *o = cJSON_AddObjectToObject(me, "params_sd");
+    if (o == NULL)
+    {
+        return;
+    }
+    const double *sd = r->param_sd;
+    cJSON *v[AENL_DIAGNOSE_MAX_PAR] = {NULL};
+    for (size_t k = 0; k < r->n_param_sd && k < AENL_DIAGNOSE_MAX_PAR; ++k)
+    {
+        v[k] = isfinite(sd[k]) ? cJSON_CreateNumber(sd[k]) : cJSON_CreateNull();
+    }
+    switch (r->effect)
+    {
+        case AENL_DIAGNOSE_FREEPLAY:
+        case AENL_DIAGNOSE_HYSTERESIS:
+            (void)cJSON_AddItemToObject(o, "delta", v[0]);
+            (void)cJSON_AddItemToObject(o, "alpha_f", v[1]);
+            if (r->effect == AENL_DIAGNOSE_HYSTERESIS)
+            {
+                (void)cJSON_AddItemToObject(o, "preload", v[2]);
+            }
+            break;
+        case AENL_DIAGNOSE_POLYNOMIAL:
+        {
+            cJSON *a = cJSON_AddArrayToObject(o, "coeffs");
+            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(0.0));
+            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(0.0));
+            (void)cJSON_AddItemToArray(a, v[0]);
+            break;
+        }
+        case AENL_DIAGNOSE_PRELOAD:
+            (void)cJSON_AddItemToObject(o, "preload", v[0]);
+            break;
+        case AENL_DIAGNOSE_NONE:
+        default:
+            break;
+    }
+}
+
 char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_path)
 {
     cJSON *root = cJSON_CreateObject();
@@ -395,6 +442,7 @@ char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_pa
         {
             add_params(params, r);
         }
+        add_param_sd(me, r);
     }
     (void)cJSON_AddNumberToObject(root, "gap_before", r->gap_before[r->n_channels]);
     (void)cJSON_AddNumberToObject(root, "gap_after", r->gap_after[r->n_channels]);
@@ -441,6 +489,36 @@ static void print_law(FILE *fp, const aenl_sim_law_t *law, aenl_sim_dof_t d)
         default:
             fprintf(fp, "linear");
             break;
+    }
+}
+
+/* The standard errors of the named effect's parameters, in the units print_law uses. */
+static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
+{
+    if (r->n_param_sd == 0u)
+    {
+        return;
+    }
+    static const char *const gap[] = {"delta", "alpha_f", "M0"};
+    const int ang = is_angular(r->dof) && r->effect != AENL_DIAGNOSE_POLYNOMIAL;
+    const double u = ang ? k_deg : 1.0;
+    fprintf(fp,
+            "\n  standard errors (summary fit, chi2 %.3g for %zu degrees of freedom, %.3g "
+            "before):",
+            r->chi2, r->chi2_dof, r->chi2_start);
+    for (size_t k = 0; k < r->n_param_sd; ++k)
+    {
+        const char *name = r->effect == AENL_DIAGNOSE_POLYNOMIAL
+                               ? "c3"
+                               : (r->effect == AENL_DIAGNOSE_PRELOAD ? "M0" : gap[k]);
+        if (isfinite(r->param_sd[k]))
+        {
+            fprintf(fp, " %s %.3g%s", name, r->param_sd[k] * u, ang ? " deg" : "");
+        }
+        else
+        {
+            fprintf(fp, " %s not determined", name);
+        }
     }
 }
 
@@ -511,6 +589,7 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     {
         fprintf(fp, " in %s: ", aenl_diagnose_dof_name(r->dof));
         print_law(fp, &r->updated.law[r->dof], r->dof);
+        print_param_sd(fp, r);
     }
     else if (!r->explained)
     {

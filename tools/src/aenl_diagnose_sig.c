@@ -121,11 +121,12 @@ aenl_status_t aenl_diagnose_welch(const double *x, size_t n, size_t seg, double 
     return AENL_OK;
 }
 
-/* Peak of a PSD over bins [2, nb-1), refined by a parabola through the log values; in bins. */
-static double psd_peak(const double *psd, size_t nb)
+/* Peak of a PSD over bins [k0, nb-1) (k0 >= 1), refined by a parabola through the log values;
+ * in bins. */
+static double psd_peak(const double *psd, size_t nb, size_t k0)
 {
-    size_t k_best = 2;
-    for (size_t k = 2; k + 1u < nb; ++k)
+    size_t k_best = k0;
+    for (size_t k = k0; k + 1u < nb; ++k)
     {
         if (psd[k] > psd[k_best])
         {
@@ -141,6 +142,48 @@ static double psd_peak(const double *psd, size_t nb)
     const double den = a - 2.0 * b + c;
     const double off = (den < 0.0) ? 0.5 * (a - c) / den : 0.0;
     return (double)k_best + (fabs(off) < 1.0 ? off : 0.0);
+}
+
+aenl_status_t aenl_diagnose_peak_freq(const double *x, size_t n, double *freq, aenl_err_t *err)
+{
+    size_t nfft = 8u;
+    while (nfft < 4u * n)
+    {
+        nfft <<= 1u;
+    }
+    if (n < 16u || nfft > ((size_t)1 << 26u))
+    {
+        aenl_err_set(err, "peak frequency: %zu samples (16 .. 2^24)", n);
+        return AENL_E_ARG;
+    }
+    double *re = calloc(2u * nfft, sizeof(double));
+    if (re == NULL)
+    {
+        aenl_err_set(err, "out of memory (periodogram)");
+        return AENL_E_DIM;
+    }
+    double *im = re + nfft;
+    double mean = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        mean += x[i];
+    }
+    mean /= (double)n;
+    for (size_t i = 0; i < n; ++i)
+    {
+        const double w = 0.5 - 0.5 * cos(2.0 * k_pi * ((double)i + 0.5) / (double)n);
+        re[i] = w * (x[i] - mean);
+    }
+    fft(re, im, nfft);
+    const size_t nb = nfft / 2u + 1u;
+    for (size_t k = 0; k < nb; ++k)
+    {
+        re[k] = re[k] * re[k] + im[k] * im[k];
+    }
+    /* from two bins of the unpadded record on: past the window's main lobe at zero */
+    *freq = psd_peak(re, nb, 2u * (nfft / n)) / (double)nfft;
+    free(re);
+    return AENL_OK;
 }
 
 static size_t pow2_floor(size_t v)
@@ -283,7 +326,7 @@ aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_
     st = aenl_diagnose_welch(x, n, seg0, psd, err);
     if (st == AENL_OK)
     {
-        const double k = psd_peak(psd, seg0 / 2u + 1u);
+        const double k = psd_peak(psd, seg0 / 2u + 1u, 2u);
         c->period = (double)seg0 / (k > 1.0 ? k : 1.0);
     }
     free(psd);
@@ -471,7 +514,7 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
             acc /= (double)(c->band_hi[b] - c->band_lo[b]);
             s->lpsd[b] = log(fmax(acc, 1e-300));
         }
-        s->freq = psd_peak(p, nb) / (double)c->seg;
+        s->freq = psd_peak(p, nb, 2u) / (double)c->seg;
         if (psd != NULL)
         {
             memcpy(psd, p, nb * sizeof(double));

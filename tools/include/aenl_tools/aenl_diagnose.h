@@ -81,7 +81,10 @@ typedef struct aenl_diagnose_opts
     unsigned n_refine;     /**< candidates refined by Nelder-Mead after the grid (4) */
     unsigned max_evals;    /**< Nelder-Mead evaluations per candidate (40) */
     uint64_t noise_seed;   /**< seed of the simulated measurement noise (1) */
-    int verbose;           /**< 1: progress lines on stderr */
+    unsigned summary_records; /**< records simulated for the summary fit of the named effect
+                                   (aenl_diagnose_fit_summaries: a quarter for the
+                                   sensitivities), 32..4096; 0: no summary fit (64) */
+    int verbose;              /**< 1: progress lines on stderr */
 } aenl_diagnose_opts_t;
 
 /** One calibrated candidate. */
@@ -168,8 +171,15 @@ typedef struct aenl_diagnose_result
     double *psd_meas, *psd_base, *psd_upd; /**< [channel][bin] Welch PSD, n_bins per channel */
     size_t n_bins;
     double *y_meas, *y_base, *y_upd; /**< [channel][sample] records (simulated ones noisy) */
-    unsigned n_sims;                 /**< simulations run */
-    double seconds;                  /**< wall time */
+    /** Summary fit (opts.summary_records > 0, an effect named): standard errors of the named
+     *  effect's parameters, in the order of aenl_diagnose_param_errors and their units;
+     *  INFINITY where not determined. */
+    double param_sd[AENL_DIAGNOSE_MAX_PAR];
+    size_t n_param_sd;       /**< their count (0: no summary fit) */
+    double chi2_start, chi2; /**< weighted summary misfit before and after the summary fit */
+    size_t chi2_dof;         /**< its degrees of freedom, summaries - parameters (0: none) */
+    unsigned n_sims;         /**< simulations run */
+    double seconds;          /**< wall time */
 } aenl_diagnose_result_t;
 
 /** Defaults (see the field comments). Cannot fail. */
@@ -255,6 +265,11 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
 double aenl_diagnose_distance(const aenl_diagnose_chan_t *c, const aenl_diagnose_sig_t *a,
                               const aenl_diagnose_sig_t *b, double fam[AENL_DIAGNOSE_N_FAMILY]);
 
+/** Frequency of the highest peak of the whole record's periodogram (mean removed, Hann window,
+ *  zero-padded to at least 4n, parabola through the log power), cycles per sample: far finer
+ *  than a Welch bin on a long limit cycle. AENL_E_ARG below 16 samples. */
+aenl_status_t aenl_diagnose_peak_freq(const double *x, size_t n, double *freq, aenl_err_t *err);
+
 /** Welch PSD of x (mean removed, Hann, 50 % overlap), seg a power of two; psd: seg/2+1. */
 aenl_status_t aenl_diagnose_welch(const double *x, size_t n, size_t seg, double *psd,
                                   aenl_err_t *err);
@@ -292,6 +307,69 @@ aenl_status_t aenl_diagnose_case_make(size_t index, uint64_t seed, int long_reco
  *  measured table (t + channels). */
 aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_table_t *out,
                                          aenl_err_t *err);
+
+/**
+ * @brief Information floor of the parameters of `effect` in law `dof` of `model`, in records of
+ *        the test `run`: the Cramér–Rao bound of an estimator that uses these summaries of each
+ *        channel efficiently: mean, log std, log kurtosis, log peak frequency
+ *        (aenl_diagnose_peak_freq), and the second and third harmonics relative to the
+ *        fundamental (phase-free, in blocks of ten periods); the first tenth of each record is
+ *        left out.
+ *        - Records: `model` under `run` with fresh gust and noise seeds per record; measurement
+ *          noise of std noise_sd[channel] (NULL: the run's own SNR noise).
+ *        - Covariance: the summaries of n_rep records. Its inverse is unbiased by
+ *          (n_rep - d - 2) / (n_rep - 1), d the summaries' count.
+ *        - Sensitivities: central differences, each parameter moved by 10 % of its value, over
+ *          the seeds of the first n_jac records (common random numbers). What their noise adds
+ *          to the information on average is taken off again (estimated from the seed-to-seed
+ *          spread), so noise does not pass for information.
+ *        sd[k]: standard deviation of parameter k (its units), in the order of
+ *        aenl_diagnose_param_errors; INFINITY for each parameter that takes part (above a tenth,
+ *        magnitude-scaled) in a combination the summaries do not determine. *n_par: their count (0
+ * for NONE). Costs n_rep + 2 n_jac n_par simulations.
+ * @return AENL_OK; AENL_E_ARG when n_rep is outside 32..4096 or n_jac outside 2..n_rep;
+ *         AENL_E_NUMERIC when a record cannot be simulated or is unusable, or the covariance is
+ *         singular; AENL_E_DIM out of memory.
+ */
+aenl_status_t aenl_diagnose_bound(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                  aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                  const double *noise_sd, unsigned n_rep, unsigned n_jac,
+                                  double sd[AENL_DIAGNOSE_MAX_PAR], size_t *n_par, aenl_err_t *err);
+
+/** Result of aenl_diagnose_fit_summaries(). */
+typedef struct aenl_diagnose_sumfit
+{
+    aenl_sim_law_t law;               /**< the fitted law of the DOF */
+    double sd[AENL_DIAGNOSE_MAX_PAR]; /**< standard errors (INFINITY: not determined, as in
+                                           aenl_diagnose_bound) */
+    size_t n_par;                     /**< parameters (aenl_diagnose_param_errors order) */
+    double chi2_start, chi2;          /**< weighted summary misfit at the start and at the end */
+    size_t dof;                       /**< summaries minus parameters */
+    unsigned n_sims;                  /**< simulations run */
+} aenl_diagnose_sumfit_t;
+
+/**
+ * @brief Fit the parameters of `effect` in law `dof` to the summaries of the measured record
+ *        (those of aenl_diagnose_bound) by Gauss-Newton from `start`, weighted by the inverse
+ *        covariance of the summaries at `start`: the efficient estimator on these summaries
+ *        (method of simulated moments). Sensitivities and covariance as in
+ *        aenl_diagnose_bound (n_rep records, n_jac seeds), held fixed; each step's model is
+ *        simulated with the n_jac seeds and kept only if it lowers the misfit (halved up to
+ *        twice otherwise). y_meas: the record, [channel][sample], n samples, the model's
+ *        channels. out->sd: the estimate's standard errors from the same information.
+ * @return as aenl_diagnose_bound; AENL_E_ARG when the record's channels are not the model's.
+ */
+aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const aenl_sim_run_t *run,
+                                          aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                          const double *noise_sd, const double *y_meas, size_t n,
+                                          unsigned n_rep, unsigned n_jac,
+                                          aenl_diagnose_sumfit_t *out, aenl_err_t *err);
+
+/** aenl_diagnose_bound() for a case's truth and test (truth_run: a Dryden spectrum applies,
+ *  truth_rk4_steps does not), as standard deviation / |truth| in rel_sd. */
+aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n_rep,
+                                       unsigned n_jac, double rel_sd[AENL_DIAGNOSE_MAX_PAR],
+                                       size_t *n_par, aenl_err_t *err);
 
 /**
  * @brief Relative errors |fit - truth| / |truth| of the parameters that define `effect`

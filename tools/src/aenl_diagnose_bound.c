@@ -1,0 +1,593 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_diagnose_bound.c
+ * @brief How well a hidden-effect case's records determine its parameters: the Cramér–Rao bound
+ *        of an estimator that uses a fixed set of record summaries efficiently, from simulated
+ *        replicates of the truth (covariance) and common-random-number finite differences
+ *        (sensitivities). README "Hidden-effect results" gives the summaries and the numbers.
+ */
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_diagnose_internal.h"
+#include "aenl_tools/aenl_rng.h"
+
+/* Summaries per channel: mean, log std, log kurtosis, log peak frequency, and the second and
+ * third harmonics relative to the fundamental (real and imaginary parts, phase-free). */
+#define N_SUM_CH 8u
+#define N_SUM    (N_SUM_CH * AENL_SIM_MAX_Q)
+
+/* Parameter moves of the finite differences, relative to the truth's value. */
+#define REL_STEP 0.1
+
+/* A parameter whose (magnitude-scaled) component in an undetermined direction exceeds this
+ * is reported as not determined. */
+#define UNDETERMINED_SHARE 0.1
+
+/* Summary fit: Gauss-Newton steps and trial evaluations at most. */
+#define SUMFIT_STEPS 3u
+#define SUMFIT_EVALS 5u
+
+/* Harmonic blocks: this many periods of the peak frequency each. */
+#define BLOCK_PERIODS 10.0
+
+static const double k_two_pi = 6.28318530717958647692;
+
+/* Pointer to parameter k of `effect` in law l, in the order of aenl_diagnose_param_errors. */
+static double *param_ptr(aenl_sim_law_t *l, aenl_diagnose_effect_t effect, size_t k)
+{
+    switch (effect)
+    {
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            return &l->coeffs[2];
+        case AENL_DIAGNOSE_PRELOAD:
+            return &l->preload;
+        case AENL_DIAGNOSE_FREEPLAY:
+        case AENL_DIAGNOSE_HYSTERESIS:
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return k == 0u ? &l->delta : (k == 1u ? &l->x_f : &l->preload);
+    }
+}
+
+/* Second and third harmonics of y (mean mu removed) at frequency f (cycles per sample) relative
+ * to the fundamental, with the fundamental's phase taken out block by block: sums over blocks
+ * of H_q conj(u)^q, u = H_1 / |H_1|, over the sum of |H_1|. out: re2, im2, re3, im3. */
+static void harmonics(const double *y, size_t n, double mu, double f, double out[4])
+{
+    size_t len = (size_t)(BLOCK_PERIODS / f);
+    len = len < 16u ? 16u : (len > n ? n : len);
+    double acc[4] = {0.0, 0.0, 0.0, 0.0}, a_sum = 0.0;
+    for (size_t b = 0; b + len <= n; b += len)
+    {
+        double h[3][2] = {{0.0, 0.0}, {0.0, 0.0}, {0.0, 0.0}};
+        for (size_t j = b; j < b + len; ++j)
+        {
+            const double d = y[j] - mu;
+            const double c1 = cos(k_two_pi * f * (double)j), s1 = -sin(k_two_pi * f * (double)j);
+            const double c2 = c1 * c1 - s1 * s1, s2 = 2.0 * c1 * s1;
+            const double c3 = c2 * c1 - s2 * s1, s3 = c2 * s1 + s2 * c1;
+            h[0][0] += d * c1;
+            h[0][1] += d * s1;
+            h[1][0] += d * c2;
+            h[1][1] += d * s2;
+            h[2][0] += d * c3;
+            h[2][1] += d * s3;
+        }
+        const double a1 = hypot(h[0][0], h[0][1]);
+        if (!(a1 > 0.0))
+        {
+            continue;
+        }
+        const double ur = h[0][0] / a1, ui = -h[0][1] / a1; /* conj(u) */
+        const double u2r = ur * ur - ui * ui, u2i = 2.0 * ur * ui;
+        const double u3r = u2r * ur - u2i * ui, u3i = u2r * ui + u2i * ur;
+        acc[0] += h[1][0] * u2r - h[1][1] * u2i;
+        acc[1] += h[1][0] * u2i + h[1][1] * u2r;
+        acc[2] += h[2][0] * u3r - h[2][1] * u3i;
+        acc[3] += h[2][0] * u3i + h[2][1] * u3r;
+        a_sum += a1;
+    }
+    for (int q = 0; q < 4; ++q)
+    {
+        out[q] = a_sum > 0.0 ? acc[q] / a_sum : 0.0;
+    }
+}
+
+/* Summaries of a record y[c * n + i] (n_ch channels), the first tenth left out (start-up).
+ * AENL_E_NUMERIC when a channel is constant or not finite. */
+static aenl_status_t summarise(const double *y_all, size_t n_all, size_t n_ch, double *s,
+                               size_t *n_s, aenl_err_t *err)
+{
+    const size_t skip = n_all / 10u, n = n_all - skip;
+    size_t k = 0;
+    aenl_status_t st = AENL_OK;
+    for (size_t c = 0; c < n_ch && st == AENL_OK; ++c)
+    {
+        const double *y = y_all + c * n_all + skip;
+        double mu = 0.0, v = 0.0, v4 = 0.0, f = 0.0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            mu += y[i];
+        }
+        mu /= (double)n;
+        for (size_t i = 0; i < n; ++i)
+        {
+            const double d = (y[i] - mu) * (y[i] - mu);
+            v += d;
+            v4 += d * d;
+        }
+        v /= (double)n;
+        v4 /= (double)n;
+        st = aenl_diagnose_peak_freq(y, n, &f, err);
+        if (st == AENL_OK && !(v > 0.0 && f > 0.0 && isfinite(mu) && isfinite(v4)))
+        {
+            aenl_err_set(err, "summaries: a record is constant or not finite");
+            st = AENL_E_NUMERIC;
+        }
+        if (st == AENL_OK)
+        {
+            s[k++] = mu;
+            s[k++] = 0.5 * log(v);
+            s[k++] = log(v4 / (v * v));
+            s[k++] = log(f);
+            harmonics(y, n, mu, f, s + k);
+            k += 4u;
+        }
+    }
+    *n_s = k;
+    return st;
+}
+
+/* Summaries of one simulated record of model m under run (its seeds set by the caller), with
+ * measurement noise of std noise_sd[c] added (seeded by run->noise_seed; NULL: the run's own
+ * SNR noise). AENL_E_NUMERIC: the record cannot be simulated or is not usable. */
+static aenl_status_t summaries(const aenl_sim_model_t *m, const aenl_sim_run_t *run,
+                               const double *noise_sd, double *s, size_t *n_s, aenl_err_t *err)
+{
+    aenl_sim_result_t r;
+    aenl_sim_run_t rr = *run;
+    if (noise_sd != NULL)
+    {
+        rr.snr = 0.0;
+    }
+    aenl_status_t st = aenl_sim_simulate(m, &rr, &r, err);
+    if (st != AENL_OK)
+    {
+        return st == AENL_E_DIM ? st : AENL_E_NUMERIC;
+    }
+    if (noise_sd != NULL)
+    {
+        aenl_rng_t g;
+        aenl_rng_seed(&g, run->noise_seed);
+        for (size_t i = 0; i < r.n_channels * r.n_samples; ++i)
+        {
+            r.y[i] += noise_sd[i / r.n_samples] * aenl_rng_gauss(&g);
+        }
+    }
+    st = summarise(r.y, r.n_samples, r.n_channels, s, n_s, err);
+    aenl_sim_result_free(&r);
+    return st;
+}
+
+/* Replicate q of the truth's test: its own gust and noise seeds. */
+static aenl_sim_run_t replicate_run(const aenl_sim_run_t *run, unsigned q)
+{
+    aenl_sim_run_t out = *run;
+    out.turb_seed = run->turb_seed + 7919u * (uint64_t)(q + 1u);
+    out.noise_seed = run->noise_seed + 104729u * (uint64_t)(q + 1u);
+    return out;
+}
+
+/* What the summaries say about the parameters at `model`: Cholesky factor of their covariance
+ * (one record), the mean sensitivities, the mean summaries over the first n_jac seeds, and the
+ * Fisher information with the noise of the sensitivities taken off. */
+typedef struct
+{
+    size_t np, d;
+    double chol[N_SUM * N_SUM];                /* upper Cholesky factor of the covariance */
+    double jac[N_SUM * AENL_DIAGNOSE_MAX_PAR]; /* d x np */
+    double centre[N_SUM];                      /* mean summaries of the first n_jac records */
+    double fisher[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR];
+    double unbias; /* (n_rep - d - 2) / (n_rep - 1) */
+} info_t;
+
+static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
+                                 aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                 const double *noise_sd, unsigned n_rep, unsigned n_jac,
+                                 info_t *inf, aenl_err_t *err)
+{
+    memset(inf, 0, sizeof(*inf));
+    double rel_tmp[AENL_DIAGNOSE_MAX_PAR]; /* only the count is used */
+    const size_t np =
+        aenl_diagnose_param_errors(effect, &model->law[dof], &model->law[dof], rel_tmp);
+    inf->np = np;
+    if (np == 0u)
+    {
+        return AENL_OK;
+    }
+    if (n_jac < 2u || n_jac > n_rep || n_rep < N_SUM + 8u || n_rep > 4096u)
+    {
+        aenl_err_set(err, "summaries: %u records (%u..4096) and %u for the sensitivities (2..)",
+                     n_rep, N_SUM + 8u, n_jac);
+        return AENL_E_ARG;
+    }
+    double *s = malloc((size_t)n_rep * N_SUM * sizeof(double));
+    double *cov = inf->chol;
+    double *jac = inf->jac;
+    double *jq = malloc((size_t)n_jac * N_SUM * AENL_DIAGNOSE_MAX_PAR * sizeof(double));
+    if (s == NULL || jq == NULL)
+    {
+        free(s);
+        free(jq);
+        aenl_err_set(err, "out of memory (summaries)");
+        return AENL_E_DIM;
+    }
+    size_t d = 0;
+    aenl_status_t st = AENL_OK;
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        const aenl_sim_run_t run = replicate_run(run_in, q);
+        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, &d, err);
+    }
+    inf->d = d;
+    /* Covariance of one record's summaries (d x d, column-major = row-major: symmetric). */
+    double mean[N_SUM] = {0.0};
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        for (size_t i = 0; i < d; ++i)
+        {
+            mean[i] += s[(size_t)q * N_SUM + i] / (double)n_rep;
+            if (q < n_jac)
+            {
+                inf->centre[i] += s[(size_t)q * N_SUM + i] / (double)n_jac;
+            }
+        }
+    }
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        const double *sq = s + (size_t)q * N_SUM;
+        for (size_t i = 0; i < d; ++i)
+        {
+            for (size_t j = 0; j < d; ++j)
+            {
+                cov[i * d + j] += (sq[i] - mean[i]) * (sq[j] - mean[j]) / (double)(n_rep - 1u);
+            }
+        }
+    }
+    /* Sensitivities: central differences over the first n_jac replicates' seeds, per seed
+     * (jq[q][i][k]) and their mean (jac). */
+    for (size_t k = 0; k < np && st == AENL_OK; ++k)
+    {
+        aenl_sim_model_t mp = *model, mm = *model;
+        const double v = *param_ptr(&mp.law[dof], effect, k);
+        const double h = REL_STEP * fmax(fabs(v), 1e-12);
+        *param_ptr(&mp.law[dof], effect, k) = v + h;
+        *param_ptr(&mm.law[dof], effect, k) = v - h;
+        for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
+        {
+            const aenl_sim_run_t run = replicate_run(run_in, q);
+            double sp[N_SUM], sm[N_SUM];
+            size_t dp = 0, dm = 0;
+            st = summaries(&mp, &run, noise_sd, sp, &dp, err);
+            if (st == AENL_OK)
+            {
+                st = summaries(&mm, &run, noise_sd, sm, &dm, err);
+            }
+            for (size_t i = 0; i < d && st == AENL_OK; ++i)
+            {
+                const double g = (sp[i] - sm[i]) / (2.0 * h);
+                jq[((size_t)q * d + i) * np + k] = g;
+                jac[i * np + k] += g / (double)n_jac;
+            }
+        }
+    }
+    /* Fisher information J' S^-1 J with the unbiased inverse (factor (n - d - 2) / (n - 1)),
+     * less what the noise of the mean sensitivities adds to it on average. */
+    const double unbias = (double)(n_rep - d - 2u) / (double)(n_rep - 1u);
+    double *fi = inf->fisher;
+    inf->unbias = unbias;
+    if (st == AENL_OK &&
+        LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, cov, (lapack_int)d) != 0)
+    {
+        aenl_err_set(err, "summaries: their covariance is singular");
+        st = AENL_E_NUMERIC;
+    }
+    for (unsigned q = 0; q <= n_jac && st == AENL_OK; ++q)
+    {
+        /* q < n_jac: a seed's deviation from the mean; q == n_jac: the mean itself */
+        double dj[N_SUM * AENL_DIAGNOSE_MAX_PAR], x[N_SUM * AENL_DIAGNOSE_MAX_PAR];
+        for (size_t i = 0; i < d * np; ++i)
+        {
+            dj[i] = q < n_jac ? jq[(size_t)q * d * np + i] - jac[i] : jac[i];
+        }
+        memcpy(x, dj, d * np * sizeof(double));
+        (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, (lapack_int)np, cov,
+                             (lapack_int)d, x, (lapack_int)np);
+        const double w = q < n_jac ? -unbias / ((double)n_jac * (double)(n_jac - 1u)) : unbias;
+        for (size_t a = 0; a < np; ++a)
+        {
+            for (size_t b = 0; b < np; ++b)
+            {
+                for (size_t i = 0; i < d; ++i)
+                {
+                    fi[a * np + b] += w * dj[i * np + a] * x[i * np + b];
+                }
+            }
+        }
+    }
+    free(jq);
+    free(s);
+    return st;
+}
+
+/* Standard deviations from the Fisher information, times sqrt(scale), into sd[0..np).
+ * The information is scaled by the parameters' magnitudes (theta = `at`) and split into
+ * eigen-directions: a direction without positive information is not determined, and every
+ * parameter that takes part in it (a component above UNDETERMINED_SHARE) gets INFINITY; the
+ * others their variance over the determined directions. */
+static void fisher_sd(const info_t *inf, const double *at, double scale, double *sd)
+{
+    const size_t np = inf->np;
+    double f[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR], ev[AENL_DIAGNOSE_MAX_PAR];
+    double mag[AENL_DIAGNOSE_MAX_PAR];
+    for (size_t a = 0; a < np; ++a)
+    {
+        mag[a] = fmax(fabs(at[a]), 1e-300);
+    }
+    for (size_t a = 0; a < np; ++a)
+    {
+        for (size_t b = 0; b < np; ++b)
+        {
+            f[a * np + b] = inf->fisher[a * np + b] * mag[a] * mag[b];
+        }
+    }
+    if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', (lapack_int)np, f, (lapack_int)np, ev) != 0)
+    {
+        for (size_t k = 0; k < np; ++k)
+        {
+            sd[k] = (double)INFINITY;
+        }
+        return;
+    }
+    const double top = ev[np - 1u]; /* ascending */
+    for (size_t k = 0; k < np; ++k)
+    {
+        double var = 0.0;
+        int free_dir = !(top > 0.0);
+        for (size_t e = 0; e < np; ++e)
+        {
+            const double v = f[k * np + e]; /* component k of eigenvector e */
+            if (ev[e] > 1e-12 * top)
+            {
+                var += v * v / ev[e];
+            }
+            else if (fabs(v) > UNDETERMINED_SHARE)
+            {
+                free_dir = 1;
+            }
+        }
+        sd[k] = free_dir ? (double)INFINITY : mag[k] * sqrt(var * scale);
+    }
+}
+
+aenl_status_t aenl_diagnose_bound(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                  aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                  const double *noise_sd, unsigned n_rep, unsigned n_jac,
+                                  double sd_out[AENL_DIAGNOSE_MAX_PAR], size_t *n_par,
+                                  aenl_err_t *err)
+{
+    info_t *inf = malloc(sizeof(*inf));
+    if (inf == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+        return AENL_E_DIM;
+    }
+    const aenl_status_t st = information(model, run, effect, dof, noise_sd, n_rep, n_jac, inf, err);
+    *n_par = inf->np;
+    if (st == AENL_OK && inf->np > 0u)
+    {
+        double at[AENL_DIAGNOSE_MAX_PAR];
+        aenl_sim_law_t law = model->law[dof];
+        for (size_t k = 0; k < inf->np; ++k)
+        {
+            at[k] = *param_ptr(&law, effect, k);
+        }
+        fisher_sd(inf, at, 1.0, sd_out);
+    }
+    free(inf);
+    return st;
+}
+
+/* Weighted residual norm r' S^-1 r of summaries r (the covariance's factor in inf), times w. */
+static double quad(const info_t *inf, const double *r, double w)
+{
+    double x[N_SUM];
+    memcpy(x, r, inf->d * sizeof(double));
+    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)inf->d, 1, inf->chol,
+                         (lapack_int)inf->d, x, 1);
+    double q = 0.0;
+    for (size_t i = 0; i < inf->d; ++i)
+    {
+        q += r[i] * x[i];
+    }
+    return w * q;
+}
+
+/* Mean summaries of `m` over the first n_jac records' seeds. */
+static aenl_status_t centre_of(const aenl_sim_model_t *m, const aenl_sim_run_t *run_in,
+                               const double *noise_sd, unsigned n_jac, size_t d, double *centre,
+                               aenl_err_t *err)
+{
+    memset(centre, 0, d * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
+    {
+        const aenl_sim_run_t run = replicate_run(run_in, q);
+        double sq[N_SUM];
+        size_t dq = 0;
+        st = summaries(m, &run, noise_sd, sq, &dq, err);
+        for (size_t i = 0; i < d && st == AENL_OK; ++i)
+        {
+            centre[i] += sq[i] / (double)n_jac;
+        }
+    }
+    return st;
+}
+
+aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const aenl_sim_run_t *run,
+                                          aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                          const double *noise_sd, const double *y_meas, size_t n,
+                                          unsigned n_rep, unsigned n_jac,
+                                          aenl_diagnose_sumfit_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    out->law = start->law[dof];
+    info_t *inf = malloc(sizeof(*inf));
+    if (inf == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+        return AENL_E_DIM;
+    }
+    aenl_status_t st = information(start, run, effect, dof, noise_sd, n_rep, n_jac, inf, err);
+    const size_t np = inf->np, d = inf->d;
+    out->n_par = np;
+    double s_meas[N_SUM] = {0.0};
+    size_t dm = 0;
+    if (st == AENL_OK && np > 0u)
+    {
+        st = summarise(y_meas, n, d / N_SUM_CH, s_meas, &dm, err);
+        if (st == AENL_OK && dm != d)
+        {
+            aenl_err_set(err, "summaries: the record has %zu, the model %zu", dm, d);
+            st = AENL_E_ARG;
+        }
+    }
+    if (st != AENL_OK || np == 0u)
+    {
+        free(inf);
+        return st;
+    }
+    /* The residual's variance: one record's covariance plus that of a mean of n_jac. */
+    const double w = inf->unbias / (1.0 + 1.0 / (double)n_jac);
+    /* Gauss-Newton matrix J' S^-1 J (plain: positive definite) and its Cholesky factor. */
+    double x[N_SUM * AENL_DIAGNOSE_MAX_PAR], h[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR];
+    memcpy(x, inf->jac, d * np * sizeof(double));
+    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, (lapack_int)np, inf->chol,
+                         (lapack_int)d, x, (lapack_int)np);
+    for (size_t a = 0; a < np; ++a)
+    {
+        for (size_t b = 0; b < np; ++b)
+        {
+            double acc = 0.0;
+            for (size_t i = 0; i < d; ++i)
+            {
+                acc += inf->jac[i * np + a] * x[i * np + b];
+            }
+            h[a * np + b] = acc;
+        }
+    }
+    const int h_ok = LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'U', (lapack_int)np, h, (lapack_int)np) == 0;
+    aenl_sim_model_t cur = *start;
+    double r[N_SUM], centre[N_SUM];
+    memcpy(centre, inf->centre, d * sizeof(double));
+    for (size_t i = 0; i < d; ++i)
+    {
+        r[i] = s_meas[i] - centre[i];
+    }
+    out->chi2_start = quad(inf, r, w);
+    double q_cur = out->chi2_start;
+    unsigned evals = 0;
+    for (unsigned it = 0; it < SUMFIT_STEPS && h_ok && st == AENL_OK; ++it)
+    {
+        /* step = (J' S^-1 J)^-1 J' S^-1 r, J fixed at the start (chord iterations) */
+        double g[AENL_DIAGNOSE_MAX_PAR] = {0.0};
+        for (size_t a = 0; a < np; ++a)
+        {
+            for (size_t i = 0; i < d; ++i)
+            {
+                g[a] += x[i * np + a] * r[i];
+            }
+        }
+        (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)np, 1, h, (lapack_int)np, g, 1);
+        int accepted = 0;
+        for (double lam = 1.0; lam >= 0.25 && !accepted && evals < SUMFIT_EVALS; lam *= 0.5)
+        {
+            aenl_sim_model_t trial = cur;
+            int valid = 1;
+            for (size_t k = 0; k < np; ++k)
+            {
+                double *p = param_ptr(&trial.law[dof], effect, k);
+                const double v = *p + lam * g[k];
+                /* a gap width stays positive: at most a fivefold shrink per step */
+                valid = valid && (k > 0u || effect == AENL_DIAGNOSE_POLYNOMIAL ||
+                                  effect == AENL_DIAGNOSE_PRELOAD || v > 0.2 * *p);
+                *p = v;
+            }
+            if (!valid)
+            {
+                continue;
+            }
+            double c_t[N_SUM], r_t[N_SUM];
+            ++evals;
+            const aenl_status_t s_t = centre_of(&trial, run, noise_sd, n_jac, d, c_t, err);
+            if (s_t == AENL_E_DIM)
+            {
+                st = s_t;
+                break;
+            }
+            if (s_t != AENL_OK)
+            {
+                continue; /* the trial diverges: a shorter step */
+            }
+            for (size_t i = 0; i < d; ++i)
+            {
+                r_t[i] = s_meas[i] - c_t[i];
+            }
+            const double q_t = quad(inf, r_t, w);
+            if (q_t < q_cur)
+            {
+                accepted = 1;
+                cur = trial;
+                q_cur = q_t;
+                memcpy(r, r_t, d * sizeof(double));
+            }
+        }
+        if (!accepted)
+        {
+            break;
+        }
+    }
+    out->law = cur.law[dof];
+    out->chi2 = q_cur;
+    out->dof = d - np;
+    out->n_sims = n_rep + 2u * n_jac * (unsigned)np + evals * n_jac;
+    if (st == AENL_OK)
+    {
+        double at[AENL_DIAGNOSE_MAX_PAR];
+        aenl_sim_law_t law = start->law[dof];
+        for (size_t k = 0; k < np; ++k)
+        {
+            at[k] = *param_ptr(&law, effect, k);
+        }
+        fisher_sd(inf, at, 1.0 + 1.0 / (double)n_jac, out->sd);
+    }
+    free(inf);
+    return st;
+}
+
+aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n_rep,
+                                       unsigned n_jac, double rel_sd[AENL_DIAGNOSE_MAX_PAR],
+                                       size_t *n_par, aenl_err_t *err)
+{
+    const aenl_status_t st = aenl_diagnose_bound(&c->truth, &c->truth_run, c->effect, c->dof, NULL,
+                                                 n_rep, n_jac, rel_sd, n_par, err);
+    for (size_t k = 0; k < *n_par && st == AENL_OK; ++k)
+    {
+        aenl_sim_law_t law = c->truth.law[c->dof];
+        rel_sd[k] /= fmax(fabs(*param_ptr(&law, c->effect, k)), 1e-300);
+    }
+    return st;
+}
