@@ -172,15 +172,21 @@ static void run_case(size_t k, uint64_t seed, const bd_opts_t *bo, tally_t *t)
             snprintf(errs + len, sizeof(errs) - len, "%s%.1f", i ? "/" : "", 100.0 * rel[i]);
         len += w > 0 ? (size_t)w : 0u;
     }
-    printf("%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-16s  gap %.3g -> %.3g (x%.1f, "
-           "floor %.3g)  %4u sims %6.1f s  %s\n",
-           c.name, (unsigned long long)seed, aenl_diagnose_effect_name(c.effect),
-           c.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(c.dof),
-           aenl_diagnose_effect_name(r.effect),
-           r.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(r.dof),
-           named ? "ok" : "NO", errs, r.gap_before[nc], r.gap_after[nc], ratio, r.floor_after[nc],
-           r.n_sims, r.seconds,
-           (named && (params_ok || c.effect == AENL_DIAGNOSE_NONE) && gap_ok) ? "PASS" : "MISS");
+    char chi[48] = "";
+    if (r.chi2_dof > 0u)
+    {
+        (void)snprintf(chi, sizeof(chi), "  chi2 %.3g/%zu%s", r.chi2, r.chi2_dof,
+                       r.summary_rejected ? " rejected" : "");
+    }
+    printf(
+        "%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-16s  gap %.3g -> %.3g (x%.1f, "
+        "floor %.3g)  %4u sims %6.1f s  %s%s\n",
+        c.name, (unsigned long long)seed, aenl_diagnose_effect_name(c.effect),
+        c.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(c.dof),
+        aenl_diagnose_effect_name(r.effect),
+        r.effect == AENL_DIAGNOSE_NONE ? "-" : aenl_diagnose_dof_name(r.dof), named ? "ok" : "NO",
+        errs, r.gap_before[nc], r.gap_after[nc], ratio, r.floor_after[nc], r.n_sims, r.seconds,
+        (named && (params_ok || c.effect == AENL_DIAGNOSE_NONE) && gap_ok) ? "PASS" : "MISS", chi);
     if (bo->bound && named)
     {
         print_bound(&c, params_ok, t);

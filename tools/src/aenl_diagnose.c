@@ -928,6 +928,16 @@ static aenl_status_t restart(ctx_t *x, const aenl_sim_model_t *base, spec_t *s,
     return o.st;
 }
 
+/* Upper 0.1 % point of chi-square with k degrees of freedom (Wilson-Hilferty; within 1 % for
+ * k >= 5). */
+static double chi2_quantile_999(double k)
+{
+    const double z = 3.090232306167814; /* standard normal 99.9 % point */
+    const double a = 2.0 / (9.0 * k);
+    const double c = 1.0 - a + z * sqrt(a);
+    return k * c * c * c;
+}
+
 /* Stage 4 (opts->summary_records > 0): the named effect's parameters refitted to the record's
  * summaries (amplitude, frequency, kurtosis, harmonics of every channel) with their efficient
  * weighting, and their standard errors (aenl_diagnose_fit_summaries; a quarter of the records
@@ -965,10 +975,21 @@ static aenl_status_t fit_summaries(ctx_t *x, const aenl_diagnose_opts_t *opts,
     }
     if (st == AENL_OK)
     {
-        r->updated.law[r->dof] = f.law;
         r->chi2_start = f.chi2_start;
         r->chi2 = f.chi2;
         r->chi2_dof = f.dof;
+        /* The weighting is efficient only for a model that can match the summaries. If even
+         * the fitted one misses them beyond chance (the test of over-identifying restrictions
+         * at 0.1 %), the most precise summaries are the most misleading: keep the gap's fit. */
+        r->summary_rejected = f.chi2 > chi2_quantile_999((double)f.dof);
+        if (r->summary_rejected)
+        {
+            r->n_param_sd = 0;
+        }
+        else
+        {
+            r->updated.law[r->dof] = f.law;
+        }
     }
     progress(x, "summary fit of %s %s: chi2 %.4g", aenl_diagnose_effect_name(r->effect),
              aenl_diagnose_dof_name(r->dof), f.chi2);

@@ -590,6 +590,14 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
         fprintf(fp, " in %s: ", aenl_diagnose_dof_name(r->dof));
         print_law(fp, &r->updated.law[r->dof], r->dof);
         print_param_sd(fp, r);
+        if (r->summary_rejected)
+        {
+            fprintf(fp,
+                    "\n  the record's summaries reject this model (summary fit chi2 %.3g for %zu "
+                    "degrees of freedom, beyond its 99.9 %% point): the parameters are the gap's "
+                    "fit, without standard errors",
+                    r->chi2, r->chi2_dof);
+        }
     }
     else if (!r->explained)
     {

@@ -66,6 +66,16 @@ static void fft(double *re, double *im, size_t n)
     }
 }
 
+static double mean_of(const double *x, size_t n)
+{
+    double m = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        m += x[i];
+    }
+    return m / (double)n;
+}
+
 aenl_status_t aenl_diagnose_welch(const double *x, size_t n, size_t seg, double *psd,
                                   aenl_err_t *err)
 {
@@ -82,12 +92,7 @@ aenl_status_t aenl_diagnose_welch(const double *x, size_t n, size_t seg, double 
         return AENL_E_DIM;
     }
     double *im = re + seg;
-    double mean = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        mean += x[i];
-    }
-    mean /= (double)n;
+    const double mean = mean_of(x, n);
     double wsum = 0.0;
     for (size_t i = 0; i < seg; ++i)
     {
@@ -163,12 +168,7 @@ aenl_status_t aenl_diagnose_peak_freq(const double *x, size_t n, double *freq, a
         return AENL_E_DIM;
     }
     double *im = re + nfft;
-    double mean = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        mean += x[i];
-    }
-    mean /= (double)n;
+    const double mean = mean_of(x, n);
     for (size_t i = 0; i < n; ++i)
     {
         const double w = 0.5 - 0.5 * cos(2.0 * k_pi * ((double)i + 0.5) / (double)n);

@@ -178,6 +178,8 @@ typedef struct aenl_diagnose_result
     size_t n_param_sd;       /**< their count (0: no summary fit) */
     double chi2_start, chi2; /**< weighted summary misfit before and after the summary fit */
     size_t chi2_dof;         /**< its degrees of freedom, summaries - parameters (0: none) */
+    int summary_rejected;    /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
+                                  model; the gap's fit is kept and n_param_sd is 0 */
     unsigned n_sims;         /**< simulations run */
     double seconds;          /**< wall time */
 } aenl_diagnose_result_t;
