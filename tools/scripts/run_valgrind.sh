@@ -77,14 +77,15 @@ if ((have_gnuplot)); then
 fi
 
 # diagnose: a short hidden-freeplay record (1200 samples) against the linear baseline; grid
-# calibration only and 2 replicates keep it to a few hundred short simulations.
+# calibration only, a short restart, 2 replicates and the smallest summary fit keep it to a few
+# hundred short simulations.
 for w in truth base; do
   awk '/^[ \t]*duration[ \t]*=/ { print "duration = 599.5"; next } { print }' \
     "$root/tools/examples/diagnose_${w}_airfoil2dof.ini" >"dg_$w.ini"
 done
 vg 0 "simulate (diagnose record)" simulate dg_truth.ini -o dg_meas.csv
 vg 0 "diagnose --json --out" diagnose --measured dg_meas.csv --model dg_base.ini --json \
-  --refine 0 --replicates 2 --no-plots --out dg
+  --refine 0 --replicates 2 --max-evals 8 --summary-records 32 --no-plots --out dg
 vg 2 "diagnose: wrong model for the record" diagnose --measured dg_meas.csv \
   --model diagnose_base_section3dof.ini
 # Error paths must not leak either.
