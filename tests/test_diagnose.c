@@ -82,8 +82,9 @@ static void test_peak_freq_matches_brute_force(void)
     double f = 0.0;
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_peak_freq(x, n, &f, &err));
     double f_best = 0.0, p_best = -1.0;
-    for (double ft = f0 - 2e-4; ft <= f0 + 2e-4; ft += 1e-8)
+    for (long k = -20000; k <= 20000; ++k)
     {
+        const double ft = f0 + 1e-8 * (double)k;
         double re = 0.0, im = 0.0;
         for (size_t i = 0; i < n; ++i)
         {

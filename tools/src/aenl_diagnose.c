@@ -894,7 +894,7 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
     for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
     {
         spec_t *s = &sp[order[i]];
-        double step[AENL_DIAGNOSE_MAX_PAR];
+        double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
         spec_step(s, step);
         o.sp = s;
         nelder_mead(&o, step, opts->max_evals);
@@ -919,7 +919,7 @@ static aenl_status_t restart(ctx_t *x, const aenl_sim_model_t *base, spec_t *s,
         return AENL_E_DIM;
     }
     obj_t o = {x, base, s, sig, err, AENL_OK};
-    double step[AENL_DIAGNOSE_MAX_PAR];
+    double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
     spec_step(s, step);
     nelder_mead(&o, step, opts->max_evals);
     free(sig);

@@ -17,7 +17,7 @@
 /* Summaries per channel: mean, log std, log kurtosis, log peak frequency, and the second and
  * third harmonics relative to the fundamental (real and imaginary parts, phase-free). */
 #define N_SUM_CH 8u
-#define N_SUM    (N_SUM_CH * AENL_SIM_MAX_Q)
+#define N_SUM    ((size_t)N_SUM_CH * AENL_SIM_MAX_Q)
 
 /* Parameter moves of the finite differences, relative to the truth's value. */
 #define REL_STEP 0.1
@@ -210,7 +210,7 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
     }
     if (n_jac < 2u || n_jac > n_rep || n_rep < N_SUM + 8u || n_rep > 4096u)
     {
-        aenl_err_set(err, "summaries: %u records (%u..4096) and %u for the sensitivities (2..)",
+        aenl_err_set(err, "summaries: %u records (%zu..4096) and %u for the sensitivities (2..)",
                      n_rep, N_SUM + 8u, n_jac);
         return AENL_E_ARG;
     }
@@ -269,7 +269,7 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
         for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
         {
             const aenl_sim_run_t run = replicate_run(run_in, q);
-            double sp[N_SUM], sm[N_SUM];
+            double sp[N_SUM] = {0.0}, sm[N_SUM] = {0.0};
             size_t dp = 0, dm = 0;
             st = summaries(&mp, &run, noise_sd, sp, &dp, err);
             if (st == AENL_OK)
@@ -298,7 +298,7 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
     for (unsigned q = 0; q <= n_jac && st == AENL_OK; ++q)
     {
         /* q < n_jac: a seed's deviation from the mean; q == n_jac: the mean itself */
-        double dj[N_SUM * AENL_DIAGNOSE_MAX_PAR], x[N_SUM * AENL_DIAGNOSE_MAX_PAR];
+        double dj[N_SUM * AENL_DIAGNOSE_MAX_PAR] = {0.0}, x[N_SUM * AENL_DIAGNOSE_MAX_PAR] = {0.0};
         for (size_t i = 0; i < d * np; ++i)
         {
             dj[i] = q < n_jac ? jq[(size_t)q * d * np + i] - jac[i] : jac[i];
@@ -404,7 +404,7 @@ aenl_status_t aenl_diagnose_bound(const aenl_sim_model_t *model, const aenl_sim_
 /* Weighted residual norm r' S^-1 r of summaries r (the covariance's factor in inf), times w. */
 static double quad(const info_t *inf, const double *r, double w)
 {
-    double x[N_SUM];
+    double x[N_SUM] = {0.0};
     memcpy(x, r, inf->d * sizeof(double));
     (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)inf->d, 1, inf->chol,
                          (lapack_int)inf->d, x, 1);
@@ -426,7 +426,7 @@ static aenl_status_t centre_of(const aenl_sim_model_t *m, const aenl_sim_run_t *
     for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
     {
         const aenl_sim_run_t run = replicate_run(run_in, q);
-        double sq[N_SUM];
+        double sq[N_SUM] = {0.0};
         size_t dq = 0;
         st = summaries(m, &run, noise_sd, sq, &dq, err);
         for (size_t i = 0; i < d && st == AENL_OK; ++i)
@@ -473,7 +473,8 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
     /* The residual's variance: one record's covariance plus that of a mean of n_jac. */
     const double w = inf->unbias / (1.0 + 1.0 / (double)n_jac);
     /* Gauss-Newton matrix J' S^-1 J (plain: positive definite) and its Cholesky factor. */
-    double x[N_SUM * AENL_DIAGNOSE_MAX_PAR], h[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR];
+    double x[N_SUM * AENL_DIAGNOSE_MAX_PAR] = {0.0};
+    double h[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR] = {0.0};
     memcpy(x, inf->jac, d * np * sizeof(double));
     (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, (lapack_int)np, inf->chol,
                          (lapack_int)d, x, (lapack_int)np);
@@ -491,7 +492,7 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
     }
     const int h_ok = LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'U', (lapack_int)np, h, (lapack_int)np) == 0;
     aenl_sim_model_t cur = *start;
-    double r[N_SUM], centre[N_SUM];
+    double r[N_SUM] = {0.0}, centre[N_SUM] = {0.0};
     memcpy(centre, inf->centre, d * sizeof(double));
     for (size_t i = 0; i < d; ++i)
     {
@@ -513,8 +514,9 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
         }
         (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)np, 1, h, (lapack_int)np, g, 1);
         int accepted = 0;
-        for (double lam = 1.0; lam >= 0.25 && !accepted && evals < SUMFIT_EVALS; lam *= 0.5)
+        for (unsigned half = 0; half < 3u && !accepted && evals < SUMFIT_EVALS; ++half)
         {
+            const double lam = ldexp(1.0, -(int)half); /* 1, 1/2, 1/4 */
             aenl_sim_model_t trial = cur;
             int valid = 1;
             for (size_t k = 0; k < np; ++k)
@@ -530,7 +532,7 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
             {
                 continue;
             }
-            double c_t[N_SUM], r_t[N_SUM];
+            double c_t[N_SUM] = {0.0}, r_t[N_SUM] = {0.0};
             ++evals;
             const aenl_status_t s_t = centre_of(&trial, run, noise_sd, n_jac, d, c_t, err);
             if (s_t == AENL_E_DIM)

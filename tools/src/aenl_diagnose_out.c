@@ -506,11 +506,11 @@ static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
             "\n  standard errors (summary fit, chi2 %.3g for %zu degrees of freedom, %.3g "
             "before):",
             r->chi2, r->chi2_dof, r->chi2_start);
-    for (size_t k = 0; k < r->n_param_sd; ++k)
+    for (size_t k = 0; k < r->n_param_sd && k < AENL_DIAGNOSE_MAX_PAR; ++k)
     {
         const char *name = r->effect == AENL_DIAGNOSE_POLYNOMIAL
                                ? "c3"
-                               : (r->effect == AENL_DIAGNOSE_PRELOAD ? "M0" : gap[k]);
+                               : (r->effect == AENL_DIAGNOSE_PRELOAD ? "M0" : gap[k % 3u]);
         if (isfinite(r->param_sd[k]))
         {
             fprintf(fp, " %s %.3g%s", name, r->param_sd[k] * u, ang ? " deg" : "");
