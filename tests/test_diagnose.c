@@ -193,23 +193,6 @@ static void test_run_rejects_wrong_step_and_channels(void)
     aenl_table_free(&t);
 }
 
-/* |truth| of parameter i of an effect (the order of aenl_diagnose_param_errors). */
-static double rel_scale(aenl_diagnose_effect_t e, const aenl_sim_law_t *law, size_t i)
-{
-    switch (e)
-    {
-        case AENL_DIAGNOSE_POLYNOMIAL:
-            return fabs(law->coeffs[2]);
-        case AENL_DIAGNOSE_PRELOAD:
-            return fabs(law->preload);
-        case AENL_DIAGNOSE_FREEPLAY:
-        case AENL_DIAGNOSE_HYSTERESIS:
-        case AENL_DIAGNOSE_NONE:
-        default:
-            return fabs(i == 0u ? law->delta : (i == 1u ? law->x_f : law->preload));
-    }
-}
-
 /* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too.
  * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, no
  * event location; Dryden gusts where the baseline assumes first-order ones). */
@@ -268,7 +251,8 @@ static void check_case(const char *name, int other_sim)
         TEST_ASSERT_TRUE(r.chi2_dof > 0u && r.chi2 <= r.chi2_start);
         for (size_t i = 0; i < np; ++i)
         {
-            const double sd_rel = r.param_sd[i] / rel_scale(c.effect, &c.truth.law[c.dof], i);
+            const double sd_rel =
+                r.param_sd[i] / fabs(aenl_diagnose_param_get(&c.truth.law[c.dof], c.effect, i));
             printf("  parameter %zu: relative error %.2f %%, standard error %.2f %%\n", i,
                    100.0 * rel[i], 100.0 * sd_rel);
             TEST_ASSERT_TRUE_MESSAGE(rel[i] <= 0.15, name);

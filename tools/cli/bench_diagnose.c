@@ -57,24 +57,6 @@ typedef struct
     double seconds;
 } tally_t;
 
-/* Names of the parameters of an effect, in the order of aenl_diagnose_param_errors. */
-static const char *param_name(aenl_diagnose_effect_t e, size_t k)
-{
-    static const char *const gap[] = {"delta", "alpha_f", "M0"};
-    switch (e)
-    {
-        case AENL_DIAGNOSE_POLYNOMIAL:
-            return "c3";
-        case AENL_DIAGNOSE_PRELOAD:
-            return "M0";
-        case AENL_DIAGNOSE_FREEPLAY:
-        case AENL_DIAGNOSE_HYSTERESIS:
-        case AENL_DIAGNOSE_NONE:
-        default:
-            return gap[k < 3u ? k : 2u];
-    }
-}
-
 /* --bound: the case's information floor, one line. */
 static void print_bound(const aenl_diagnose_case_t *c, int params_ok, tally_t *t)
 {
@@ -97,11 +79,11 @@ static void print_bound(const aenl_diagnose_case_t *c, int params_ok, tally_t *t
     {
         if (isfinite(sd[k]))
         {
-            printf(" %s %.2f", param_name(c->effect, k), 100.0 * sd[k]);
+            printf(" %s %.2f", aenl_diagnose_param_name(c->effect, k), 100.0 * sd[k]);
         }
         else
         {
-            printf(" %s not determined", param_name(c->effect, k));
+            printf(" %s not determined", aenl_diagnose_param_name(c->effect, k));
         }
         worst = fmax(worst, sd[k]);
     }

@@ -1187,8 +1187,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
                 return st;
             }
             spec_law(named, named->theta, &r->cand[best].law);
-            r->cand[best].gap = sqrt(named->best);
-            r->cand[best].n_evals = named->n_evals;
+            r->cand[best].n_evals = named->n_evals; /* its gap: gap_after, below */
             r->updated.law[r->dof] = r->cand[best].law;
             if (opts->summary_records > 0u)
             {

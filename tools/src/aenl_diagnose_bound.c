@@ -35,23 +35,6 @@
 
 static const double k_two_pi = 6.28318530717958647692;
 
-/* Pointer to parameter k of `effect` in law l, in the order of aenl_diagnose_param_errors. */
-static double *param_ptr(aenl_sim_law_t *l, aenl_diagnose_effect_t effect, size_t k)
-{
-    switch (effect)
-    {
-        case AENL_DIAGNOSE_POLYNOMIAL:
-            return &l->coeffs[2];
-        case AENL_DIAGNOSE_PRELOAD:
-            return &l->preload;
-        case AENL_DIAGNOSE_FREEPLAY:
-        case AENL_DIAGNOSE_HYSTERESIS:
-        case AENL_DIAGNOSE_NONE:
-        default:
-            return k == 0u ? &l->delta : (k == 1u ? &l->x_f : &l->preload);
-    }
-}
-
 /* Second and third harmonics of y (mean mu removed) at frequency f (cycles per sample) relative
  * to the fundamental, with the fundamental's phase taken out block by block: sums over blocks
  * of H_q conj(u)^q, u = H_1 / |H_1|, over the sum of |H_1|. out: re2, im2, re3, im3. */
@@ -200,9 +183,7 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
                                  info_t *inf, aenl_err_t *err)
 {
     memset(inf, 0, sizeof(*inf));
-    double rel_tmp[AENL_DIAGNOSE_MAX_PAR]; /* only the count is used */
-    const size_t np =
-        aenl_diagnose_param_errors(effect, &model->law[dof], &model->law[dof], rel_tmp);
+    const size_t np = aenl_diagnose_n_params(effect);
     inf->np = np;
     if (np == 0u)
     {
@@ -262,10 +243,10 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
     for (size_t k = 0; k < np && st == AENL_OK; ++k)
     {
         aenl_sim_model_t mp = *model, mm = *model;
-        const double v = *param_ptr(&mp.law[dof], effect, k);
+        const double v = aenl_diagnose_param_get(&model->law[dof], effect, k);
         const double h = REL_STEP * fmax(fabs(v), 1e-12);
-        *param_ptr(&mp.law[dof], effect, k) = v + h;
-        *param_ptr(&mm.law[dof], effect, k) = v - h;
+        aenl_diagnose_param_set(&mp.law[dof], effect, k, v + h);
+        aenl_diagnose_param_set(&mm.law[dof], effect, k, v - h);
         for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
         {
             const aenl_sim_run_t run = replicate_run(run_in, q);
@@ -324,18 +305,19 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
 }
 
 /* Standard deviations from the Fisher information, times sqrt(scale), into sd[0..np).
- * The information is scaled by the parameters' magnitudes (theta = `at`) and split into
+ * The information is scaled by the parameters' magnitudes (in `law`) and split into
  * eigen-directions: a direction without positive information is not determined, and every
  * parameter that takes part in it (a component above UNDETERMINED_SHARE) gets INFINITY; the
  * others their variance over the determined directions. */
-static void fisher_sd(const info_t *inf, const double *at, double scale, double *sd)
+static void fisher_sd(const info_t *inf, const aenl_sim_law_t *law, aenl_diagnose_effect_t effect,
+                      double scale, double *sd)
 {
     const size_t np = inf->np;
     double f[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR], ev[AENL_DIAGNOSE_MAX_PAR];
     double mag[AENL_DIAGNOSE_MAX_PAR];
     for (size_t a = 0; a < np; ++a)
     {
-        mag[a] = fmax(fabs(at[a]), 1e-300);
+        mag[a] = fmax(fabs(aenl_diagnose_param_get(law, effect, a)), 1e-300);
     }
     for (size_t a = 0; a < np; ++a)
     {
@@ -389,13 +371,7 @@ aenl_status_t aenl_diagnose_bound(const aenl_sim_model_t *model, const aenl_sim_
     *n_par = inf->np;
     if (st == AENL_OK && inf->np > 0u)
     {
-        double at[AENL_DIAGNOSE_MAX_PAR];
-        aenl_sim_law_t law = model->law[dof];
-        for (size_t k = 0; k < inf->np; ++k)
-        {
-            at[k] = *param_ptr(&law, effect, k);
-        }
-        fisher_sd(inf, at, 1.0, sd_out);
+        fisher_sd(inf, &model->law[dof], effect, 1.0, sd_out);
     }
     free(inf);
     return st;
@@ -521,12 +497,12 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
             int valid = 1;
             for (size_t k = 0; k < np; ++k)
             {
-                double *p = param_ptr(&trial.law[dof], effect, k);
-                const double v = *p + lam * g[k];
+                const double p = aenl_diagnose_param_get(&trial.law[dof], effect, k);
+                const double v = p + lam * g[k];
                 /* a gap width stays positive: at most a fivefold shrink per step */
                 valid = valid && (k > 0u || effect == AENL_DIAGNOSE_POLYNOMIAL ||
-                                  effect == AENL_DIAGNOSE_PRELOAD || v > 0.2 * *p);
-                *p = v;
+                                  effect == AENL_DIAGNOSE_PRELOAD || v > 0.2 * p);
+                aenl_diagnose_param_set(&trial.law[dof], effect, k, v);
             }
             if (!valid)
             {
@@ -568,13 +544,7 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
     out->n_sims = n_rep + 2u * n_jac * (unsigned)np + evals * n_jac;
     if (st == AENL_OK)
     {
-        double at[AENL_DIAGNOSE_MAX_PAR];
-        aenl_sim_law_t law = start->law[dof];
-        for (size_t k = 0; k < np; ++k)
-        {
-            at[k] = *param_ptr(&law, effect, k);
-        }
-        fisher_sd(inf, at, 1.0 + 1.0 / (double)n_jac, out->sd);
+        fisher_sd(inf, &start->law[dof], effect, 1.0 + 1.0 / (double)n_jac, out->sd);
     }
     free(inf);
     return st;
@@ -588,8 +558,8 @@ aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n
                                                  n_rep, n_jac, rel_sd, n_par, err);
     for (size_t k = 0; k < *n_par && st == AENL_OK; ++k)
     {
-        aenl_sim_law_t law = c->truth.law[c->dof];
-        rel_sd[k] /= fmax(fabs(*param_ptr(&law, c->effect, k)), 1e-300);
+        rel_sd[k] /=
+            fmax(fabs(aenl_diagnose_param_get(&c->truth.law[c->dof], c->effect, k)), 1e-300);
     }
     return st;
 }

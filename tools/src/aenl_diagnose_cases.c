@@ -204,33 +204,79 @@ aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_tab
     return st;
 }
 
-static double rel_err(double fit, double truth)
+/* Pointer to parameter k of `effect` in law l (the order of aenl_diagnose_n_params). */
+static double *param_ptr(aenl_sim_law_t *l, aenl_diagnose_effect_t effect, size_t k)
 {
-    return fabs(fit - truth) / fmax(fabs(truth), 1e-300);
+    switch (effect)
+    {
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            return &l->coeffs[2];
+        case AENL_DIAGNOSE_PRELOAD:
+            return &l->preload;
+        case AENL_DIAGNOSE_FREEPLAY:
+        case AENL_DIAGNOSE_HYSTERESIS:
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return k == 0u ? &l->delta : (k == 1u ? &l->x_f : &l->preload);
+    }
 }
 
-size_t aenl_diagnose_param_errors(aenl_diagnose_effect_t effect, const aenl_sim_law_t *truth,
-                                  const aenl_sim_law_t *fit, double rel[AENL_DIAGNOSE_MAX_PAR])
+size_t aenl_diagnose_n_params(aenl_diagnose_effect_t effect)
 {
     switch (effect)
     {
         case AENL_DIAGNOSE_FREEPLAY:
-            rel[0] = rel_err(fit->delta, truth->delta);
-            rel[1] = rel_err(fit->x_f, truth->x_f);
             return 2;
         case AENL_DIAGNOSE_HYSTERESIS:
-            rel[0] = rel_err(fit->delta, truth->delta);
-            rel[1] = rel_err(fit->x_f, truth->x_f);
-            rel[2] = rel_err(fit->preload, truth->preload);
             return 3;
         case AENL_DIAGNOSE_POLYNOMIAL:
-            rel[0] = rel_err(fit->n_coeffs >= 3u ? fit->coeffs[2] : 0.0, truth->coeffs[2]);
-            return 1;
         case AENL_DIAGNOSE_PRELOAD:
-            rel[0] = rel_err(fit->preload, truth->preload);
             return 1;
         case AENL_DIAGNOSE_NONE:
         default:
             return 0;
     }
+}
+
+double aenl_diagnose_param_get(const aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k)
+{
+    aenl_sim_law_t l = *law;
+    return *param_ptr(&l, effect, k);
+}
+
+void aenl_diagnose_param_set(aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k, double v)
+{
+    *param_ptr(law, effect, k) = v;
+}
+
+const char *aenl_diagnose_param_name(aenl_diagnose_effect_t effect, size_t k)
+{
+    static const char *const gap[] = {"delta", "alpha_f", "M0"};
+    switch (effect)
+    {
+        case AENL_DIAGNOSE_POLYNOMIAL:
+            return "c3";
+        case AENL_DIAGNOSE_PRELOAD:
+            return "M0";
+        case AENL_DIAGNOSE_FREEPLAY:
+        case AENL_DIAGNOSE_HYSTERESIS:
+        case AENL_DIAGNOSE_NONE:
+        default:
+            return gap[k < 3u ? k : 2u];
+    }
+}
+
+size_t aenl_diagnose_param_errors(aenl_diagnose_effect_t effect, const aenl_sim_law_t *truth,
+                                  const aenl_sim_law_t *fit, double rel[AENL_DIAGNOSE_MAX_PAR])
+{
+    const size_t np = aenl_diagnose_n_params(effect);
+    for (size_t k = 0; k < np; ++k)
+    {
+        const double t = aenl_diagnose_param_get(truth, effect, k);
+        const double f = effect == AENL_DIAGNOSE_POLYNOMIAL && fit->n_coeffs < 3u
+                             ? 0.0
+                             : aenl_diagnose_param_get(fit, effect, k);
+        rel[k] = fabs(f - t) / fmax(fabs(t), 1e-300);
+    }
+    return np;
 }

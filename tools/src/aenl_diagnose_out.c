@@ -499,7 +499,6 @@ static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
     {
         return;
     }
-    static const char *const gap[] = {"delta", "alpha_f", "M0"};
     const int ang = is_angular(r->dof) && r->effect != AENL_DIAGNOSE_POLYNOMIAL;
     const double u = ang ? k_deg : 1.0;
     fprintf(fp,
@@ -508,9 +507,7 @@ static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
             r->chi2, r->chi2_dof, r->chi2_start);
     for (size_t k = 0; k < r->n_param_sd && k < AENL_DIAGNOSE_MAX_PAR; ++k)
     {
-        const char *name = r->effect == AENL_DIAGNOSE_POLYNOMIAL
-                               ? "c3"
-                               : (r->effect == AENL_DIAGNOSE_PRELOAD ? "M0" : gap[k % 3u]);
+        const char *name = aenl_diagnose_param_name(r->effect, k);
         if (isfinite(r->param_sd[k]))
         {
             fprintf(fp, " %s %.3g%s", name, r->param_sd[k] * u, ang ? " deg" : "");

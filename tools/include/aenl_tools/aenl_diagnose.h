@@ -374,6 +374,23 @@ aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n
                                        size_t *n_par, aenl_err_t *err);
 
 /**
+ * @brief The parameters that define `effect`, in one order for every list of them (errors,
+ *        standard errors, bounds): freeplay delta, alpha_f; hysteresis delta, alpha_f, preload;
+ *        polynomial c3 (coeffs[2]); preload preload. Their count (0 for NONE).
+ */
+size_t aenl_diagnose_n_params(aenl_diagnose_effect_t effect);
+
+/** Parameter k (< aenl_diagnose_n_params) of `effect` in `law`. */
+double aenl_diagnose_param_get(const aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k);
+
+/** Set parameter k (< aenl_diagnose_n_params) of `effect` in `law` to v. */
+void aenl_diagnose_param_set(aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k,
+                             double v);
+
+/** Short name of parameter k of `effect` for reports: "delta", "alpha_f", "M0" or "c3". */
+const char *aenl_diagnose_param_name(aenl_diagnose_effect_t effect, size_t k);
+
+/**
  * @brief Relative errors |fit - truth| / |truth| of the parameters that define `effect`
  *        (freeplay: delta, alpha_f; hysteresis: delta, alpha_f, preload; polynomial: c3;
  *        preload: preload) into rel[0..]; returns their count (0 for NONE).
