@@ -863,6 +863,18 @@ static void order_by_best(const spec_t *sp, size_t n, size_t *order)
     }
 }
 
+/* Nelder-Mead on candidate s from its best point with the first steps; fmt: the progress line
+ * (effect, DOF, gap). */
+static void refine(obj_t *o, spec_t *s, unsigned max_evals, const char *fmt)
+{
+    double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
+    spec_step(s, step);
+    o->sp = s;
+    nelder_mead(o, step, max_evals);
+    progress(o->x, fmt, aenl_diagnose_effect_name(s->effect), aenl_diagnose_dof_name(s->dof),
+             sqrt(s->best));
+}
+
 static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
                                     const aenl_diagnose_opts_t *opts, aenl_err_t *err)
 {
@@ -893,13 +905,7 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
     order_by_best(sp, n_sp, order);
     for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
     {
-        spec_t *s = &sp[order[i]];
-        double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
-        spec_step(s, step);
-        o.sp = s;
-        nelder_mead(&o, step, opts->max_evals);
-        progress(x, "refined %s %s: gap %.4g", aenl_diagnose_effect_name(s->effect),
-                 aenl_diagnose_dof_name(s->dof), sqrt(s->best));
+        refine(&o, &sp[order[i]], opts->max_evals, "refined %s %s: gap %.4g");
     }
     free(sig);
     return o.st;
@@ -919,12 +925,8 @@ static aenl_status_t restart(ctx_t *x, const aenl_sim_model_t *base, spec_t *s,
         return AENL_E_DIM;
     }
     obj_t o = {x, base, s, sig, err, AENL_OK};
-    double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
-    spec_step(s, step);
-    nelder_mead(&o, step, opts->max_evals);
+    refine(&o, s, opts->max_evals, "restarted %s %s: gap %.4g");
     free(sig);
-    progress(x, "restarted %s %s: gap %.4g", aenl_diagnose_effect_name(s->effect),
-             aenl_diagnose_dof_name(s->dof), sqrt(s->best));
     return o.st;
 }
 

@@ -322,35 +322,38 @@ aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const ch
 /* ---- JSON
  * ---------------------------------------------------------------------------------------- */
 
-static void add_params(cJSON *params, const aenl_diagnose_result_t *r)
+/* A number, or null where it is not finite (a parameter the record does not determine). */
+static cJSON *number_or_null(double v)
 {
-    if (r->effect == AENL_DIAGNOSE_NONE)
-    {
-        return;
-    }
-    const aenl_sim_law_t *law = &r->updated.law[r->dof];
-    switch (r->effect)
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+/* Values of the named effect's parameters under the contract's keys: v[k] in the order of
+ * aenl_diagnose_n_params; for the polynomial the whole coefficient list poly[0..n_poly). */
+static void add_values(cJSON *o, aenl_diagnose_effect_t effect, const double *v, const double *poly,
+                       size_t n_poly)
+{
+    static const char *const gap_keys[] = {"delta", "alpha_f", "preload"};
+    switch (effect)
     {
         case AENL_DIAGNOSE_FREEPLAY:
-            (void)cJSON_AddNumberToObject(params, "delta", law->delta);
-            (void)cJSON_AddNumberToObject(params, "alpha_f", law->x_f);
-            break;
         case AENL_DIAGNOSE_HYSTERESIS:
-            (void)cJSON_AddNumberToObject(params, "delta", law->delta);
-            (void)cJSON_AddNumberToObject(params, "alpha_f", law->x_f);
-            (void)cJSON_AddNumberToObject(params, "preload", law->preload);
+            for (size_t k = 0; k < aenl_diagnose_n_params(effect) && k < AENL_DIAGNOSE_MAX_PAR; ++k)
+            {
+                (void)cJSON_AddItemToObject(o, gap_keys[k], number_or_null(v[k]));
+            }
             break;
         case AENL_DIAGNOSE_POLYNOMIAL:
         {
-            cJSON *a = cJSON_AddArrayToObject(params, "coeffs");
-            for (size_t k = 0; a != NULL && k < law->n_coeffs; ++k)
+            cJSON *a = cJSON_AddArrayToObject(o, "coeffs");
+            for (size_t k = 0; a != NULL && k < n_poly; ++k)
             {
-                (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(law->coeffs[k]));
+                (void)cJSON_AddItemToArray(a, number_or_null(poly[k]));
             }
             break;
         }
         case AENL_DIAGNOSE_PRELOAD:
-            (void)cJSON_AddNumberToObject(params, "preload", law->preload);
+            (void)cJSON_AddItemToObject(o, "preload", number_or_null(v[0]));
             break;
         case AENL_DIAGNOSE_NONE:
         default:
@@ -358,8 +361,19 @@ static void add_params(cJSON *params, const aenl_diagnose_result_t *r)
     }
 }
 
-/* The standard errors of the summary fit under the same keys as the parameters (null where not
- * determined; the fixed polynomial coefficients 0). */
+static void add_params(cJSON *params, const aenl_diagnose_result_t *r)
+{
+    const aenl_sim_law_t *law = &r->updated.law[r->dof];
+    double v[AENL_DIAGNOSE_MAX_PAR] = {0.0};
+    for (size_t k = 0; k < aenl_diagnose_n_params(r->effect); ++k)
+    {
+        v[k] = aenl_diagnose_param_get(law, r->effect, k);
+    }
+    add_values(params, r->effect, v, law->coeffs, law->n_coeffs);
+}
+
+/* The standard errors of the summary fit under the same keys as the parameters (the fixed
+ * polynomial coefficients 0). */
 static void add_param_sd(cJSON *me, const aenl_diagnose_result_t *r)
 {
     if (r->n_param_sd == 0u)
@@ -367,41 +381,10 @@ static void add_param_sd(cJSON *me, const aenl_diagnose_result_t *r)
         return;
     }
     cJSON *o = cJSON_AddObjectToObject(me, "params_sd");
-    if (o == NULL)
+    if (o != NULL)
     {
-        return;
-    }
-    const double *sd = r->param_sd;
-    cJSON *v[AENL_DIAGNOSE_MAX_PAR] = {NULL};
-    for (size_t k = 0; k < r->n_param_sd && k < AENL_DIAGNOSE_MAX_PAR; ++k)
-    {
-        v[k] = isfinite(sd[k]) ? cJSON_CreateNumber(sd[k]) : cJSON_CreateNull();
-    }
-    switch (r->effect)
-    {
-        case AENL_DIAGNOSE_FREEPLAY:
-        case AENL_DIAGNOSE_HYSTERESIS:
-            (void)cJSON_AddItemToObject(o, "delta", v[0]);
-            (void)cJSON_AddItemToObject(o, "alpha_f", v[1]);
-            if (r->effect == AENL_DIAGNOSE_HYSTERESIS)
-            {
-                (void)cJSON_AddItemToObject(o, "preload", v[2]);
-            }
-            break;
-        case AENL_DIAGNOSE_POLYNOMIAL:
-        {
-            cJSON *a = cJSON_AddArrayToObject(o, "coeffs");
-            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(0.0));
-            (void)cJSON_AddItemToArray(a, cJSON_CreateNumber(0.0));
-            (void)cJSON_AddItemToArray(a, v[0]);
-            break;
-        }
-        case AENL_DIAGNOSE_PRELOAD:
-            (void)cJSON_AddItemToObject(o, "preload", v[0]);
-            break;
-        case AENL_DIAGNOSE_NONE:
-        default:
-            break;
+        const double poly[3] = {0.0, 0.0, r->param_sd[0]};
+        add_values(o, r->effect, r->param_sd, poly, 3u);
     }
 }
 

@@ -151,15 +151,15 @@ static double psd_peak(const double *psd, size_t nb, size_t k0)
 
 aenl_status_t aenl_diagnose_peak_freq(const double *x, size_t n, double *freq, aenl_err_t *err)
 {
+    if (n < 16u || n > ((size_t)1 << 24u))
+    {
+        aenl_err_set(err, "peak frequency: %zu samples (16 .. 2^24)", n);
+        return AENL_E_ARG;
+    }
     size_t nfft = 8u;
     while (nfft < 4u * n)
     {
         nfft <<= 1u;
-    }
-    if (n < 16u || nfft > ((size_t)1 << 26u))
-    {
-        aenl_err_set(err, "peak frequency: %zu samples (16 .. 2^24)", n);
-        return AENL_E_ARG;
     }
     double *re = calloc(2u * nfft, sizeof(double));
     if (re == NULL)
