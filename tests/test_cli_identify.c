@@ -498,6 +498,49 @@ static void test_cli_identify_plot(void)
 
 /* ---- bad input ---------------------------------------------------------------------------- */
 
+/* --model: the example record of `aenl diagnose` (2-DOF airfoil in a limit cycle, pitch freeplay
+ * delta 0.5 deg from alpha_f 0.2 deg, SNR 3) against the example linear baseline. The record
+ * alone cannot tell the laws apart over one orbit; the model-based test names freeplay in
+ * alpha with the gap's edges within 5 % of its width (their standard errors given) and keeps
+ * the record alone's verdict in the table. */
+static void test_cli_identify_with_model(void)
+{
+    char ini[600], base[600];
+    (void)snprintf(ini, sizeof(ini), "%s/tools/examples/diagnose_truth_airfoil2dof.ini",
+                   source_root());
+    (void)snprintf(base, sizeof(base), "%s/tools/examples/diagnose_base_airfoil2dof.ini",
+                   source_root());
+    const char *data = simulate(ini, "id_model.csv");
+    static cli_result_t r;
+    const char *args[] = {"identify", data, "--model", base, "--json", NULL};
+    cJSON *root = run_json(args, &r);
+    const cJSON *named = check_contract(root, data, 2);
+    TEST_ASSERT_NOT_NULL_MESSAGE(named, r.out);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "verdict");
+    TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItemCaseSensitive(v, "class")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("alpha", cJSON_GetObjectItemCaseSensitive(v, "channel")->valuestring);
+    const cJSON *pts = cJSON_GetObjectItemCaseSensitive(v, "switch_points");
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(pts));
+    const double width = 0.5 * DEG;
+    TEST_ASSERT_DOUBLE_WITHIN(0.05 * width, 0.2 * DEG, cJSON_GetArrayItem(pts, 0)->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.05 * width, 0.7 * DEG, cJSON_GetArrayItem(pts, 1)->valuedouble);
+    const cJSON *sd = cJSON_GetObjectItemCaseSensitive(named, "switch_point_std");
+    for (int k = 0; k < 2; ++k)
+    {
+        const cJSON *e = cJSON_GetArrayItem(sd, k);
+        TEST_ASSERT_TRUE(cJSON_IsNumber(e) && e->valuedouble > 0.0 && e->valuedouble < 0.1 * width);
+    }
+    cJSON_Delete(root);
+    const char *table[] = {"identify", data, "--model", base, NULL};
+    const char *out = run_table(table, &r);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  model-based test against "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, ": freeplay in pitch, gap "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  the record alone: "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict (model-based): freeplay in channel alpha"),
+                                 out);
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "one orbit does not tell"), out);
+}
+
 typedef struct
 {
     const char *what;
@@ -550,6 +593,10 @@ static void test_cli_identify_bad_input(void)
                                 sin(0.3 * i));
     }
     const char *flat = put_file("id_const.csv", constant);
+    /* a valid model whose channels (alpha, xi) the record (a, b) does not have */
+    const char *model_ini =
+        put_file("id_model_base.ini", "[model]\ntype = airfoil2dof\nustar = 4\n\n[initial]\n"
+                                      "alpha_deg = 1\n\n[run]\nduration = 100\ndt = 1\n");
     const bad_case_t cases[] = {
         {"missing file", {"identify", "/nonexistent/x.csv", NULL}, "/nonexistent/x.csv"},
         {"empty", {"identify", put_file("id_empty.csv", ""), NULL}, "id_empty.csv: empty file"},
@@ -592,6 +639,13 @@ static void test_cli_identify_bad_input(void)
         {"bandwidth not a number",
          {"identify", good, "--bandwidth", "abc", NULL},
          "--bandwidth: 'abc' is not a finite number"},
+        {"model and channel",
+         {"identify", good, "--model", "m.ini", "--channel", "a", NULL},
+         "does not go with --channel"},
+        {"missing model", {"identify", good, "--model", "/nonexistent/m.ini", NULL}, "m.ini"},
+        {"model without its channels",
+         {"identify", small_csv("id_ab.csv", 1200, 0, NULL), "--model", model_ini, NULL},
+         "no column 'alpha'"},
         {"unwritable plot folder",
          {"identify", good, "--plot", "/proc/nope/figs", NULL},
          "/proc/nope"},
@@ -617,6 +671,7 @@ int main(void)
     RUN_TEST(test_cli_identify_echo_of_another_channel);
     RUN_TEST(test_cli_identify_table_and_channel);
     RUN_TEST(test_cli_identify_plot);
+    RUN_TEST(test_cli_identify_with_model);
     RUN_TEST(test_cli_identify_bad_input);
     return UNITY_END();
 }

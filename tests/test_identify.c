@@ -304,6 +304,197 @@ static void test_identify_an_echo_of_another_channels_law_is_linear(void)
     check_echoes(89, AENL_EVAL_DECAY, echo89);
 }
 
+/* ---- the model-based verdict (aenl_identify_apply_model) ---------------------------------- */
+
+/* A 3-DOF record's result as the record alone left it: polynomial in h (confidence 0.4). */
+static aenl_identify_channel_t g_ch[3];
+static void data_result(aenl_identify_result_t *r)
+{
+    static const char *const names[3] = {"h", "alpha", "beta"};
+    memset(r, 0, sizeof(*r));
+    memset(g_ch, 0, sizeof(g_ch));
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        g_ch[k].name = names[k];
+        g_ch[k].res.cls = k == 0u ? AENL_CLASS_POLYNOMIAL : AENL_CLASS_LINEAR;
+        g_ch[k].res.confidence = 0.4f;
+        g_ch[k].explained_by = -1;
+    }
+    r->n_channels = 3;
+    r->ch = g_ch;
+    r->verdict = 0;
+    r->verdict_class = AENL_CLASS_POLYNOMIAL;
+    r->verdict_confidence = 0.4;
+    r->limit_cycle = -1;
+}
+
+/* A diagnosis of that record: the baseline far off (score 100), hysteresis in the flap named
+ * (score 2, weight 1), a flap freeplay at weight 1/3 and a pitch polynomial at weight 1/2. */
+static aenl_diagnose_result_t g_d;
+static aenl_diagnose_result_t *diagnosis(void)
+{
+    static const char *const names[3] = {"h", "alpha", "beta"};
+    aenl_diagnose_result_t *d = &g_d;
+    memset(d, 0, sizeof(*d));
+    d->n_channels = 3;
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        d->names[k] = names[k];
+    }
+    d->updated.type = AENL_SIM_SECTION3DOF;
+    d->explained = 1;
+    d->common_floor = 0.5;
+    d->gap_before[3] = 5.0; /* (5 / 0.5)^2 = 100 */
+    d->gap_after[3] = 0.6;
+    const aenl_diagnose_effect_t eff[3] = {AENL_DIAGNOSE_HYSTERESIS, AENL_DIAGNOSE_FREEPLAY,
+                                           AENL_DIAGNOSE_POLYNOMIAL};
+    const aenl_sim_dof_t dof[3] = {AENL_SIM_DOF_FLAP, AENL_SIM_DOF_FLAP, AENL_SIM_DOF_PITCH};
+    const double score[3] = {2.0, 2.0 + 2.0 * log(3.0), 2.0 + 2.0 * log(2.0)};
+    for (size_t i = 0; i < 3u; ++i)
+    {
+        d->cand[i].effect = eff[i];
+        d->cand[i].dof = dof[i];
+        d->cand[i].score = score[i];
+    }
+    d->cand[3].effect = AENL_DIAGNOSE_PRELOAD; /* scored nowhere: weight 0 */
+    d->cand[3].dof = AENL_SIM_DOF_PLUNGE;
+    d->cand[3].score = HUGE_VAL;
+    d->n_cand = 4;
+    d->chosen = 0;
+    d->effect = AENL_DIAGNOSE_HYSTERESIS;
+    d->dof = AENL_SIM_DOF_FLAP;
+    aenl_sim_law_t *law = &d->updated.law[AENL_SIM_DOF_FLAP];
+    law->kind = AENL_SIM_LAW_HYSTERESIS;
+    law->delta = 0.02;
+    law->x_f = 0.0;
+    d->n_param_sd = 3; /* delta, alpha_f, preload */
+    d->param_sd[0] = 0.001;
+    d->param_sd[1] = 0.0005;
+    d->param_sd[2] = 0.01;
+    return d;
+}
+
+static void apply(aenl_identify_result_t *r, const aenl_diagnose_result_t *d)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_identify_apply_model(r, d, &err), err.msg);
+}
+
+/* Class, channel, switching points (MODELS.md section 1.5's kinks of both branches), their
+ * errors and the confidences, all worked out by hand from the weights exp(-score / 2). */
+static void test_identify_model_verdict_reads_the_diagnosis(void)
+{
+    aenl_identify_result_t r;
+    data_result(&r);
+    aenl_diagnose_result_t *d = diagnosis();
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(1, r.model.applied);
+    TEST_ASSERT_EQUAL_INT(0, r.model.data_verdict); /* the record alone's, kept */
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.model.data_class);
+    TEST_ASSERT_EQUAL_DOUBLE(0.4, r.model.data_confidence);
+    TEST_ASSERT_EQUAL_INT(2, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, r.verdict_class);
+    /* weights 1, 1/3, 1/2 (the baseline's e^-49 is below double's resolution at this sum) */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 6.0 / 11.0, r.verdict_confidence);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 8.0 / 11.0, r.verdict_share);
+    const aenl_classifier_result_t *b = &r.ch[2].res;
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_HYSTERESIS, b->cls);
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 0.75f, (float)b->confidence);
+    /* alpha_f = 0: the inner kinks of both branches meet at 0 */
+    TEST_ASSERT_EQUAL_UINT8(3, b->n_switch);
+    const double want[3] = {-0.02, 0.0, 0.02}, want_sd[3] = {0.0015, 0.0005, 0.0015};
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, want[k], (double)b->switch_points[k]);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, want_sd[k], (double)b->switch_std[k]);
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[0].res.cls); /* h: no candidate weight */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 1.0f, (float)r.ch[0].res.confidence);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[1].res.cls); /* alpha: 1 - (1/2) / (11/6) */
+    TEST_ASSERT_FLOAT_WITHIN(1e-6f, 8.0f / 11.0f, (float)r.ch[1].res.confidence);
+
+    /* alpha_f = 0.005: four kinks, rising [0.005, 0.025], falling [-0.025, -0.005] */
+    data_result(&r);
+    d->updated.law[AENL_SIM_DOF_FLAP].x_f = 0.005;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_UINT8(4, r.ch[2].res.n_switch);
+    const double want4[4] = {-0.025, -0.005, 0.005, 0.025};
+    for (size_t k = 0; k < 4u; ++k)
+    {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12, want4[k], (double)r.ch[2].res.switch_points[k]);
+    }
+
+    /* freeplay: the gap [alpha_f, alpha_f + delta]; no summary fit: no errors (NaN) */
+    data_result(&r);
+    d->effect = AENL_DIAGNOSE_FREEPLAY;
+    d->cand[0].effect = AENL_DIAGNOSE_FREEPLAY;
+    d->updated.law[AENL_SIM_DOF_FLAP].kind = AENL_SIM_LAW_FREEPLAY;
+    d->updated.law[AENL_SIM_DOF_FLAP].x_f = -0.01;
+    d->n_param_sd = 0;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, r.verdict_class);
+    TEST_ASSERT_EQUAL_UINT8(2, r.ch[2].res.n_switch);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.01, (double)r.ch[2].res.switch_points[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.01, (double)r.ch[2].res.switch_points[1]);
+    TEST_ASSERT_TRUE(isnan((double)r.ch[2].res.switch_std[0]));
+    /* the two flap freeplays now share the class: (1 + 1/3) / (11/6) */
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 8.0 / 11.0, r.verdict_confidence);
+
+    /* a softening polynomial in pitch: no points, hardening from the cubic's sign */
+    data_result(&r);
+    d->effect = AENL_DIAGNOSE_POLYNOMIAL;
+    d->dof = AENL_SIM_DOF_PITCH;
+    aenl_sim_law_t *poly = &d->updated.law[AENL_SIM_DOF_PITCH];
+    poly->kind = AENL_SIM_LAW_POLYNOMIAL;
+    poly->n_coeffs = 3;
+    poly->coeffs[0] = 1.0;
+    poly->coeffs[2] = -3.0;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(1, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.ch[1].res.cls);
+    TEST_ASSERT_EQUAL_INT8(-1, r.ch[1].res.hardening);
+    TEST_ASSERT_EQUAL_UINT8(0, r.ch[1].res.n_switch);
+
+    /* none: linear, no channel; the baseline's weight is the verdict's confidence */
+    data_result(&r);
+    d->effect = AENL_DIAGNOSE_NONE;
+    d->gap_before[3] = 0.5 * sqrt(2.0); /* score 2, as the best candidate's */
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(-1, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.verdict_class);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.0 / (1.0 + 11.0 / 6.0), r.verdict_confidence);
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[k].res.cls);
+    }
+
+    /* a disagreement no candidate explains: the record's own verdict stands */
+    data_result(&r);
+    d->explained = 0;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(1, r.model.applied);
+    TEST_ASSERT_EQUAL_INT(0, r.model.explained);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.ch[0].res.cls);
+}
+
+/* The named DOF's channel must be in the result: else AENL_E_ARG and the result untouched. */
+static void test_identify_model_verdict_needs_the_channel(void)
+{
+    aenl_identify_result_t r;
+    data_result(&r);
+    g_ch[2].name = "flap";
+    aenl_diagnose_result_t *d = diagnosis();
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_identify_apply_model(&r, d, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "flap"));
+    TEST_ASSERT_EQUAL_INT(0, r.model.applied);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.ch[0].res.cls);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -314,5 +505,7 @@ int main(void)
     RUN_TEST(test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis);
     RUN_TEST(test_identify_an_echo_of_another_channels_law_is_linear);
     RUN_TEST(test_identify_a_noise_free_record_is_dithered_to_the_floor);
+    RUN_TEST(test_identify_model_verdict_reads_the_diagnosis);
+    RUN_TEST(test_identify_model_verdict_needs_the_channel);
     return UNITY_END();
 }

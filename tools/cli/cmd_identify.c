@@ -36,7 +36,7 @@ static void help(void)
 {
     printf(
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
-        "                     [--no-prefilter] [--forced]\n\n"
+        "                     [--no-prefilter] [--forced] [--model BASE.ini]\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
@@ -54,7 +54,13 @@ static void help(void)
         "--no-prefilter  no low-pass at 8 / period before the estimates\n"
         "--forced        the motion is forced (a shaker, a stepped sine, a rotor tone): a\n"
         "                sustained oscillation of constant amplitude is not taken for a limit\n"
-        "                cycle, which an unforced linear structure cannot have\n\n"
+        "                cycle, which an unforced linear structure cannot have\n"
+        "--model BASE.ini  also test the record against a baseline (linear) model of the\n"
+        "                test, as `aenl diagnose` does (INI contract of DESIGN.md section 4: the\n"
+        "                model, its initial condition or turbulence, [run] dt the record's\n"
+        "                step): the effect it names, with its fitted switching points, is the\n"
+        "                verdict; the record alone's verdict is printed beside it. The record\n"
+        "                is then also held in memory, and the test takes minutes\n\n"
         "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
         "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
@@ -242,7 +248,7 @@ static void checked_close(void *ctx)
 
 typedef struct
 {
-    const char *data, *channel, *plot_dir;
+    const char *data, *channel, *plot_dir, *model;
     int json;
     aenl_identify_opts_t opts;
 } args_t;
@@ -276,6 +282,13 @@ static int parse_args(int argc, char **argv, args_t *a)
         else if (strcmp(o, "--channel") == 0)
         {
             if ((a->channel = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--model") == 0)
+        {
+            if ((a->model = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
                 return -1;
             }
@@ -326,6 +339,12 @@ static int parse_args(int argc, char **argv, args_t *a)
     if (strcmp(a->data, "-") == 0)
     {
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
+        return -1;
+    }
+    if (a->model != NULL && a->channel != NULL)
+    {
+        aenl_cli_error(k_cmd, "--model tests every channel of the model: it does not go with "
+                              "--channel");
         return -1;
     }
     if (a->plot_dir != NULL && !aenl_plot_available())
@@ -542,9 +561,47 @@ static void print_points(const aenl_classifier_result_t *res, int with_std)
     }
 }
 
-static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
-                        const aenl_identify_opts_t *o)
+/* The lines of the model-based test (--model). */
+static void print_model(const aenl_identify_result_t *r, const char *model)
 {
+    const aenl_identify_model_t *m = &r->model;
+    printf("  model-based test against %s (as aenl diagnose): ", model);
+    if (!m->explained)
+    {
+        printf("the baseline misses the record (gap %.3g) and no candidate effect explains it; "
+               "the verdict is the record's own\n",
+               m->gap_before);
+        return;
+    }
+    if (m->effect == AENL_DIAGNOSE_NONE)
+    {
+        printf("the baseline fits the record (gap %.3g, within twice its noise floor)\n",
+               m->gap_before);
+    }
+    else
+    {
+        printf("%s in %s, gap %.3g -> %.3g%s\n", aenl_diagnose_effect_name(m->effect),
+               aenl_diagnose_dof_name(m->dof), m->gap_before, m->gap_after,
+               m->effect == AENL_DIAGNOSE_PRELOAD
+                   ? " (a constant moment: the stiffness keeps its slope, so linear)"
+                   : "");
+    }
+    printf("  the record alone: ");
+    if (m->data_verdict >= 0)
+    {
+        printf("%s in channel %s (confidence %.3f)\n", aenl_class_name(m->data_class),
+               r->ch[m->data_verdict].name, m->data_confidence);
+    }
+    else
+    {
+        printf("%s (confidence %.3f)\n", aenl_class_name(m->data_class), m->data_confidence);
+    }
+}
+
+static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
+                        const aenl_identify_opts_t *o, const char *model)
+{
+    const int by_model = r->model.applied && r->model.explained;
     int w_name = 7;
     for (size_t i = 0; i < r->n_channels; ++i)
     {
@@ -603,17 +660,22 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
         printf("  limit cycle: sustained oscillation of constant amplitude in %s (kurtosis %.2f); "
                "a linear structure has none\n",
                r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
-        if (r->verdict >= 0)
+        if (r->verdict >= 0 && !by_model)
         {
             printf("  one orbit does not tell polynomial, freeplay and hysteresis apart: the class "
                    "is a guess among the three (confidence 1/3 for the class)\n");
         }
     }
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
+    if (r->model.applied)
+    {
+        print_model(r, model);
+    }
+    const char *vlabel = by_model ? "verdict (model-based)" : "verdict";
     if (r->verdict >= 0)
     {
         const aenl_identify_channel_t *ch = &r->ch[r->verdict];
-        printf("verdict: %s in channel %s (confidence %.3f", class_label(&ch->res), ch->name,
+        printf("%s: %s in channel %s (confidence %.3f", vlabel, class_label(&ch->res), ch->name,
                r->verdict_confidence);
         if (r->verdict_share > 0.0 && r->verdict_share < 1.0)
         {
@@ -630,7 +692,7 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
     }
     else if (r->verdict_class == AENL_CLASS_LINEAR)
     {
-        printf("verdict: linear, no channel shows a nonlinearity (confidence %.3f)\n",
+        printf("%s: linear, no channel shows a nonlinearity (confidence %.3f)\n", vlabel,
                r->verdict_confidence);
     }
     else
@@ -1167,6 +1229,34 @@ static aenl_status_t plot_all(const aenl_identify_result_t *r, const aenl_identi
 /* ---- the subcommand -------------------------------------------------------------------------- */
 
 /* Run the pipeline over the checked source and print; the exit status. */
+/* The model-based test of --model on the whole record: a diagnosis against the baseline, put in
+ * place of the record's verdict. Exit status (messages printed). */
+static int model_test(const args_t *a, const aenl_sim_model_t *base, const aenl_sim_run_t *run,
+                      aenl_identify_result_t *res)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_table_t t;
+    if (aenl_table_read(a->data, &t, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        return AENL_EXIT_USAGE;
+    }
+    if (aenl_cli_check_record(k_cmd, &t, a->data, -1) != 0)
+    {
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    const aenl_status_t st = aenl_identify_model_test(res, &t, base, run, &err);
+    aenl_table_free(&t);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s (--model %s): %s", a->data, a->model, err.msg);
+        return st == AENL_E_DIM ? AENL_EXIT_FAIL : AENL_EXIT_USAGE;
+    }
+    return AENL_EXIT_OK;
+}
+
 static int identify(const args_t *a, aenl_identify_source_t *csv_src)
 {
     aenl_err_t err;
@@ -1174,6 +1264,13 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
     aenl_identify_opts_t opts = a->opts;
     if (a->channel != NULL && (opts.channel = find_channel(csv_src, a->data, a->channel)) < 0)
     {
+        return AENL_EXIT_USAGE;
+    }
+    aenl_sim_model_t base;
+    aenl_sim_run_t base_run;
+    if (a->model != NULL && aenl_sim_load_ini(a->model, &base, &base_run, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
     const size_t n = csv_src->n_cols;
@@ -1229,6 +1326,10 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
         }
         rc = bad_input ? AENL_EXIT_USAGE : AENL_EXIT_FAIL;
     }
+    if (rc == AENL_EXIT_OK && a->model != NULL)
+    {
+        rc = model_test(a, &base, &base_run, &res);
+    }
     if (rc == AENL_EXIT_OK && a->plot_dir != NULL &&
         plot_all(&res, &src, &chk, a->data, a->plot_dir, &outs, &err) != AENL_OK)
     {
@@ -1247,7 +1348,7 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
         }
         else
         {
-            print_table(&res, a->data, chk.n_rows_total, &opts);
+            print_table(&res, a->data, chk.n_rows_total, &opts, a->model);
             for (size_t i = 0; i < outs.n_files; ++i)
             {
                 printf("%s %s\n", i ? "        " : "figures:", outs.files[i]);

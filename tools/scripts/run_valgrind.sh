@@ -88,6 +88,8 @@ vg 0 "diagnose --json --out" diagnose --measured dg_meas.csv --model dg_base.ini
   --refine 0 --replicates 2 --max-evals 8 --summary-records 32 --no-plots --out dg
 vg 2 "diagnose: wrong model for the record" diagnose --measured dg_meas.csv \
   --model diagnose_base_section3dof.ini
+vg 2 "identify --model: wrong model for the record" identify dg_meas.csv \
+  --model diagnose_base_section3dof.ini
 # Error paths must not leak either.
 printf 't,alpha\n0,1\n1\n' >ragged.csv
 printf 't,alpha\n0,1\n1,2\n1,3\n' >reptime.csv

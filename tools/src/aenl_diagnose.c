@@ -1158,6 +1158,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         return st;
     }
     common = fmax(common, AENL_DIAGNOSE_MIN_FLOOR);
+    r->common_floor = common;
     size_t best = n_sp;
     for (size_t i = 0; i < n_sp; ++i)
     {

@@ -163,9 +163,10 @@ typedef struct aenl_diagnose_result
     aenl_sim_dof_t dof;            /**< its DOF (meaningless for NONE) */
     size_t chosen;                 /**< index into cand, or n_cand for NONE */
     int explained;                 /**< 0: significant disagreement no candidate reduces */
-    aenl_sim_model_t updated;      /**< baseline plus the named effect */
-    aenl_sim_run_t run;            /**< conditions of the comparison (no noise) */
-    double snr[AENL_SIM_MAX_Q];    /**< measured std / noise std per channel (for the INI) */
+    double common_floor;        /**< floor the candidates' scores are in units of (their largest) */
+    aenl_sim_model_t updated;   /**< baseline plus the named effect */
+    aenl_sim_run_t run;         /**< conditions of the comparison (no noise) */
+    double snr[AENL_SIM_MAX_Q]; /**< measured std / noise std per channel (for the INI) */
     /** Signatures of the measured record, the baseline and the updated model (main seeds). */
     aenl_diagnose_sig_t sig_meas[AENL_SIM_MAX_Q], sig_base[AENL_SIM_MAX_Q], sig_upd[AENL_SIM_MAX_Q];
     double *psd_meas, *psd_base, *psd_upd; /**< [channel][bin] Welch PSD, n_bins per channel */

@@ -30,6 +30,7 @@
 #include <stdint.h>
 
 #include "aenl/aenl.h"
+#include "aenl_tools/aenl_diagnose.h"
 #include "aenl_tools/aenl_io.h"
 #include "aenl_tools/aenl_rfs.h"
 
@@ -112,6 +113,20 @@ typedef struct aenl_identify_channel
     double *position, *accel; /**< restoring-force points [3][n_grid] (lag expansion) */
 } aenl_identify_channel_t;
 
+/** The model-based test of `aenl identify --model` (aenl_identify_apply_model). */
+typedef struct aenl_identify_model
+{
+    int applied;                   /**< 1: a diagnosis against a baseline model was applied */
+    int explained;                 /**< 0: the baseline misses the record, but no candidate effect
+                                        explains it; the record's own verdict stands */
+    aenl_diagnose_effect_t effect; /**< the effect named (NONE: the baseline fits) */
+    aenl_sim_dof_t dof;            /**< its DOF */
+    double gap_before, gap_after;  /**< the diagnosis' total gaps */
+    long data_verdict;             /**< the record alone: channel named (-1 none), */
+    aenl_class_t data_class;       /**<   class */
+    double data_confidence;        /**<   and confidence */
+} aenl_identify_model_t;
+
 /** Result of one record. */
 typedef struct aenl_identify_result
 {
@@ -134,6 +149,7 @@ typedef struct aenl_identify_result
     long limit_cycle; /**< channel whose sustained, constant-amplitude oscillation shows the
                            motion is a limit cycle (-1 none; set where the regression did not
                            decide) */
+    aenl_identify_model_t model; /**< set by aenl_identify_apply_model (applied 0 otherwise) */
 } aenl_identify_result_t;
 
 void aenl_identify_opts_default(aenl_identify_opts_t *o);
@@ -157,5 +173,37 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
                                 aenl_identify_result_t *out, aenl_err_t *err);
 
 void aenl_identify_free(aenl_identify_result_t *r);
+
+/**
+ * @brief Put the verdict of a model-based test in place of the record's own: a diagnosis of the
+ *        same record against a baseline model (aenl_diagnose_run), read in identify's classes.
+ *        Freeplay, hysteresis and the cubic polynomial (hardening from its sign) keep their
+ *        class; a preload (a constant moment: the stiffness keeps its slope) and none are
+ *        linear. The named DOF's channel (by name) takes the fitted law: class, switching points
+ *        (freeplay [α_f, α_f + δ]; hysteresis the distinct kinks ±α_f, ±(α_f + δ) of both
+ *        branches) with standard errors from the summary fit (α_f + δ: sd(α_f) + sd(δ), a bound
+ *        whatever their correlation; NaN without it). Confidences are the weights
+ *        exp(-score / 2) of the diagnosis' penalised gaps, (gap / floor)^2 + penalty x
+ *        parameters, the baseline's gap without penalty: the channel's is its class' share among
+ *        its DOF's candidates and the baseline, the verdict's its share among all. Other
+ *        channels keep the record's own analysis; the record's verdict is kept in res->model.
+ *        When the diagnosis found a disagreement no candidate explains, the verdict stays the
+ *        record's own (res->model.explained 0).
+ * @return AENL_OK; AENL_E_ARG (err set, res unchanged) when the named DOF's channel is not among
+ *         res's channels.
+ */
+aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
+                                        const aenl_diagnose_result_t *d, aenl_err_t *err);
+
+/**
+ * @brief The model-based test of `aenl identify --model`: diagnose `record` (time column and the
+ *        model's channels by name, aenl_diagnose_run) against the baseline `base` under `run`
+ *        with the default options, then aenl_identify_apply_model(). Minutes on long records.
+ * @return AENL_OK; the errors of aenl_diagnose_run (AENL_E_ARG a record or model it cannot use,
+ *         AENL_E_DIM a capacity) and of aenl_identify_apply_model; res unchanged on error.
+ */
+aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_table_t *record,
+                                       const aenl_sim_model_t *base, const aenl_sim_run_t *run,
+                                       aenl_err_t *err);
 
 #endif /* AENL_TOOLS_IDENTIFY_H */
