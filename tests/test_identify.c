@@ -456,10 +456,12 @@ static void test_identify_model_verdict_reads_the_diagnosis(void)
     TEST_ASSERT_EQUAL_INT8(-1, r.ch[1].res.hardening);
     TEST_ASSERT_EQUAL_UINT8(0, r.ch[1].res.n_switch);
 
-    /* none: linear, no channel; the baseline's weight is the verdict's confidence */
+    /* a preload (a constant moment): linear, no channel; the confidence is the weight of the
+     * linear laws, the baseline (score 2, as the best candidate's) and the preload (weight 0) */
     data_result(&r);
-    d->effect = AENL_DIAGNOSE_NONE;
-    d->gap_before[3] = 0.5 * sqrt(2.0); /* score 2, as the best candidate's */
+    d->effect = AENL_DIAGNOSE_PRELOAD;
+    d->dof = AENL_SIM_DOF_PLUNGE;
+    d->gap_before[3] = 0.5 * sqrt(2.0);
     apply(&r, d);
     TEST_ASSERT_EQUAL_INT(-1, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.verdict_class);
@@ -468,6 +470,15 @@ static void test_identify_model_verdict_reads_the_diagnosis(void)
     {
         TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[k].res.cls);
     }
+
+    /* none (the baseline within its floor): no evidence either way, the record's verdict */
+    data_result(&r);
+    d->effect = AENL_DIAGNOSE_NONE;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(1, r.model.applied);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.ch[0].res.cls);
 
     /* a disagreement no candidate explains: the record's own verdict stands */
     data_result(&r);

@@ -575,7 +575,8 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
     }
     if (m->effect == AENL_DIAGNOSE_NONE)
     {
-        printf("the baseline fits the record (gap %.3g, within twice its noise floor)\n",
+        printf("the baseline fits the record (gap %.3g, within twice its noise floor): no "
+               "evidence either way, the verdict is the record's own\n",
                m->gap_before);
     }
     else
@@ -601,7 +602,8 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
 static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
                         const aenl_identify_opts_t *o, const char *model)
 {
-    const int by_model = r->model.applied && r->model.explained;
+    const int by_model =
+        r->model.applied && r->model.explained && r->model.effect != AENL_DIAGNOSE_NONE;
     int w_name = 7;
     for (size_t i = 0; i < r->n_channels; ++i)
     {

@@ -129,9 +129,12 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
     m->data_confidence = res->verdict_confidence;
     m->gap_before = d->gap_before[d->n_channels];
     m->gap_after = d->gap_after[d->n_channels];
-    if (!d->explained)
+    if (!d->explained || d->effect == AENL_DIAGNOSE_NONE)
     {
-        return AENL_OK; /* the record's own verdict stands */
+        /* No disagreement it can explain, or none beyond twice the noise floor: the test has no
+         * evidence either way (a small law under turbulence stays within the floor), and the
+         * record's own analysis, an independent test, stands. */
+        return AENL_OK;
     }
     /* Weights of the baseline and of every calibrated candidate from their penalised gaps. */
     const double g0 = d->gap_before[d->n_channels] / d->common_floor, s_base = g0 * g0;

@@ -118,7 +118,7 @@ typedef struct aenl_identify_model
 {
     int applied;                   /**< 1: a diagnosis against a baseline model was applied */
     int explained;                 /**< 0: the baseline misses the record, but no candidate effect
-                                        explains it; the record's own verdict stands */
+                                        explains it */
     aenl_diagnose_effect_t effect; /**< the effect named (NONE: the baseline fits) */
     aenl_sim_dof_t dof;            /**< its DOF */
     double gap_before, gap_after;  /**< the diagnosis' total gaps */
@@ -178,17 +178,16 @@ void aenl_identify_free(aenl_identify_result_t *r);
  * @brief Put the verdict of a model-based test in place of the record's own: a diagnosis of the
  *        same record against a baseline model (aenl_diagnose_run), read in identify's classes.
  *        Freeplay, hysteresis and the cubic polynomial (hardening from its sign) keep their
- *        class; a preload (a constant moment: the stiffness keeps its slope) and none are
- *        linear. The named DOF's channel (by name) takes the fitted law: class, switching points
- *        (freeplay [α_f, α_f + δ]; hysteresis the distinct kinks ±α_f, ±(α_f + δ) of both
- *        branches) with standard errors from the summary fit (α_f + δ: sd(α_f) + sd(δ), a bound
- *        whatever their correlation; NaN without it). Confidences are the weights
- *        exp(-score / 2) of the diagnosis' penalised gaps, (gap / floor)^2 + penalty x
- *        parameters, the baseline's gap without penalty: the channel's is its class' share among
+ *        class; a preload (a constant moment: the stiffness keeps its slope) is linear. When the
+ *        diagnosis names none (the baseline within twice its noise floor: no evidence either
+ *        way) or finds a disagreement no candidate explains, the record's own verdict stands. The
+ * named DOF's channel (by name) takes the fitted law: class, switching points (freeplay [α_f, α_f +
+ * δ]; hysteresis the distinct kinks ±α_f, ±(α_f + δ) of both branches) with standard errors from
+ * the summary fit (α_f + δ: sd(α_f) + sd(δ), a bound whatever their correlation; NaN without it).
+ * Confidences are the weights exp(-score / 2) of the diagnosis' penalised gaps, (gap / floor)^2 +
+ * penalty x parameters, the baseline's gap without penalty: the channel's is its class' share among
  *        its DOF's candidates and the baseline, the verdict's its share among all. Other
  *        channels keep the record's own analysis; the record's verdict is kept in res->model.
- *        When the diagnosis found a disagreement no candidate explains, the verdict stays the
- *        record's own (res->model.explained 0).
  * @return AENL_OK; AENL_E_ARG (err set, res unchanged) when the named DOF's channel is not among
  *         res's channels.
  */
