@@ -106,13 +106,14 @@ typedef struct args
     int model;               /* --model: the model-based test on the LCO and turbulence cases */
     int regime;              /* --regime: only these cases (-1 all) */
     long rows;               /* --rows: each record's first rows (0 all) */
+    long from;               /* --from: the first case index run */
     aenl_eval_options_t sim; /* --rk4, --dryden */
 } args_t;
 
 static void usage(void)
 {
     printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
-           "                           [--verbose] [--regime R] [--rows N] [--model]\n\n"
+           "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n\n"
            "The identification evaluation suite (issue 4): N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
@@ -121,7 +122,8 @@ static void usage(void)
            "Dryden gust spectrum: records from another simulator. --write DIR saves every\n"
            "case's INI (rerun with `aenl simulate`, plus --rk4 dt/%d for --rk4), the CSV of\n"
            "every miss and results.tsv; --verbose prints one line per case. --regime R (decay,\n"
-           "lco, turbulence) runs only those cases, --rows N each record's first N rows (>= 512).\n"
+           "lco, turbulence) runs only those cases, --from K only the cases K..N-1, --rows N each\n"
+           "record's first N rows (>= 512).\n"
            "--model adds the model-based test of `identify --model` (a diagnosis against the\n"
            "case's model with its law made linear) on the LCO and turbulence cases (a decay\n"
            "train of kicked releases is not one test a model INI describes, so decays are left\n"
@@ -139,6 +141,7 @@ static int parse_args(int argc, char **argv, args_t *a)
     a->model = 0;
     a->regime = -1;
     a->rows = 0;
+    a->from = 0;
     memset(&a->sim, 0, sizeof(a->sim));
     for (int i = 1; i < argc; ++i)
     {
@@ -175,6 +178,14 @@ static int parse_args(int argc, char **argv, args_t *a)
             if (a->regime < 0)
             {
                 aenl_cli_error(k_cmd, "--regime: '%s' is none of decay, lco, turbulence", v);
+                return -1;
+            }
+        }
+        else if (strcmp(s, "--from") == 0)
+        {
+            const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
+            if (v == NULL || aenl_cli_parse_long(k_cmd, s, v, 0, 100000, &a->from) != 0)
+            {
                 return -1;
             }
         }
@@ -922,7 +933,7 @@ int aenl_bench_identify(int argc, char **argv)
     }
     (void)fflush(stdout);
     const double t_start = now_s();
-    for (long i = 0; i < a.cases; ++i)
+    for (long i = a.from; i < a.cases; ++i)
     {
         aenl_eval_stratum_t so;
         aenl_eval_stratum_of((size_t)i, &so);

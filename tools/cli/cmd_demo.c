@@ -125,6 +125,28 @@ static int curves_of_file(const char *data, const char *channel, const char *out
 /* One of the paper's simulated cases: simulate the example INI, write the record and its time
  * series figure, then the curves of the channel that carries the nonlinearity. */
 
+/* Print a verdict and its switching points next to the truth; 1 when class and channel match. */
+static int print_verdict(const aenl_identify_result_t *r, const char *truth_class,
+                         const char *truth_channel)
+{
+    const char *got_class = aenl_class_name(r->verdict_class);
+    const char *got_channel = r->verdict >= 0 ? r->ch[r->verdict].name : "-";
+    const int hit = strcmp(got_class, truth_class) == 0 && strcmp(got_channel, truth_channel) == 0;
+    printf("%s in %s", got_class, got_channel);
+    if (r->verdict >= 0)
+    {
+        const aenl_classifier_result_t *res = &r->ch[r->verdict].res;
+        printf(" (confidence %.2f", r->verdict_confidence);
+        for (uint8_t k = 0; k < res->n_switch; ++k)
+        {
+            printf("%s%.5g", k == 0 ? "; switching points " : ", ", (double)res->switch_points[k]);
+        }
+        printf(")");
+    }
+    printf("; truth: %s in %s -> %s\n", truth_class, truth_channel, hit ? "match" : "MISS");
+    return hit;
+}
+
 /**
  * Identify a record (all channels) and print the verdict next to the truth; with gnuplot, also
  * run `aenl identify --plot` for the paper-style figures. Returns 1 when the verdict matches the
@@ -151,21 +173,8 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
         aenl_cli_error(k_cmd, "%s", err.msg);
         return -1;
     }
-    const char *got_class = aenl_class_name(r.verdict_class);
-    const char *got_channel = r.verdict >= 0 ? r.ch[r.verdict].name : "-";
-    const int hit = strcmp(got_class, truth_class) == 0 && strcmp(got_channel, truth_channel) == 0;
-    printf("    identified: %s in %s", got_class, got_channel);
-    if (r.verdict >= 0)
-    {
-        const aenl_classifier_result_t *res = &r.ch[r.verdict].res;
-        printf(" (confidence %.2f", r.verdict_confidence);
-        for (uint8_t k = 0; k < res->n_switch; ++k)
-        {
-            printf("%s%.4g", k == 0 ? "; switching points " : ", ", (double)res->switch_points[k]);
-        }
-        printf(")");
-    }
-    printf("; truth: %s in %s -> %s\n", truth_class, truth_channel, hit ? "match" : "MISS");
+    printf("    identified: ");
+    const int hit = print_verdict(&r, truth_class, truth_channel);
     printf("    per channel:");
     for (size_t k = 0; k < r.n_channels; ++k)
     {
@@ -249,20 +258,8 @@ static int model_case(const char *csv, const char *base_name, const char *truth_
         aenl_cli_error(k_cmd, "%s --model %s: %s", csv, base_ini, err.msg);
         return -1;
     }
-    const char *got_class = aenl_class_name(r.verdict_class);
-    const char *got_channel = r.verdict >= 0 ? r.ch[r.verdict].name : "-";
-    const int hit = strcmp(got_class, truth_class) == 0 && strcmp(got_channel, truth_channel) == 0;
-    printf("    with the baseline model (aenl identify %s --model %s):\n      %s in %s", csv,
-           base_ini, got_class, got_channel);
-    if (r.verdict >= 0)
-    {
-        const aenl_classifier_result_t *res = &r.ch[r.verdict].res;
-        for (uint8_t k = 0; k < res->n_switch; ++k)
-        {
-            printf("%s%.5g", k == 0 ? "; switching points " : ", ", (double)res->switch_points[k]);
-        }
-    }
-    printf("; truth: %s in %s -> %s\n", truth_class, truth_channel, hit ? "match" : "MISS");
+    printf("    with the baseline model (aenl identify %s --model %s):\n      ", csv, base_ini);
+    const int hit = print_verdict(&r, truth_class, truth_channel);
     aenl_identify_free(&r);
     aenl_identify_csv_free(&ctx);
     return hit;
