@@ -438,6 +438,13 @@ static void test_identify_model_verdict_reads_the_diagnosis(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, -0.01, (double)r.ch[2].res.switch_points[0]);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.01, (double)r.ch[2].res.switch_points[1]);
     TEST_ASSERT_TRUE(isnan((double)r.ch[2].res.switch_std[0]));
+    /* with the summary fit's errors: sd(alpha_f) at the start, sd(alpha_f) + sd(delta) at the end
+     * (|alpha_f| = |alpha_f + delta| here: the points' order decides, not their size) */
+    data_result(&r);
+    d->n_param_sd = 2;
+    apply(&r, d);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0005, (double)r.ch[2].res.switch_std[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.0015, (double)r.ch[2].res.switch_std[1]);
     /* the two flap freeplays now share the class: (1 + 1/3) / (11/6) */
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 8.0 / 11.0, r.verdict_confidence);
 

@@ -849,30 +849,12 @@ static void fill_truth(design_t *d)
             c->hardening = c->stratum.variant == AENL_EVAL_HARDENING ? 1 : -1;
             break;
         case AENL_EVAL_FREEPLAY:
-            c->cls = AENL_CLASS_FREEPLAY;
-            c->gap = l->delta;
-            c->switch_points[0] = l->x_f;
-            c->switch_points[1] = l->x_f + l->delta;
-            c->n_switch = 2;
-            break;
         case AENL_EVAL_HYSTERESIS:
-        {
-            /* Kinks of M+ at α_f, α_f + δ and of M− at −α_f − δ, −α_f (MODELS.md §1.5). */
-            double p[4] = {-l->x_f - l->delta, 0.0 - l->x_f, l->x_f, l->x_f + l->delta};
-            size_t n = 0;
-            qsort(p, 4, sizeof(double), aenl_cmp_double);
-            for (size_t i = 0; i < 4; ++i)
-            {
-                if (n == 0 || p[i] - c->switch_points[n - 1] > 1e-9 * l->delta)
-                {
-                    c->switch_points[n++] = p[i];
-                }
-            }
-            c->cls = AENL_CLASS_HYSTERESIS;
+            c->cls = c->stratum.variant == AENL_EVAL_FREEPLAY ? AENL_CLASS_FREEPLAY
+                                                              : AENL_CLASS_HYSTERESIS;
             c->gap = l->delta;
-            c->n_switch = n;
+            c->n_switch = aenl_sim_law_switch_points(l, c->switch_points);
             break;
-        }
         case AENL_EVAL_LINEAR:
         default:
             break;

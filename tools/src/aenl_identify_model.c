@@ -40,53 +40,25 @@ static double sd_of(const aenl_diagnose_result_t *d, size_t k)
 }
 
 /*
- * Switching points of the fitted law (ascending, at most AENL_CLASSIFIER_MAX_SWITCH) with their
- * standard errors: freeplay the gap [α_f, α_f + δ]; hysteresis the kinks of both branches,
- * rising α_f, α_f + δ and falling −α_f − δ, −α_f (MODELS.md §1.5), the distinct ones. A point
- * α_f + δ gets sd(α_f) + sd(δ), the largest its error can be whatever their correlation.
+ * Switching points of the fitted law (aenl_sim_law_switch_points) with their standard errors: a
+ * point at ±α_f gets sd(α_f), one at ±(α_f + δ) gets sd(α_f) + sd(δ), the most its error can be
+ * whatever their correlation (a tie, |α_f| = |α_f + δ|, takes the larger).
  */
 static void law_points(const aenl_diagnose_result_t *d, const aenl_sim_law_t *law,
                        aenl_classifier_result_t *res)
 {
     const double sd_delta = sd_of(d, 0), sd_start = sd_of(d, 1);
-    const double a = law->x_f, b = law->x_f + law->delta, sd_b = sd_start + sd_delta;
+    const double a = fabs(law->x_f), b = fabs(law->x_f + law->delta);
+    double p[4];
+    const size_t n = aenl_sim_law_switch_points(law, p);
     res->n_switch = 0;
-    if (law->kind == AENL_SIM_LAW_FREEPLAY)
+    for (size_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
     {
-        res->switch_points[0] = (aenl_real_t)a;
-        res->switch_std[0] = (aenl_real_t)sd_start;
-        res->switch_points[1] = (aenl_real_t)b;
-        res->switch_std[1] = (aenl_real_t)sd_b;
-        res->n_switch = 2;
-        return;
-    }
-    if (law->kind != AENL_SIM_LAW_HYSTERESIS)
-    {
-        return;
-    }
-    double p[4] = {-b, -a, a, b}, s[4] = {sd_b, sd_start, sd_start, sd_b};
-    /* ascending by insertion (a may be negative) */
-    for (size_t i = 1; i < 4u; ++i)
-    {
-        for (size_t j = i; j > 0u && p[j] < p[j - 1u]; --j)
-        {
-            const double tp = p[j], ts = s[j];
-            p[j] = p[j - 1u];
-            s[j] = s[j - 1u];
-            p[j - 1u] = tp;
-            s[j - 1u] = ts;
-        }
-    }
-    const double tol = 1e-9 * fmax(fabs(law->delta), 1e-300);
-    for (size_t i = 0; i < 4u; ++i)
-    {
-        if (res->n_switch > 0u &&
-            fabs(p[i] - (double)res->switch_points[res->n_switch - 1u]) <= tol)
-        {
-            continue; /* α_f = 0: the inner kinks of both branches coincide */
-        }
-        res->switch_points[res->n_switch] = (aenl_real_t)p[i];
-        res->switch_std[res->n_switch] = (aenl_real_t)s[i];
+        const int outer = law->kind == AENL_SIM_LAW_FREEPLAY
+                              ? i == 1u
+                              : fabs(fabs(p[i]) - b) <= fabs(fabs(p[i]) - a);
+        res->switch_points[i] = (aenl_real_t)p[i];
+        res->switch_std[i] = (aenl_real_t)(outer ? sd_start + sd_delta : sd_start);
         res->n_switch++;
     }
 }

@@ -279,6 +279,41 @@ void sim_law_bounds(const aenl_sim_law_t *law, int dir, double *lo, double *hi)
     }
 }
 
+size_t aenl_sim_law_switch_points(const aenl_sim_law_t *law, double p[4])
+{
+    if (law->kind == AENL_SIM_LAW_FREEPLAY)
+    {
+        p[0] = law->x_f;
+        p[1] = law->x_f + law->delta;
+        return 2;
+    }
+    if (law->kind != AENL_SIM_LAW_HYSTERESIS)
+    {
+        return 0;
+    }
+    double q[4];
+    sim_law_bounds(law, -1, &q[0], &q[1]);
+    sim_law_bounds(law, 1, &q[2], &q[3]);
+    for (size_t i = 1; i < 4u; ++i) /* ascending by insertion (α_f may be negative) */
+    {
+        for (size_t j = i; j > 0u && q[j] < q[j - 1u]; --j)
+        {
+            const double t = q[j];
+            q[j] = q[j - 1u];
+            q[j - 1u] = t;
+        }
+    }
+    size_t n = 0;
+    for (size_t i = 0; i < 4u; ++i)
+    {
+        if (n == 0u || q[i] - p[n - 1u] > 1e-9 * fabs(law->delta))
+        {
+            p[n++] = q[i];
+        }
+    }
+    return n;
+}
+
 int sim_law_region(const aenl_sim_law_t *law, int dir, double x, int moving_up)
 {
     double lo, hi;

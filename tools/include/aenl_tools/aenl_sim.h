@@ -208,6 +208,14 @@ void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type);
  *         no turbulence (length_scale default per type), no noise. */
 void aenl_sim_run_default(aenl_sim_run_t *run, aenl_sim_type_t type);
 
+/**
+ * @brief Switching points of a law: the distinct positions where it changes slope, ascending
+ *        (freeplay: the gap [α_f, α_f + δ]; hysteresis: the kinks of both branches, α_f and
+ *        α_f + δ rising, −α_f − δ and −α_f falling, MODELS.md §1.5, 3 of them when α_f = 0).
+ * @return their count (0 for linear and polynomial laws), at most 4.
+ */
+size_t aenl_sim_law_switch_points(const aenl_sim_law_t *law, double p[4]);
+
 /** @brief The model's velocity (U* or m/s). */
 double aenl_sim_velocity(const aenl_sim_model_t *model);
 
