@@ -308,7 +308,7 @@ size_t aenl_sim_law_switch_points(const aenl_sim_law_t *law, double p[4])
     {
         if (n == 0u || q[i] - p[n - 1u] > 1e-9 * fabs(law->delta))
         {
-            p[n++] = q[i];
+            p[n++] = q[i] + 0.0; /* -α_f = -0 prints as +0 */
         }
     }
     return n;
