@@ -148,12 +148,55 @@ static int print_verdict(const aenl_identify_result_t *r, const char *truth_clas
 }
 
 /**
- * Identify a record (all channels) and print the verdict next to the truth; with gnuplot, also
- * run `aenl identify --plot` for the paper-style figures. Returns 1 when the verdict matches the
- * truth (class and channel), 0 when not, -1 on an error.
+ * The record's identification r with its baseline model (what `aenl identify CSV --model BASE`
+ * prints): the model-based test's verdict next to the truth. r is updated in place. Returns 1 on
+ * a match, 0 on a miss, -1 on an error.
+ */
+static int model_verdict(aenl_identify_result_t *r, const char *csv, const char *base_name,
+                         const char *truth_class, const char *truth_channel)
+{
+    char base_ini[1200];
+    if (snprintf(base_ini, sizeof(base_ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, base_name) >=
+        (int)sizeof(base_ini))
+    {
+        aenl_cli_error(k_cmd, "%s: path too long", base_name);
+        return -1;
+    }
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_model_t base;
+    aenl_sim_run_t run;
+    aenl_table_t t;
+    memset(&t, 0, sizeof(t));
+    aenl_status_t st = aenl_sim_load_ini(base_ini, &base, &run, &err);
+    if (st == AENL_OK)
+    {
+        st = aenl_table_read(csv, &t, &err);
+    }
+    if (st == AENL_OK)
+    {
+        st = aenl_identify_model_test(r, &t, &base, &run, &err);
+    }
+    aenl_table_free(&t);
+    if (st != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s --model %s: %s", csv, base_ini, err.msg);
+        return -1;
+    }
+    printf("    with the baseline model (aenl identify %s --model %s):\n      ", csv, base_ini);
+    return print_verdict(r, truth_class, truth_channel);
+}
+
+/**
+ * Identify a record (all channels) and print the verdict next to the truth; with base_name (an
+ * INI under tools/examples), also the model-based verdict on the same identification
+ * (*model_hit 1 on a match); with gnuplot, run `aenl identify --plot` for the paper-style
+ * figures. Returns 1 when the record alone's verdict matches the truth (class and channel), 0
+ * when not, -1 on an error.
  */
 static int identify_case(const char *csv, const char *outdir, const char *stem,
-                         const char *truth_class, const char *truth_channel)
+                         const char *truth_class, const char *truth_channel, const char *base_name,
+                         int *model_hit)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -181,8 +224,15 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
         printf("%s %s %s", k == 0 ? "" : ",", r.ch[k].name, aenl_class_name(r.ch[k].res.cls));
     }
     printf("\n");
+    const int mh =
+        base_name != NULL ? model_verdict(&r, csv, base_name, truth_class, truth_channel) : 0;
     aenl_identify_free(&r);
     aenl_identify_csv_free(&ctx); /* the channel names live in the source */
+    if (mh < 0)
+    {
+        return -1;
+    }
+    *model_hit += mh;
     if (aenl_plot_available())
     {
         char dir[1200];
@@ -208,66 +258,9 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
     return hit;
 }
 
-/**
- * The same record with its baseline model (`aenl identify CSV --model BASE`): the model-based
- * test's verdict next to the truth. Returns 1 on a match, 0 on a miss, -1 on an error.
- */
-static int model_case(const char *csv, const char *base_name, const char *truth_class,
-                      const char *truth_channel)
-{
-    char base_ini[1200];
-    if (snprintf(base_ini, sizeof(base_ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, base_name) >=
-        (int)sizeof(base_ini))
-    {
-        aenl_cli_error(k_cmd, "%s: path too long", base_name);
-        return -1;
-    }
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    aenl_sim_model_t base;
-    aenl_sim_run_t run;
-    aenl_table_t t;
-    memset(&t, 0, sizeof(t));
-    aenl_identify_source_t src;
-    aenl_identify_csv_t ctx;
-    aenl_identify_result_t r;
-    memset(&ctx, 0, sizeof(ctx));
-    aenl_status_t st = aenl_sim_load_ini(base_ini, &base, &run, &err);
-    if (st == AENL_OK)
-    {
-        st = aenl_table_read(csv, &t, &err);
-    }
-    if (st == AENL_OK)
-    {
-        st = aenl_identify_csv_source(&src, &ctx, csv, &err);
-    }
-    if (st == AENL_OK)
-    {
-        aenl_identify_opts_t o;
-        aenl_identify_opts_default(&o);
-        st = aenl_identify_run(&src, &o, &r, &err);
-        if (st == AENL_OK && (st = aenl_identify_model_test(&r, &t, &base, &run, &err)) != AENL_OK)
-        {
-            aenl_identify_free(&r);
-        }
-    }
-    aenl_table_free(&t);
-    if (st != AENL_OK)
-    {
-        aenl_identify_csv_free(&ctx);
-        aenl_cli_error(k_cmd, "%s --model %s: %s", csv, base_ini, err.msg);
-        return -1;
-    }
-    printf("    with the baseline model (aenl identify %s --model %s):\n      ", csv, base_ini);
-    const int hit = print_verdict(&r, truth_class, truth_channel);
-    aenl_identify_free(&r);
-    aenl_identify_csv_free(&ctx);
-    return hit;
-}
-
-static int paper_case(const char *ini_name, const char *channel, const char *outdir,
-                      const char *stem, const char *label, const char *truth_class, int *hits,
-                      int *model_hits)
+static int paper_case(const char *ini_name, const char *base_name, const char *channel,
+                      const char *outdir, const char *stem, const char *label,
+                      const char *truth_class, int *hits, int *model_hits)
 {
     char ini[1200], csv[1200], png[1200];
     if (snprintf(ini, sizeof(ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, ini_name) >=
@@ -320,18 +313,10 @@ static int paper_case(const char *ini_name, const char *channel, const char *out
     aenl_sim_result_free(&res);
     if (rc == 0 && truth_class != NULL)
     {
-        const int hit = identify_case(csv, outdir, stem, truth_class, channel);
+        const int hit =
+            identify_case(csv, outdir, stem, truth_class, channel, base_name, model_hits);
         rc = hit < 0 ? -1 : 0;
         *hits += hit > 0;
-        char base[256];
-        const int len = snprintf(base, sizeof(base), "%s", ini_name);
-        if (rc == 0 && len > 4 && len + 5 < (int)sizeof(base))
-        {
-            (void)snprintf(base + len - 4, sizeof(base) - (size_t)len + 4, "_base.ini");
-            const int mh = model_case(csv, base, truth_class, channel);
-            rc = mh < 0 ? -1 : 0;
-            *model_hits += mh > 0;
-        }
     }
     return rc;
 }
@@ -396,23 +381,28 @@ int aenl_cmd_demo(int argc, char **argv)
 
     int hits = 0, model_hits = 0;
     printf("The paper's three cases, simulated (SNR 3 measurement noise), then identified:\n");
-    failures += paper_case("paper_polynomial_pitch.ini", "alpha", outdir, "paper_polynomial_pitch",
-                           "Polynomial pitch stiffness (paper Figs. 2, 5, 6)", "polynomial", &hits,
-                           &model_hits) != 0;
-    failures += paper_case("paper_hysteresis_pitch.ini", "alpha", outdir, "paper_hysteresis_pitch",
+    failures +=
+        paper_case("paper_polynomial_pitch.ini", "paper_polynomial_pitch_base.ini", "alpha", outdir,
+                   "paper_polynomial_pitch", "Polynomial pitch stiffness (paper Figs. 2, 5, 6)",
+                   "polynomial", &hits, &model_hits) != 0;
+    failures += paper_case("paper_hysteresis_pitch.ini", "paper_hysteresis_pitch_base.ini", "alpha",
+                           outdir, "paper_hysteresis_pitch",
                            "Hysteresis in pitch, delta 1 deg, alpha_f 0 (Figs. 3, 7, 8)",
                            "hysteresis", &hits, &model_hits) != 0;
-    failures += paper_case("paper_flap_freeplay.ini", "beta", outdir, "paper_flap_freeplay",
-                           "Flap freeplay, gap -1..1 deg (Figs. 4, 9)", "freeplay", &hits,
-                           &model_hits) != 0;
+    failures +=
+        paper_case("paper_flap_freeplay.ini", "paper_flap_freeplay_base.ini", "beta", outdir,
+                   "paper_flap_freeplay", "Flap freeplay, gap -1..1 deg (Figs. 4, 9)", "freeplay",
+                   &hits, &model_hits) != 0;
     printf("Two freeplays at once (3-DOF, pitch and flap; turbulence):\n");
-    failures += paper_case("section3dof_two_freeplays.ini", "beta", outdir, "two_freeplays",
+    failures += paper_case("section3dof_two_freeplays.ini", NULL, "beta", outdir, "two_freeplays",
                            "Pitch and flap freeplay, 3-DOF", NULL, &hits, &model_hits) != 0;
     {
         char csv2[1200];
         if (snprintf(csv2, sizeof(csv2), "%s/two_freeplays.csv", outdir) < (int)sizeof(csv2))
         {
-            const int hit = identify_case(csv2, outdir, "two_freeplays", "freeplay", "beta");
+            int unused = 0;
+            const int hit =
+                identify_case(csv2, outdir, "two_freeplays", "freeplay", "beta", NULL, &unused);
             failures += hit < 0;
         }
     }
