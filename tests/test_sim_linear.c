@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "unity.h"
@@ -393,6 +394,57 @@ static void test_dryden_turbulence_event_matches_rk4(void)
     TEST_ASSERT_TRUE(dfo > 0.1 * scale);
 }
 
+/* Above the flutter speed the linear airfoil's pitch grows without end. With a runaway bound
+ * both integrators stop between the two samples of the unbounded run that straddle the bound;
+ * a bound that is never reached changes nothing; a negative bound is a usage error. */
+static void test_runaway_bound_stops_where_the_unbounded_run_crosses_it(void)
+{
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_result_t a, b;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    m.airfoil.ustar = 1.2 * 6.285092;
+    m.x0[AENL_SIM_DOF_PITCH] = 1.0 * DEG;
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    run.duration = 400.0;
+    run.dt = 0.5;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_simulate(&m, &run, &a, &err));
+    size_t cross = 0; /* first sample beyond 10 degrees */
+    while (cross < a.n_samples && fabs(a.y[cross]) <= 10.0 * DEG)
+    {
+        cross++;
+    }
+    TEST_ASSERT_TRUE(cross > 10u && cross < a.n_samples);
+    run.bound[0] = 10.0 * DEG;
+    for (int rk4 = 0; rk4 < 2; ++rk4)
+    {
+        aenl_err_clear(&err);
+        const aenl_status_t st = rk4 ? aenl_sim_simulate_rk4(&m, &run, 0.05, &b, &err)
+                                     : aenl_sim_simulate(&m, &run, &b, &err);
+        TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, st);
+        TEST_ASSERT_NULL(b.y);
+        TEST_ASSERT_NOT_NULL(strstr(err.msg, "channel alpha ran away"));
+        const char *at = strstr(err.msg, "t = ");
+        TEST_ASSERT_NOT_NULL(at);
+        const double t_stop = strtod(at + 4, NULL);
+        TEST_ASSERT_TRUE(t_stop > a.t[cross - 1u] && t_stop <= a.t[cross] + 1e-9);
+    }
+    /* Never reached: the same samples bit for bit. */
+    run.bound[0] = 2.0 * fabs(a.y[a.n_samples - 1u]) + 1.0;
+    run.bound[1] = 1e9;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_simulate(&m, &run, &b, &err));
+    TEST_ASSERT_EQUAL_size_t(a.n_samples, b.n_samples);
+    TEST_ASSERT_EQUAL_MEMORY(a.y, b.y, a.n_samples * a.n_channels * sizeof(double));
+    aenl_sim_result_free(&b);
+    aenl_sim_result_free(&a);
+    run.bound[1] = -1.0;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_simulate(&m, &run, &b, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "runaway bound"));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -404,5 +456,6 @@ int main(void)
     RUN_TEST(test_linear_rk4_converges_to_expm_solution);
     RUN_TEST(test_gust_series_has_the_textbook_autocorrelation);
     RUN_TEST(test_dryden_turbulence_event_matches_rk4);
+    RUN_TEST(test_runaway_bound_stops_where_the_unbounded_run_crosses_it);
     return UNITY_END();
 }

@@ -27,9 +27,8 @@
 /* Candidates whose replicate floor enters the common yardstick of the choice. */
 #define N_FLOOR_CAND 3u
 
-/* Records from this length on are probed first (see probe()); runaway threshold in stds. */
-#define PROBE_MIN_SAMPLES 8000u
-#define PROBE_LIMIT       20.0
+/* Runaway bound of every simulation, in measured stds (see sim_sig). */
+#define RUNAWAY_LIMIT 20.0
 
 static double now_s(void)
 {
@@ -134,52 +133,6 @@ typedef struct
     int verbose;
 } ctx_t;
 
-/* On a long record, the first tenth first: a model that runs away there (response beyond
- * PROBE_LIMIT times the larger of the measured std and mean) is not simulated further. Runaway
- * models can become very stiff (a diverging flutter mode driving a hardening spring), and their
- * full runs would dominate the cost; their signatures are invalid either way. AENL_E_NUMERIC:
- * diverged. */
-static aenl_status_t probe(const ctx_t *x, const aenl_sim_model_t *m, const aenl_sim_run_t *run)
-{
-    if (x->n < PROBE_MIN_SAMPLES)
-    {
-        return AENL_OK;
-    }
-    aenl_sim_run_t pr = *run;
-    const size_t n_probe = x->n / 10u; /* whole samples */
-    pr.duration = (double)n_probe * run->dt;
-    aenl_sim_result_t r;
-    aenl_err_t e;
-    aenl_err_clear(&e);
-    const aenl_status_t st = aenl_sim_simulate(m, &pr, &r, &e);
-    if (st == AENL_E_DIM)
-    {
-        return st;
-    }
-    if (st != AENL_OK)
-    {
-        return AENL_E_NUMERIC;
-    }
-    aenl_status_t out = AENL_OK;
-    for (size_t c = 0; c < x->n_ch && out == AENL_OK; ++c)
-    {
-        const aenl_diagnose_chan_t *ch = &x->res->chan[c];
-        /* offsets count: a model without the record's static offset is not a runaway */
-        const double ref = fmax(ch->scale, fabs(ch->mean));
-        for (size_t i = 0; i < r.n_samples; ++i)
-        {
-            const double v = r.y[c * r.n_samples + i];
-            if (!isfinite(v) || fabs(v - ch->mean) > PROBE_LIMIT * ref)
-            {
-                out = AENL_E_NUMERIC;
-                break;
-            }
-        }
-    }
-    aenl_sim_result_free(&r);
-    return out;
-}
-
 /* Simulate `m` with the seeds of replicate `rep`, add the measured noise, take signatures.
  * A model that cannot be simulated (diverges, bad parameters) gives invalid signatures; only
  * out-of-memory is an error. y (n_ch * n) and psd (n_ch * n_bins) may be NULL. */
@@ -188,6 +141,16 @@ static aenl_status_t sim_sig(ctx_t *x, const aenl_sim_model_t *m, unsigned rep,
 {
     aenl_sim_run_t run = x->run;
     run.turb_seed = x->run.turb_seed + (uint64_t)rep * TURB_SEED_STEP;
+    /* A model that runs away (response beyond RUNAWAY_LIMIT times the larger of the measured
+     * std and mean from zero) is stopped there: runaway models can become very stiff (a
+     * diverging flutter mode driving a hardening spring) and their full runs would dominate the
+     * cost. Their signatures are invalid (every difference capped), as are those of models that
+     * diverge. */
+    for (size_t c = 0; c < x->n_ch; ++c)
+    {
+        const aenl_diagnose_chan_t *ch = &x->res->chan[c];
+        run.bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
+    }
     aenl_sim_result_t r;
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -196,20 +159,7 @@ static aenl_status_t sim_sig(ctx_t *x, const aenl_sim_model_t *m, unsigned rep,
     {
         memset(&sig[c], 0, sizeof(sig[c]));
     }
-    aenl_status_t st = probe(x, m, &run);
-    if (st == AENL_E_DIM)
-    {
-        aenl_err_set(err, "out of memory (simulation)");
-        return st;
-    }
-    if (st == AENL_OK)
-    {
-        st = aenl_sim_simulate(m, &run, &r, &e);
-    }
-    else
-    {
-        memset(&r, 0, sizeof(r));
-    }
+    aenl_status_t st = aenl_sim_simulate(m, &run, &r, &e);
     if (st == AENL_E_DIM)
     {
         aenl_err_set(err, "%s", e.msg);

@@ -79,7 +79,25 @@ typedef struct integ
     aenl_sim_result_t *res;
     size_t next_k;
     double dt;
+    const double *bound; /* the run's runaway bound per output channel (0: none) */
 } integ_t;
+
+/* 1 and the message when state x has left the run's runaway bound on an output channel. */
+static int out_of_bound(const sim_sys_t *s, const aenl_sim_result_t *res, const double *bound,
+                        const double *x, double t, aenl_err_t *err)
+{
+    for (int c = 0; c < s->n_out; ++c)
+    {
+        const double v = x[s->out_q[c]];
+        if (bound[c] > 0.0 && !(fabs(v) <= bound[c]))
+        {
+            aenl_err_set(err, "channel %s ran away: |%.6g| beyond the bound %.6g at t = %.17g",
+                         res->names[c + 1], v, bound[c], t);
+            return 1;
+        }
+    }
+    return 0;
+}
 
 static void rhs(integ_t *in, const sim_mode_t *mode, double t, const double *x, double *dx,
                 double *rreq)
@@ -498,6 +516,10 @@ static aenl_status_t integrate_to(integ_t *in, double t_end, aenl_err_t *err)
                 return AENL_E_NUMERIC;
             }
         }
+        if (out_of_bound(in->sys, in->res, in->bound, y, in->t + h, err))
+        {
+            return AENL_E_NUMERIC;
+        }
         /* Dense output of the accepted step. */
         in->t0 = in->t;
         in->hs = h;
@@ -837,6 +859,7 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     in->atol = run->atol;
     in->res = res;
     in->dt = run->dt;
+    in->bound = run->bound;
     in->arm_window = 1e-7 * run->dt;
     in->t_burst = -HUGE_VAL;
     n = res->n_samples;
@@ -1008,6 +1031,11 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
                 aenl_err_set(err, "non-finite state at t = %.17g", (double)(k + 1) * run->dt);
                 return AENL_E_NUMERIC;
             }
+        }
+        if (out_of_bound(&sys, res, run->bound, x, (double)(k + 1) * run->dt, err))
+        {
+            aenl_sim_result_free(res);
+            return AENL_E_NUMERIC;
         }
     }
     add_noise(res, run);

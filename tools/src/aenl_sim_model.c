@@ -256,6 +256,14 @@ aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_ru
             aenl_err_set(err, "[noise] snr must be > 0");
             return AENL_E_ARG;
         }
+        for (size_t c = 0; c < AENL_SIM_MAX_Q; ++c)
+        {
+            if (!isfinite(run->bound[c]) || run->bound[c] < 0.0)
+            {
+                aenl_err_set(err, "runaway bound of channel %zu must be finite and >= 0", c);
+                return AENL_E_ARG;
+            }
+        }
     }
     return AENL_OK;
 }

@@ -154,6 +154,12 @@ typedef struct aenl_sim_run
     aenl_sim_gust_t turb_spectrum; /**< gust spectrum (default first order) */
     double snr;                    /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
     uint64_t noise_seed;
+    /** Runaway bound per output channel (in the result's channel order), channel units, >= 0:
+     *  the simulation stops with AENL_E_NUMERIC as soon as an accepted step leaves
+     *  |y_c| <= bound[c]. 0: no bound (default). A model that runs away (a linear flutter mode,
+     *  a softening spring) is then not integrated on into the stiff, huge-amplitude region where
+     *  every step costs more (aenl diagnose bounds its candidates at 20x the record's range). */
+    double bound[AENL_SIM_MAX_Q];
 } aenl_sim_run_t;
 
 /** Integrator counters (aenl_sim_simulate). */
