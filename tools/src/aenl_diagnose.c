@@ -351,11 +351,15 @@ static void spec_law(const spec_t *sp, const double *th, aenl_sim_law_t *law)
             break;
         }
         case AENL_DIAGNOSE_POLYNOMIAL:
+            /* x + c3 x^3, or with a second parameter x + c3 x^3 + c5 x^5 */
             law->kind = AENL_SIM_LAW_POLYNOMIAL;
-            law->n_coeffs = 3;
+            law->n_coeffs = sp->n_par > 1u ? 5u : 3u;
             law->coeffs[0] = 1.0;
-            law->coeffs[1] = 0.0;
             law->coeffs[2] = 0.01 * sinh(th[0]) / (sp->s * sp->s);
+            if (sp->n_par > 1u)
+            {
+                law->coeffs[4] = 0.01 * sinh(th[1]) / (sp->s * sp->s * sp->s * sp->s);
+            }
             break;
         case AENL_DIAGNOSE_PRELOAD:
             /* M = M0 + x: the Lee freeplay with inner stiffness 1 has no gap at all. */
@@ -441,14 +445,31 @@ static size_t spec_grid(const spec_t *sp, double g[][AENL_DIAGNOSE_MAX_PAR])
             break;
         }
         case AENL_DIAGNOSE_POLYNOMIAL:
-        {
-            const double c[] = {-0.1, -0.02, 0.01, 0.04, 0.15, 0.6, 2.5};
-            for (size_t i = 0; i < 7u; ++i)
+            if (sp->n_par > 1u)
             {
-                g[n++][0] = asinh(c[i] / 0.01);
+                /* Softening that stiffens again: c5 = r c3^2 keeps the stiffness
+                 * 1 + 3 c3 x^2 + 5 c5 x^4 above 1 - 0.45 / r > 0 (in units of the std). */
+                const double c[] = {-0.05, -0.2, -0.8, -3.0};
+                const double r[] = {0.5, 1.0};
+                for (size_t i = 0; i < 4u; ++i)
+                {
+                    for (size_t k = 0; k < 2u; ++k)
+                    {
+                        g[n][0] = asinh(c[i] / 0.01);
+                        g[n][1] = asinh(r[k] * c[i] * c[i] / 0.01);
+                        n++;
+                    }
+                }
+            }
+            else
+            {
+                const double c[] = {-0.1, -0.02, 0.01, 0.04, 0.15, 0.6, 2.5};
+                for (size_t i = 0; i < 7u; ++i)
+                {
+                    g[n++][0] = asinh(c[i] / 0.01);
+                }
             }
             break;
-        }
         case AENL_DIAGNOSE_PRELOAD:
             g[n++][0] = sp->p0;
             g[n++][0] = sp->p0 - 0.5;
@@ -569,6 +590,7 @@ static void spec_step(const spec_t *sp, double *step)
             break;
         case AENL_DIAGNOSE_POLYNOMIAL:
             step[0] = 0.7;
+            step[1] = 0.7;
             break;
         case AENL_DIAGNOSE_PRELOAD:
         case AENL_DIAGNOSE_NONE:
@@ -1036,8 +1058,9 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     size_t n_sp = 0;
     const size_t n_dof = base->type == AENL_SIM_AIRFOIL2DOF ? 2u : 3u;
     const aenl_diagnose_effect_t effects[] = {AENL_DIAGNOSE_FREEPLAY, AENL_DIAGNOSE_HYSTERESIS,
-                                              AENL_DIAGNOSE_POLYNOMIAL, AENL_DIAGNOSE_PRELOAD};
-    const unsigned n_par[] = {2, 3, 1, 1};
+                                              AENL_DIAGNOSE_POLYNOMIAL, AENL_DIAGNOSE_POLYNOMIAL,
+                                              AENL_DIAGNOSE_PRELOAD};
+    const unsigned n_par[] = {2, 3, 1, 2, 1};
     for (size_t d = 0; d < n_dof; ++d)
     {
         if (base->law[d].kind != AENL_SIM_LAW_LINEAR)
@@ -1045,7 +1068,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             continue;
         }
         const size_t c = aenl_diagnose_dof_channel(base->type, (aenl_sim_dof_t)d);
-        for (size_t k = 0; k < 4u; ++k)
+        for (size_t k = 0; k < sizeof(n_par) / sizeof(n_par[0]); ++k)
         {
             spec_t *s = &sp[n_sp++];
             memset(s, 0, sizeof(*s));

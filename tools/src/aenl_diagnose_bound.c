@@ -183,7 +183,7 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
                                  info_t *inf, aenl_err_t *err)
 {
     memset(inf, 0, sizeof(*inf));
-    const size_t np = aenl_diagnose_n_params(effect);
+    const size_t np = aenl_diagnose_law_n_params(effect, &model->law[dof]);
     inf->np = np;
     if (np == 0u)
     {

@@ -204,13 +204,13 @@ aenl_status_t aenl_diagnose_case_measure(const aenl_diagnose_case_t *c, aenl_tab
     return st;
 }
 
-/* Pointer to parameter k of `effect` in law l (the order of aenl_diagnose_n_params). */
+/* Pointer to parameter k of `effect` in law l (the order of aenl_diagnose_law_n_params). */
 static double *param_ptr(aenl_sim_law_t *l, aenl_diagnose_effect_t effect, size_t k)
 {
     switch (effect)
     {
         case AENL_DIAGNOSE_POLYNOMIAL:
-            return &l->coeffs[2];
+            return k == 0u ? &l->coeffs[2] : &l->coeffs[4];
         case AENL_DIAGNOSE_PRELOAD:
             return &l->preload;
         case AENL_DIAGNOSE_FREEPLAY:
@@ -238,6 +238,16 @@ size_t aenl_diagnose_n_params(aenl_diagnose_effect_t effect)
     }
 }
 
+size_t aenl_diagnose_law_n_params(aenl_diagnose_effect_t effect, const aenl_sim_law_t *law)
+{
+    if (effect == AENL_DIAGNOSE_POLYNOMIAL && law->kind == AENL_SIM_LAW_POLYNOMIAL &&
+        law->n_coeffs >= 5u)
+    {
+        return 2;
+    }
+    return aenl_diagnose_n_params(effect);
+}
+
 double aenl_diagnose_param_get(const aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k)
 {
     aenl_sim_law_t l = *law;
@@ -246,6 +256,14 @@ double aenl_diagnose_param_get(const aenl_sim_law_t *law, aenl_diagnose_effect_t
 
 void aenl_diagnose_param_set(aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k, double v)
 {
+    if (effect == AENL_DIAGNOSE_POLYNOMIAL && k > 0u && law->n_coeffs < 5u)
+    {
+        for (size_t i = law->n_coeffs; i < 5u; ++i)
+        {
+            law->coeffs[i] = 0.0;
+        }
+        law->n_coeffs = 5;
+    }
     *param_ptr(law, effect, k) = v;
 }
 
@@ -255,7 +273,7 @@ const char *aenl_diagnose_param_name(aenl_diagnose_effect_t effect, size_t k)
     switch (effect)
     {
         case AENL_DIAGNOSE_POLYNOMIAL:
-            return "c3";
+            return k == 0u ? "c3" : "c5";
         case AENL_DIAGNOSE_PRELOAD:
             return "M0";
         case AENL_DIAGNOSE_FREEPLAY:

@@ -150,15 +150,15 @@ static aenl_status_t write_candidates(const aenl_diagnose_result_t *r, const cha
         return st;
     }
     fprintf(of.fp, "effect,dof,n_params,gap,floor,score,n_evals,refined,delta,alpha_f,preload,"
-                   "c3,chosen\n");
+                   "c3,c5,chosen\n");
     for (size_t i = 0; i < r->n_cand; ++i)
     {
         const aenl_diagnose_cand_t *c = &r->cand[i];
-        fprintf(of.fp, "%s,%s,%u,%.6g,%.6g,%.6g,%u,%d,%.9g,%.9g,%.9g,%.9g,%d\n",
+        fprintf(of.fp, "%s,%s,%u,%.6g,%.6g,%.6g,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
                 aenl_diagnose_effect_name(c->effect), aenl_diagnose_dof_name(c->dof), c->n_params,
                 c->gap, c->floor, c->score, c->n_evals, c->refined, c->law.delta, c->law.x_f,
                 c->law.preload, c->law.n_coeffs >= 3u ? c->law.coeffs[2] : 0.0,
-                i == r->chosen ? 1 : 0);
+                c->law.n_coeffs >= 5u ? c->law.coeffs[4] : 0.0, i == r->chosen ? 1 : 0);
     }
     return aenl_outfile_commit(&of, err);
 }
@@ -365,7 +365,7 @@ static void add_params(cJSON *params, const aenl_diagnose_result_t *r)
 {
     const aenl_sim_law_t *law = &r->updated.law[r->dof];
     double v[AENL_DIAGNOSE_MAX_PAR] = {0.0};
-    for (size_t k = 0; k < aenl_diagnose_n_params(r->effect); ++k)
+    for (size_t k = 0; k < aenl_diagnose_law_n_params(r->effect, law); ++k)
     {
         v[k] = aenl_diagnose_param_get(law, r->effect, k);
     }
@@ -383,8 +383,10 @@ static void add_param_sd(cJSON *me, const aenl_diagnose_result_t *r)
     cJSON *o = cJSON_AddObjectToObject(me, "params_sd");
     if (o != NULL)
     {
-        const double poly[3] = {0.0, 0.0, r->param_sd[0]};
-        add_values(o, r->effect, r->param_sd, poly, 3u);
+        /* c3, and c5 when the fit had it */
+        const double poly[5] = {0.0, 0.0, r->param_sd[0], 0.0,
+                                r->n_param_sd > 1u ? r->param_sd[1] : 0.0};
+        add_values(o, r->effect, r->param_sd, poly, r->n_param_sd > 1u ? 5u : 3u);
     }
 }
 
@@ -467,6 +469,10 @@ static void print_law(FILE *fp, const aenl_sim_law_t *law, aenl_sim_dof_t d)
             break;
         case AENL_SIM_LAW_POLYNOMIAL:
             fprintf(fp, "R(x) = x %+.4g x^3", law->n_coeffs >= 3u ? law->coeffs[2] : 0.0);
+            if (law->n_coeffs >= 5u)
+            {
+                fprintf(fp, " %+.4g x^5", law->coeffs[4]);
+            }
             break;
         case AENL_SIM_LAW_LINEAR:
         default:

@@ -22,7 +22,8 @@
  *     ln amplitude ratio); total: RMS over channels. Noise floor: RMS of the gap between
  *     independent replicates of the same model.
  *  5. Candidates per DOF whose baseline law is linear: freeplay (gap δ, start α_f), hysteresis
- *     (δ, α_f, M0), cubic polynomial (c3), preload (M0). Each is calibrated by a coarse grid,
+ *     (δ, α_f, M0), cubic polynomial (c3), quintic polynomial (c3, c5), preload (M0). Each is
+ *     calibrated by a coarse grid,
  *     then Nelder-Mead on the total gap squared. Choice: "none" when the baseline gap is within
  *     `none_ratio` times its floor; otherwise the least (gap / floor)^2 + penalty * n_params.
  *
@@ -40,7 +41,7 @@
 #include "aenl_tools/aenl_sim.h"
 
 #define AENL_DIAGNOSE_N_FAMILY 4  /**< amplitude, mean, std, spectrum */
-#define AENL_DIAGNOSE_MAX_CAND 12 /**< 4 effects x 3 DOFs */
+#define AENL_DIAGNOSE_MAX_CAND 15 /**< 5 candidates x 3 DOFs */
 #define AENL_DIAGNOSE_MAX_PAR  3  /**< parameters of one candidate */
 #define AENL_DIAGNOSE_MAX_DIS  (AENL_SIM_MAX_Q * AENL_DIAGNOSE_N_FAMILY)
 #define AENL_DIAGNOSE_N_QUANT  9    /**< amplitude quantiles */
@@ -381,14 +382,19 @@ aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n
  */
 size_t aenl_diagnose_n_params(aenl_diagnose_effect_t effect);
 
-/** Parameter k (< aenl_diagnose_n_params) of `effect` in `law`. */
+/** The parameters of `effect` that `law` carries: aenl_diagnose_n_params, and for a polynomial
+ *  law with a quintic term (n_coeffs >= 5) two, c3 then c5 (coeffs[4]). */
+size_t aenl_diagnose_law_n_params(aenl_diagnose_effect_t effect, const aenl_sim_law_t *law);
+
+/** Parameter k (< aenl_diagnose_law_n_params) of `effect` in `law`. */
 double aenl_diagnose_param_get(const aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k);
 
-/** Set parameter k (< aenl_diagnose_n_params) of `effect` in `law` to v. */
+/** Set parameter k (< aenl_diagnose_law_n_params) of `effect` in `law` to v (a polynomial's c5
+ *  makes the law quintic). */
 void aenl_diagnose_param_set(aenl_sim_law_t *law, aenl_diagnose_effect_t effect, size_t k,
                              double v);
 
-/** Short name of parameter k of `effect` for reports: "delta", "alpha_f", "M0" or "c3". */
+/** Short name of parameter k of `effect` for reports: "delta", "alpha_f", "M0", "c3" or "c5". */
 const char *aenl_diagnose_param_name(aenl_diagnose_effect_t effect, size_t k);
 
 /**

@@ -177,7 +177,7 @@ void aenl_identify_free(aenl_identify_result_t *r);
 /**
  * @brief Put the verdict of a model-based test in place of the record's own: a diagnosis of the
  *        same record against a baseline model (aenl_diagnose_run), read in identify's classes.
- *        Freeplay, hysteresis and the cubic polynomial (hardening from its sign) keep their
+ *        Freeplay, hysteresis and the polynomial (hardening from its cubic's sign) keep their
  *        class; a preload (a constant moment: the stiffness keeps its slope) is linear. When the
  *        diagnosis names none (the baseline within twice its noise floor: no evidence either
  *        way) or finds a disagreement no candidate explains, the record's own verdict stands. The
