@@ -539,6 +539,57 @@ static void test_cli_identify_with_model(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict (model-based): freeplay in channel alpha"),
                                  out);
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "one orbit does not tell"), out);
+    /* one law: no second effect */
+    TEST_ASSERT_NULL_MESSAGE(strstr(out, "and a second effect"), out);
+}
+
+/* --model on two freeplays at once (tools/examples/section3dof_two_freeplays.ini: pitch gap
+ * -0.1..0.1 deg, flap gap -1..1 deg, noise-free): the test names the flap's, finds the pitch's
+ * with the flap's in the model, and refits each with the other in place. Both channels are
+ * freeplay with the gaps' edges near the truth (flap within 2 %, pitch within 20 % of its
+ * width: the pitch gap is a tenth of the flap's), plunge linear. */
+static void test_cli_identify_with_model_two_freeplays(void)
+{
+    char ini[600], base[600];
+    (void)snprintf(ini, sizeof(ini), "%s/tools/examples/section3dof_two_freeplays.ini",
+                   source_root());
+    (void)snprintf(base, sizeof(base), "%s/tools/examples/section3dof_two_freeplays_base.ini",
+                   source_root());
+    const char *data = simulate(ini, "id_two_freeplays.csv");
+    static cli_result_t r;
+    const char *args[] = {"identify", data, "--model", base, "--json", NULL};
+    cJSON *root = run_json(args, &r);
+    TEST_ASSERT_NOT_NULL_MESSAGE(check_contract(root, data, 3), r.out);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "verdict");
+    TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItemCaseSensitive(v, "class")->valuestring);
+    const struct
+    {
+        const char *name, *cls;
+        double lo, hi, tol; /* truth's edges (rad) and the tolerance, fraction of the width */
+    } want[] = {{"h", "linear", 0.0, 0.0, 0.0},
+                {"alpha", "freeplay", -0.1 * DEG, 0.1 * DEG, 0.2},
+                {"beta", "freeplay", -1.0 * DEG, 1.0 * DEG, 0.02}};
+    const cJSON *chs = cJSON_GetObjectItemCaseSensitive(root, "channels");
+    TEST_ASSERT_EQUAL_INT(3, cJSON_GetArraySize(chs));
+    for (int k = 0; k < 3; ++k)
+    {
+        const cJSON *ch = cJSON_GetArrayItem(chs, k);
+        TEST_ASSERT_EQUAL_STRING(want[k].name,
+                                 cJSON_GetObjectItemCaseSensitive(ch, "name")->valuestring);
+        TEST_ASSERT_EQUAL_STRING_MESSAGE(
+            want[k].cls, cJSON_GetObjectItemCaseSensitive(ch, "class")->valuestring, r.out);
+        if (want[k].hi > want[k].lo)
+        {
+            const cJSON *pts = cJSON_GetObjectItemCaseSensitive(ch, "switch_points");
+            const double w = want[k].hi - want[k].lo;
+            TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(pts));
+            TEST_ASSERT_DOUBLE_WITHIN(want[k].tol * w, want[k].lo,
+                                      cJSON_GetArrayItem(pts, 0)->valuedouble);
+            TEST_ASSERT_DOUBLE_WITHIN(want[k].tol * w, want[k].hi,
+                                      cJSON_GetArrayItem(pts, 1)->valuedouble);
+        }
+    }
+    cJSON_Delete(root);
 }
 
 typedef struct
@@ -672,6 +723,7 @@ int main(void)
     RUN_TEST(test_cli_identify_table_and_channel);
     RUN_TEST(test_cli_identify_plot);
     RUN_TEST(test_cli_identify_with_model);
+    RUN_TEST(test_cli_identify_with_model_two_freeplays);
     RUN_TEST(test_cli_identify_bad_input);
     return UNITY_END();
 }

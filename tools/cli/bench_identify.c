@@ -90,6 +90,7 @@ typedef struct tally
     size_t alone[3][N_SNR][2];
     size_t n_model;        /* --model: cases given the model-based test */
     size_t model_failures; /* of them, diagnoses that failed (the record's verdict kept) */
+    size_t model_second;   /* of them, a second effect named (every case has one law at most) */
     double t_model;
     /* reliability of the verdict's confidence: per band, verdicts, right ones (class and
      * channel), sum of confidences; per regime, sum of (confidence - right)^2 */
@@ -841,6 +842,13 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
             ++t->model_failures;
             printf("  case %zu: the model-based test failed: %s\n", i, err.msg);
         }
+        else if (res.model.effect2 != AENL_DIAGNOSE_NONE)
+        {
+            ++t->model_second;
+            printf("  case %zu: a second effect named: %s in %s (the suite's cases have one law)\n",
+                   i, aenl_diagnose_effect_name(res.model.effect2),
+                   aenl_diagnose_dof_name(res.model.dof2));
+        }
         t->t_model += now_s() - t0;
     }
     if (sti != AENL_OK)
@@ -966,8 +974,9 @@ int aenl_bench_identify(int argc, char **argv)
            t.id_failures);
     if (t.n_model > 0)
     {
-        printf("model-based test: %.1f s per case, %zu failures\n", t.t_model / (double)t.n_model,
-               t.model_failures);
+        printf("model-based test: %.1f s per case, %zu failures, a second effect named in %zu "
+               "(spurious: one law a case)\n",
+               t.t_model / (double)t.n_model, t.model_failures, t.model_second);
     }
     print_timing(&tm);
     printf("float32 core (aenl_classifier_bench_f32, default aenl_config.h):\n");

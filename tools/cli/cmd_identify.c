@@ -556,9 +556,13 @@ static void print_points(const aenl_classifier_result_t *res, int with_std)
     for (unsigned k = 0; k < res->n_switch; ++k)
     {
         printf("%s%.5g", k ? ", " : "", (double)res->switch_points[k]);
-        if (with_std)
+        if (with_std && isfinite((double)res->switch_std[k]))
         {
             printf(" ± %.2g", (double)res->switch_std[k]);
+        }
+        else if (with_std)
+        {
+            printf(" (no std)"); /* the summary fit rejected the model: no standard error */
         }
     }
 }
@@ -588,6 +592,13 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
                m->effect == AENL_DIAGNOSE_PRELOAD
                    ? " (a constant moment: the stiffness keeps its slope, so linear)"
                    : "");
+        if (m->effect2 != AENL_DIAGNOSE_NONE)
+        {
+            printf("  and a second effect, with the first in the model: %s in %s; each refitted "
+                   "with the other in place, gap -> %.3g\n",
+                   aenl_diagnose_effect_name(m->effect2), aenl_diagnose_dof_name(m->dof2),
+                   m->gap_after2);
+        }
     }
     printf("  the record alone: ");
     if (m->data_verdict >= 0)

@@ -75,6 +75,61 @@ static long channel_named(const aenl_identify_result_t *res, const aenl_diagnose
     return k_named;
 }
 
+/* The weights exp(-score / 2) of a diagnosis' baseline and candidates: all of them, those that
+ * leave the structure linear, those with a law per DOF, and those of the named class on the
+ * named DOF. */
+typedef struct
+{
+    double all, lin, dof[3], named;
+} weights_t;
+
+static void model_weights(const aenl_diagnose_result_t *d, weights_t *w)
+{
+    const double g0 = d->gap_before[d->n_channels] / d->common_floor, s_base = g0 * g0;
+    double s0 = s_base;
+    for (size_t i = 0; i < d->n_cand; ++i)
+    {
+        s0 = isfinite(d->cand[i].score) && d->cand[i].score < s0 ? d->cand[i].score : s0;
+    }
+    const aenl_class_t cls = class_of(d->effect);
+    memset(w, 0, sizeof(*w));
+    w->all = weight(s_base, s0);
+    w->lin = w->all;
+    for (size_t i = 0; i < d->n_cand; ++i)
+    {
+        const aenl_diagnose_cand_t *cd = &d->cand[i];
+        const double wi = weight(cd->score, s0);
+        const aenl_class_t c = class_of(cd->effect);
+        w->all += wi;
+        w->lin += c == AENL_CLASS_LINEAR ? wi : 0.0;
+        w->dof[cd->dof] += c != AENL_CLASS_LINEAR ? wi : 0.0;
+        w->named += c == cls && cd->dof == d->dof ? wi : 0.0;
+    }
+}
+
+/* Channel c takes the law the diagnosis d fitted to its named DOF, class cls (not linear). */
+static void set_law(aenl_identify_channel_t *c, const aenl_diagnose_result_t *d, aenl_class_t cls,
+                    double confidence)
+{
+    const aenl_sim_law_t *law = &d->updated.law[d->dof];
+    memset(&c->res, 0, sizeof(c->res));
+    c->explained_by = -1;
+    c->res.cls = cls;
+    c->res.confidence = (aenl_real_t)confidence;
+    c->res.prob[cls] = c->res.confidence;
+    const double c3 = law->n_coeffs >= 3u ? law->coeffs[2] : 0.0;
+    c->res.hardening = 0;
+    if (cls == AENL_CLASS_POLYNOMIAL && c3 > 0.0)
+    {
+        c->res.hardening = 1;
+    }
+    else if (cls == AENL_CLASS_POLYNOMIAL && c3 < 0.0)
+    {
+        c->res.hardening = -1;
+    }
+    law_points(d, law, &c->res);
+}
+
 aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
                                         const aenl_diagnose_result_t *d, aenl_err_t *err)
 {
@@ -101,6 +156,9 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
     m->data_confidence = res->verdict_confidence;
     m->gap_before = d->gap_before[d->n_channels];
     m->gap_after = d->gap_after[d->n_channels];
+    m->effect2 = AENL_DIAGNOSE_NONE;
+    m->gap_after2 = (double)NAN;
+    m->n_diagnoses = 1;
     if (!d->explained || d->effect == AENL_DIAGNOSE_NONE)
     {
         /* No disagreement it can explain, or none beyond twice the noise floor: the test has no
@@ -109,24 +167,9 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
         return AENL_OK;
     }
     /* Weights of the baseline and of every calibrated candidate from their penalised gaps. */
-    const double g0 = d->gap_before[d->n_channels] / d->common_floor, s_base = g0 * g0;
-    double s0 = s_base;
-    for (size_t i = 0; i < d->n_cand; ++i)
-    {
-        s0 = isfinite(d->cand[i].score) && d->cand[i].score < s0 ? d->cand[i].score : s0;
-    }
+    weights_t w;
+    model_weights(d, &w);
     const aenl_class_t cls = class_of(d->effect);
-    double w_all = weight(s_base, s0), w_lin = w_all, w_dof[3] = {0.0, 0.0, 0.0}, w_named = 0.0;
-    for (size_t i = 0; i < d->n_cand; ++i)
-    {
-        const aenl_diagnose_cand_t *cd = &d->cand[i];
-        const double w = weight(cd->score, s0);
-        const aenl_class_t c = class_of(cd->effect);
-        w_all += w;
-        w_lin += c == AENL_CLASS_LINEAR ? w : 0.0;
-        w_dof[cd->dof] += c != AENL_CLASS_LINEAR ? w : 0.0;
-        w_named += c == cls && cd->dof == d->dof ? w : 0.0;
-    }
     /* Every channel of the model: the named one takes the fitted law, the others are linear
      * with the weight of every way of their DOF not carrying a law. */
     for (size_t dof = 0; dof < d->n_channels && dof < 3u; ++dof)
@@ -137,44 +180,52 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
             continue;
         }
         aenl_identify_channel_t *c = &res->ch[k];
-        memset(&c->res, 0, sizeof(c->res));
-        c->explained_by = -1;
         if (k != named || cls == AENL_CLASS_LINEAR)
         {
+            memset(&c->res, 0, sizeof(c->res));
+            c->explained_by = -1;
             c->res.cls = AENL_CLASS_LINEAR;
-            c->res.confidence = (aenl_real_t)(1.0 - w_dof[dof] / w_all);
+            c->res.confidence = (aenl_real_t)(1.0 - w.dof[dof] / w.all);
             c->res.prob[AENL_CLASS_LINEAR] = c->res.confidence;
             continue;
         }
-        const aenl_sim_law_t *law = &d->updated.law[d->dof];
-        c->res.cls = cls;
-        c->res.confidence = (aenl_real_t)(w_named / w_dof[dof]);
-        c->res.prob[cls] = c->res.confidence;
-        const double c3 = law->n_coeffs >= 3u ? law->coeffs[2] : 0.0;
-        c->res.hardening = 0;
-        if (cls == AENL_CLASS_POLYNOMIAL && c3 > 0.0)
-        {
-            c->res.hardening = 1;
-        }
-        else if (cls == AENL_CLASS_POLYNOMIAL && c3 < 0.0)
-        {
-            c->res.hardening = -1;
-        }
-        law_points(d, law, &c->res);
+        set_law(c, d, cls, w.named / w.dof[dof]);
     }
     if (cls == AENL_CLASS_LINEAR)
     {
         res->verdict = -1;
         res->verdict_class = AENL_CLASS_LINEAR;
         res->verdict_share = 0.0;
-        res->verdict_confidence = w_lin / w_all;
+        res->verdict_confidence = w.lin / w.all;
         return AENL_OK;
     }
     res->verdict = named;
     res->verdict_class = cls;
-    res->verdict_share = w_dof[d->dof] / w_all;
-    res->verdict_confidence = w_named / w_all;
+    res->verdict_share = w.dof[d->dof] / w.all;
+    res->verdict_confidence = w.named / w.all;
     return AENL_OK;
+}
+
+/* 1 when diagnosis d names an effect it explains, with a law of identify's classes. */
+static int names_law(const aenl_diagnose_result_t *d)
+{
+    return d->explained && class_of(d->effect) != AENL_CLASS_LINEAR;
+}
+
+/* The second effect (aenl_identify_model_test): d2's named DOF's channel takes its law; the
+ * first effect's channel and the verdict stay. */
+static void apply_second(aenl_identify_result_t *res, const aenl_diagnose_result_t *d2)
+{
+    const long k = channel_named(res, d2, aenl_diagnose_dof_channel(d2->updated.type, d2->dof));
+    if (k < 0 || k == res->verdict)
+    {
+        return;
+    }
+    weights_t w;
+    model_weights(d2, &w);
+    set_law(&res->ch[k], d2, class_of(d2->effect), w.named / w.dof[d2->dof]);
+    res->model.effect2 = d2->effect;
+    res->model.dof2 = d2->dof;
 }
 
 aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_table_t *record,
@@ -183,12 +234,59 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
 {
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
-    aenl_diagnose_result_t d;
-    aenl_status_t st = aenl_diagnose_run(record, base, run, &o, &d, err);
+    /* d[0]: against the baseline; d[1]: against the baseline with d[0]'s law, for a second
+     * effect on a DOF d[0] left linear; then one backfitting pass, each law refitted with the
+     * other in place: d[2] the first DOF's (the baseline with d[1]'s law), d[3] the second's
+     * (the baseline with the first DOF's final law). */
+    aenl_diagnose_result_t d[4];
+    memset(d, 0, sizeof(d));
+    aenl_status_t st = aenl_diagnose_run(record, base, run, &o, &d[0], err);
+    unsigned n_run = st == AENL_OK ? 1u : 0u;
+    if (st == AENL_OK && names_law(&d[0]))
+    {
+        st = aenl_diagnose_run(record, &d[0].updated, run, &o, &d[1], err);
+        n_run += st == AENL_OK ? 1u : 0u;
+    }
+    const int second = n_run == 2u && names_law(&d[1]) && d[1].dof != d[0].dof;
+    const aenl_diagnose_result_t *first = &d[0], *other = second ? &d[1] : NULL;
+    if (st == AENL_OK && second)
+    {
+        aenl_sim_model_t m = *base;
+        m.law[d[1].dof] = d[1].updated.law[d[1].dof];
+        st = aenl_diagnose_run(record, &m, run, &o, &d[2], err);
+        n_run += st == AENL_OK ? 1u : 0u;
+        first = st == AENL_OK && names_law(&d[2]) && d[2].dof == d[0].dof ? &d[2] : &d[0];
+    }
+    if (st == AENL_OK && second)
+    {
+        aenl_sim_model_t m = *base;
+        m.law[first->dof] = first->updated.law[first->dof];
+        st = aenl_diagnose_run(record, &m, run, &o, &d[3], err);
+        n_run += st == AENL_OK ? 1u : 0u;
+        /* The second effect stands only if the first's final law still leaves it to name;
+         * else the first is as it was found alone. */
+        other = st == AENL_OK && names_law(&d[3]) && d[3].dof == d[1].dof ? &d[3] : NULL;
+        first = other != NULL ? first : &d[0];
+    }
     if (st == AENL_OK)
     {
-        st = aenl_identify_apply_model(res, &d, err);
-        aenl_diagnose_result_free(&d);
+        st = aenl_identify_apply_model(res, first, err);
+    }
+    if (st == AENL_OK)
+    {
+        res->model.n_diagnoses = n_run;
+        /* the gaps against the baseline, before and with the first effect alone */
+        res->model.gap_before = d[0].gap_before[d[0].n_channels];
+        res->model.gap_after = d[0].gap_after[d[0].n_channels];
+        if (other != NULL)
+        {
+            apply_second(res, other);
+            res->model.gap_after2 = other->gap_after[other->n_channels];
+        }
+    }
+    for (size_t i = 0; i < 4u; ++i)
+    {
+        aenl_diagnose_result_free(&d[i]);
     }
     return st;
 }

@@ -116,15 +116,20 @@ typedef struct aenl_identify_channel
 /** The model-based test of `aenl identify --model` (aenl_identify_apply_model). */
 typedef struct aenl_identify_model
 {
-    int applied;                   /**< 1: a diagnosis against a baseline model was applied */
-    int explained;                 /**< 0: the baseline misses the record, but no candidate effect
-                                        explains it */
-    aenl_diagnose_effect_t effect; /**< the effect named (NONE: the baseline fits) */
-    aenl_sim_dof_t dof;            /**< its DOF */
-    double gap_before, gap_after;  /**< the diagnosis' total gaps */
-    long data_verdict;             /**< the record alone: channel named (-1 none), */
-    aenl_class_t data_class;       /**<   class */
-    double data_confidence;        /**<   and confidence */
+    int applied;                    /**< 1: a diagnosis against a baseline model was applied */
+    int explained;                  /**< 0: the baseline misses the record, but no candidate effect
+                                         explains it */
+    aenl_diagnose_effect_t effect;  /**< the effect named (NONE: the baseline fits) */
+    aenl_sim_dof_t dof;             /**< its DOF */
+    double gap_before, gap_after;   /**< the diagnosis' total gaps */
+    aenl_diagnose_effect_t effect2; /**< a second effect, on another DOF (NONE: none found) */
+    aenl_sim_dof_t dof2;            /**< its DOF */
+    double gap_after2;              /**< total gap with both effects, each refitted with the
+                                         other in place (NaN: no second effect) */
+    unsigned n_diagnoses;           /**< diagnoses run by aenl_identify_model_test (1..4) */
+    long data_verdict;              /**< the record alone: channel named (-1 none), */
+    aenl_class_t data_class;        /**<   class */
+    double data_confidence;         /**<   and confidence */
 } aenl_identify_model_t;
 
 /** Result of one record. */
@@ -197,7 +202,14 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
 /**
  * @brief The model-based test of `aenl identify --model`: diagnose `record` (time column and the
  *        model's channels by name, aenl_diagnose_run) against the baseline `base` under `run`
- *        with the default options, then aenl_identify_apply_model(). Minutes on long records.
+ *        with the default options, then aenl_identify_apply_model(). When that names a law, a
+ *        second diagnosis against the baseline with it looks for a second effect on the DOFs it
+ *        left linear (forward selection, by the diagnosis' own rules: a disagreement beyond
+ *        twice the noise floor that a candidate cuts by 30 %). If one is named, one backfitting
+ *        pass refits the first DOF's law with the second's in the model, then the second's with
+ *        the first's final law. The second effect stands only if that last diagnosis names it
+ *        again; then its DOF's channel takes its law (res->model.effect2, dof2, gap_after2) and
+ *        the verdict stays the first's. Minutes on long records.
  * @return AENL_OK; the errors of aenl_diagnose_run (AENL_E_ARG a record or model it cannot use,
  *         AENL_E_DIM a capacity) and of aenl_identify_apply_model; res unchanged on error.
  */
