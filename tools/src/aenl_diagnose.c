@@ -27,7 +27,7 @@
 /* Candidates whose replicate floor enters the common yardstick of the choice. */
 #define N_FLOOR_CAND 3u
 
-/* Runaway bound of every simulation, in measured stds (see sim_sig). */
+/* Runaway bound of every candidate simulation, in measured stds (see ctx_t.bound). */
 #define RUNAWAY_LIMIT 20.0
 
 static double now_s(void)
@@ -131,6 +131,12 @@ typedef struct
     uint64_t noise_seed;
     unsigned n_sims;
     int verbose;
+    /* Runaway bound of every candidate simulation per channel: RUNAWAY_LIMIT times the larger
+     * of the measured std and mean, from zero. Runaway models can become very stiff (a diverging
+     * flutter mode driving a hardening spring) and their full runs would dominate the cost; the
+     * simulator stops them there, and their signatures are invalid (every difference capped),
+     * as are those of models that diverge. */
+    double bound[N_CH_MAX];
 } ctx_t;
 
 /* Simulate `m` with the seeds of replicate `rep`, add the measured noise, take signatures.
@@ -141,16 +147,7 @@ static aenl_status_t sim_sig(ctx_t *x, const aenl_sim_model_t *m, unsigned rep,
 {
     aenl_sim_run_t run = x->run;
     run.turb_seed = x->run.turb_seed + (uint64_t)rep * TURB_SEED_STEP;
-    /* A model that runs away (response beyond RUNAWAY_LIMIT times the larger of the measured
-     * std and mean from zero) is stopped there: runaway models can become very stiff (a
-     * diverging flutter mode driving a hardening spring) and their full runs would dominate the
-     * cost. Their signatures are invalid (every difference capped), as are those of models that
-     * diverge. */
-    for (size_t c = 0; c < x->n_ch; ++c)
-    {
-        const aenl_diagnose_chan_t *ch = &x->res->chan[c];
-        run.bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
-    }
+    memcpy(run.bound, x->bound, sizeof(run.bound));
     aenl_sim_result_t r;
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -994,6 +991,11 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     x.res = r;
     x.noise_seed = opts->noise_seed;
     x.verbose = opts->verbose;
+    for (size_t c = 0; c < n_ch; ++c)
+    {
+        const aenl_diagnose_chan_t *ch = &r->chan[c];
+        x.bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
+    }
     aenl_err_t e;
     aenl_err_clear(&e);
     if (aenl_sim_validate(base, &x.run, &e) != AENL_OK)
