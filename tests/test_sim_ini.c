@@ -62,7 +62,8 @@ static void test_ini_examples_load_and_run(void)
         "paper_polynomial_pitch.ini", "validate_linear_u4.ini",
         "validate_freeplay_u55.ini",  "validate_cubic_u7.ini",
         "validate_hysteresis_u5.ini", "validate_conner_flap_u15.ini",
-        "section3dof_turbulence.ini", "section3dof_two_freeplays.ini"};
+        "section3dof_turbulence.ini", "section3dof_two_freeplays.ini",
+        "section3dof_raps.ini",       "section3dof_raps_base.ini"};
     size_t i;
     for (i = 0; i < sizeof(names) / sizeof(names[0]); ++i)
     {
@@ -176,6 +177,80 @@ static void test_ini_write_reads_back(void)
         }
         TEST_ASSERT_EQUAL_MEMORY(&run, &rback, sizeof(run));
     }
+}
+
+static void test_ini_kick_train(void)
+{
+    /* Values and units, then the writer's round trip. */
+    const char *path = write_tmp("kicks.ini", "[model]\ntype = section3dof\nvelocity = 12\n"
+                                              "[excitation]\ntype = kicks\nrate_deg = 20\n"
+                                              "dof = flap\nevery = 1.5\nsign = alternate\n"
+                                              "seed = 9\n[run]\nduration = 6\ndt = 0.005\n");
+    aenl_sim_model_t m, back;
+    aenl_sim_run_t r, rback;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &m, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(1, r.kicks);
+    TEST_ASSERT_EQUAL_INT(0, r.turbulence);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_DOF_FLAP, r.kick_dof);
+    TEST_ASSERT_EQUAL_DOUBLE(1.5, r.kick_every);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 20.0 * DEG, r.kick_rate);
+    TEST_ASSERT_EQUAL_DOUBLE(r.kick_rate, r.kick_rate_max); /* rate_max defaults to rate */
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_KICK_ALTERNATE, r.kick_sign);
+    TEST_ASSERT_EQUAL_UINT64(9u, r.kick_seed);
+    r.kick_rate_max = 0.5;
+    r.kick_sign = AENL_SIM_KICK_RANDOM;
+    char wpath[512];
+    (void)snprintf(wpath, sizeof(wpath), "%s", write_tmp("kicks_written.ini", ""));
+    FILE *fp = fopen(wpath, "w");
+    TEST_ASSERT_NOT_NULL(fp);
+    aenl_sim_write_ini(fp, &m, &r);
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(wpath, &back, &rback, &err), err.msg);
+    TEST_ASSERT_EQUAL_MEMORY(&r, &rback, sizeof(r));
+
+    const char *run = "[run]\nduration = 6\ndt = 0.5\n";
+    char buf[512];
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\nevery = 2\nrate = 1\n%s", run);
+    expect_error("kick_no_dof.ini", buf, "kick_no_dof.ini:4:", "'dof'");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = flap\nevery = 2\nrate = 1\n%s",
+                   run);
+    expect_error("kick_flap_2dof.ini", buf, "kick_flap_2dof.ini:6:", "pitch or plunge");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nrate = 1\n%s", run);
+    expect_error("kick_no_every.ini", buf, "kick_no_every.ini:4:", "'every'");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = plunge\nevery = 2\n"
+                              "rate_deg = 1\n%s",
+                   run);
+    expect_error("kick_plunge_deg.ini", buf, "kick_plunge_deg.ini:8:", "rate_deg");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\nrate = 1\n"
+                              "intensity = 0.1\n%s",
+                   run);
+    expect_error("kick_turb_key.ini", buf, "kick_turb_key.ini:9:", "intensity");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = turbulence\nintensity = 0.1\nevery = 2\n%s",
+                   run);
+    expect_error("turb_kick_key.ini", buf, "turb_kick_key.ini:7:", "type = kicks");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2.25\n"
+                              "rate = 1\n%s",
+                   run);
+    expect_error("kick_every.ini", buf, "kick_every.ini", "whole number");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\n"
+                              "rate = 1\nrate_max = 0.5\n%s",
+                   run);
+    expect_error("kick_rate_max.ini", buf, "kick_rate_max.ini:9:", "rate_max");
+    (void)snprintf(buf, sizeof(buf),
+                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\n"
+                              "rate = 1\nsign = up\n%s",
+                   run);
+    expect_error("kick_sign.ini", buf, "kick_sign.ini:9:", "sign");
 }
 
 static void test_ini_rejects_bad_files(void)
@@ -390,6 +465,7 @@ int main(void)
     RUN_TEST(test_ini_examples_load_and_run);
     RUN_TEST(test_ini_values_and_units);
     RUN_TEST(test_ini_rejects_bad_files);
+    RUN_TEST(test_ini_kick_train);
     RUN_TEST(test_ini_write_reads_back);
     RUN_TEST(test_noise_has_the_stated_snr_and_is_reproducible);
     RUN_TEST(test_turbulence_is_seeded_and_linear_in_intensity);

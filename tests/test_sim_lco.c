@@ -226,6 +226,40 @@ static void test_hysteresis_dissipative_loop_sticks(void)
     aenl_sim_result_free(&res);
 }
 
+static void test_kick_frees_a_stuck_hysteresis_dof(void)
+{
+    /* The dissipative loop above, rapped every 1500 τ: each release rings down and sticks again,
+     * and each kick frees the held DOF (it takes the direction of its new rate). */
+    aenl_sim_model_t m;
+    aenl_sim_run_t r;
+    aenl_sim_result_t res;
+    aenl_err_t err;
+    const size_t every = 15000, n_tail = 100;
+    aenl_err_clear(&err);
+    airfoil(&m, &r, 5.0, 2.0, 4500.0);
+    hysteresis(&m, 0.5);
+    r.kicks = 1;
+    r.kick_dof = AENL_SIM_DOF_PITCH;
+    r.kick_every = 1500.0;
+    r.kick_rate = r.kick_rate_max = 0.007; /* rad/τ: about a 2 deg swing */
+    r.kick_sign = AENL_SIM_KICK_ALTERNATE;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &r, &res, &err), err.msg);
+    TEST_ASSERT_TRUE(res.info.n_stuck >= 3);
+    TEST_ASSERT_TRUE(res.info.n_events < 300);
+    for (size_t kick = every; kick < res.n_samples - 1; kick += every)
+    {
+        for (size_t k = kick - n_tail; k <= kick; ++k)
+        {
+            TEST_ASSERT_EQUAL_DOUBLE(res.y[kick], res.y[k]); /* held until the kick */
+        }
+        /* moving again right after it, by about the kick's 0.007 rad/τ x 0.1 τ per step */
+        const double step = res.y[kick + 1] - res.y[kick];
+        TEST_ASSERT_DOUBLE_WITHIN(0.2 * 0.0007, (kick / every) % 2 == 1 ? -0.0007 : 0.0007, step);
+        TEST_ASSERT_TRUE(fabs(res.y[kick + 100] - res.y[kick]) > 0.3 * DEG);
+    }
+    aenl_sim_result_free(&res);
+}
+
 static void test_lco_section3dof_flap_freeplay_table(void)
 {
     static const double U[3] = {10.0, 15.0, 20.0};
@@ -382,6 +416,7 @@ int main(void)
     RUN_TEST(test_lco_cubic_table);
     RUN_TEST(test_lco_hysteresis_table);
     RUN_TEST(test_hysteresis_dissipative_loop_sticks);
+    RUN_TEST(test_kick_frees_a_stuck_hysteresis_dof);
     RUN_TEST(test_lco_section3dof_flap_freeplay_table);
     RUN_TEST(test_freeplay_tolerance_convergence);
     RUN_TEST(test_freeplay_rk4_converges_to_event_solution);

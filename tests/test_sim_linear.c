@@ -445,6 +445,128 @@ static void test_runaway_bound_stops_where_the_unbounded_run_crosses_it(void)
     TEST_ASSERT_NOT_NULL(strstr(err.msg, "runaway bound"));
 }
 
+static void test_kick_train_matches_expm_with_jumps(void)
+{
+    /* A linear airfoil (no start-up terms, so time-invariant) rapped in pitch every 20 τ with
+     * seeded random kicks: between kicks x(t_k+1) = expm(A dt) x(t_k), and at each kick the
+     * pitch rate jumps by the sequence aenl_sim_kicks gives. */
+    const double ustar = 4.0, dt = 0.5, every = 20.0;
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_result_t res, r4;
+    aenl_err_t err;
+    double A8[64 * 4], A[NA * NA], E[NA * NA], x[NA], y[NA], dv[64], max_err = 0.0, peak = 0.0;
+    size_t n8 = 0;
+    aenl_err_clear(&err);
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    m.airfoil.ustar = ustar;
+    m.airfoil.ic_forcing = 0;
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    run.duration = 300.0;
+    run.dt = dt;
+    run.kicks = 1;
+    run.kick_dof = AENL_SIM_DOF_PITCH;
+    run.kick_every = every;
+    run.kick_rate = 0.01;
+    run.kick_rate_max = 0.02;
+    run.kick_seed = 5;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &res, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_kicks(&run, 64, dv, &err));
+    /* the sequence: sizes in [rate, rate_max], both signs */
+    int n_neg = 0;
+    for (size_t j = 0; j < 64; ++j)
+    {
+        TEST_ASSERT_TRUE(fabs(dv[j]) >= 0.01 && fabs(dv[j]) <= 0.02);
+        n_neg += dv[j] < 0.0;
+    }
+    TEST_ASSERT_TRUE(n_neg > 16 && n_neg < 48);
+
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_state_matrix(&m, ustar, NULL, A8, &n8, &err));
+    TEST_ASSERT_EQUAL_size_t(8, n8);
+    memset(A, 0, sizeof(A));
+    for (int i = 0; i < 8; ++i)
+    {
+        for (int j = 0; j < 8; ++j)
+        {
+            A[i * NA + j] = A8[i * 8 + j] * dt;
+        }
+    }
+    expm(A, E);
+    memset(x, 0, sizeof(x));
+    size_t next = 0;
+    for (size_t k = 0; k < res.n_samples; ++k)
+    {
+        max_err = fmax(max_err, fabs(res.y[k] - x[1]));                 /* alpha */
+        max_err = fmax(max_err, fabs(res.y[res.n_samples + k] - x[0])); /* xi */
+        peak = fmax(peak, fabs(x[1]));
+        if (k % 40u == 0u && k + 1 < res.n_samples)
+        {
+            x[3] += dv[next++]; /* state: xi, alpha, xi', alpha', ... */
+        }
+        for (int i = 0; i < NA; ++i)
+        {
+            double acc = 0.0;
+            for (int j = 0; j < NA; ++j)
+            {
+                acc += E[i * NA + j] * x[j];
+            }
+            y[i] = acc;
+        }
+        memcpy(x, y, sizeof(x));
+    }
+    TEST_ASSERT_EQUAL_size_t(15, next); /* t = 0, 20, ..., 280 */
+    TEST_ASSERT_TRUE(peak > 0.01);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9 * peak, 0.0, max_err); /* rtol 1e-10 over 600 steps */
+    /* RK4 applies the same kicks at the same samples. */
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_simulate_rk4(&m, &run, 0.05, &r4, &err));
+    double d4 = 0.0;
+    for (size_t i = 0; i < 2 * res.n_samples; ++i)
+    {
+        d4 = fmax(d4, fabs(r4.y[i] - res.y[i]));
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-5 * peak, 0.0, d4);
+    char msg[128];
+    (void)snprintf(msg, sizeof(msg), "kicks: max |event - expm| = %.3g, |rk4 - event| = %.3g",
+                   max_err, d4);
+    TEST_MESSAGE(msg);
+    aenl_sim_result_free(&r4);
+    aenl_sim_result_free(&res);
+
+    /* Sign rules: the same sizes; alternate +,-,+..., positive all +. */
+    double alt[64], pos[64];
+    run.kick_sign = AENL_SIM_KICK_ALTERNATE;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_kicks(&run, 64, alt, &err));
+    run.kick_sign = AENL_SIM_KICK_POSITIVE;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_sim_kicks(&run, 64, pos, &err));
+    for (size_t j = 0; j < 64; ++j)
+    {
+        TEST_ASSERT_EQUAL_DOUBLE(fabs(dv[j]), pos[j]);
+        TEST_ASSERT_EQUAL_DOUBLE(j % 2 == 0 ? pos[j] : -pos[j], alt[j]);
+    }
+    /* Validation: not a whole number of steps, with turbulence, no flap on the airfoil. */
+    run.kick_every = 20.25;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_simulate(&m, &run, &res, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "whole number"));
+    run.kick_every = 20.0;
+    run.turbulence = 1;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_simulate_rk4(&m, &run, 0.05, &res, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "turbulence"));
+    run.turbulence = 0;
+    run.kick_dof = AENL_SIM_DOF_FLAP;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_simulate(&m, &run, &res, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "dof"));
+    run.kick_dof = AENL_SIM_DOF_PITCH;
+    run.kick_rate_max = 0.005;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_simulate(&m, &run, &res, &err));
+    TEST_ASSERT_NOT_NULL(strstr(err.msg, "rate_max"));
+    run.kicks = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_kicks(&run, 4, dv, &err));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -457,5 +579,6 @@ int main(void)
     RUN_TEST(test_gust_series_has_the_textbook_autocorrelation);
     RUN_TEST(test_dryden_turbulence_event_matches_rk4);
     RUN_TEST(test_runaway_bound_stops_where_the_unbounded_run_crosses_it);
+    RUN_TEST(test_kick_train_matches_expm_with_jumps);
     return UNITY_END();
 }

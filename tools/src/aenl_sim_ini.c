@@ -524,6 +524,52 @@ static aenl_status_t apply_initial(ini_ctx_t *c, const entry_t *e, aenl_sim_mode
                            : " (section3dof: h, alpha[_deg], beta[_deg] and their _dot rates)");
 }
 
+/* [excitation] with type = kicks (its dof is already read: it decides whether _deg keys are
+ * allowed). */
+static aenl_status_t apply_kick(ini_ctx_t *c, const entry_t *e, aenl_sim_run_t *r)
+{
+    const int angular = r->kick_dof != AENL_SIM_DOF_PLUNGE;
+    double scale = 1.0;
+    if (strcmp(e->key, "dof") == 0)
+    {
+        return AENL_OK;
+    }
+    if (strcmp(e->key, "seed") == 0)
+    {
+        return parse_seed(c, e, &r->kick_seed);
+    }
+    if (strcmp(e->key, "every") == 0)
+    {
+        return parse_num(c, e, V_POS, 1.0, MAX_ABS_PARAM, &r->kick_every);
+    }
+    if (angle_key(e, "rate", angular, &scale))
+    {
+        return parse_num(c, e, V_NONNEG, scale, MAX_ABS_RATE, &r->kick_rate);
+    }
+    if (angle_key(e, "rate_max", angular, &scale))
+    {
+        return parse_num(c, e, V_NONNEG, scale, MAX_ABS_RATE, &r->kick_rate_max);
+    }
+    if (strcmp(e->key, "sign") == 0)
+    {
+        static const char *const k_sign[3] = {"random", "alternate", "positive"};
+        for (int i = 0; i < 3; ++i)
+        {
+            if (strcmp(e->value, k_sign[i]) == 0)
+            {
+                r->kick_sign = (aenl_sim_kick_sign_t)i;
+                return AENL_OK;
+            }
+        }
+        return bad(c, e, "expected random, alternate or positive");
+    }
+    return unknown_key(c, e,
+                       angular ? " for type kicks (dof, every, rate[_deg], rate_max[_deg], sign, "
+                                 "seed)"
+                               : " for type kicks on plunge (dof, every, rate, rate_max, sign, "
+                                 "seed; no _deg keys)");
+}
+
 static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_t *m,
                                  aenl_sim_run_t *r)
 {
@@ -549,6 +595,10 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             {
                 return AENL_OK;
             }
+            if (r->kicks)
+            {
+                return apply_kick(c, e, r);
+            }
             if (strcmp(e->key, "seed") == 0)
             {
                 return parse_seed(c, e, &r->turb_seed);
@@ -571,7 +621,9 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             {
                 return st;
             }
-            return unknown_key(c, e, " (type, intensity, length_scale, spectrum, seed)");
+            return unknown_key(c, e,
+                               " (type, intensity, length_scale, spectrum, seed; dof, every, "
+                               "rate, rate_max and sign need type = kicks)");
         }
         case 6:
         {
@@ -731,9 +783,39 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
         {
             r->turbulence = 1;
         }
+        else if (strcmp(e->value, "kicks") == 0)
+        {
+            r->kicks = 1;
+        }
         else if (strcmp(e->value, "none") != 0)
         {
-            return bad(c, e, "expected none or turbulence");
+            return bad(c, e, "expected none, turbulence or kicks");
+        }
+    }
+    if (r->kicks)
+    {
+        static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
+        const int n_dof = type == AENL_SIM_AIRFOIL2DOF ? 2 : 3;
+        if ((e = find(c, "excitation", "dof")) == NULL)
+        {
+            return missing(c, 5, "dof");
+        }
+        for (d = 0; d < n_dof && strcmp(e->value, k_dof[d]) != 0; ++d)
+        {
+        }
+        if (d == n_dof)
+        {
+            return bad(c, e,
+                       n_dof == 2 ? "expected pitch or plunge" : "expected pitch, plunge or flap");
+        }
+        r->kick_dof = (aenl_sim_dof_t)d;
+        if (find(c, "excitation", "every") == NULL)
+        {
+            return missing(c, 5, "every");
+        }
+        if (find(c, "excitation", "rate") == NULL && find(c, "excitation", "rate_deg") == NULL)
+        {
+            return missing(c, 5, d == AENL_SIM_DOF_PLUNGE ? "rate" : "rate_deg");
         }
     }
     for (i = 0; i < c->n; ++i)
@@ -758,6 +840,17 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
     if (c->sec_line[7] > 0 && find(c, "noise", "snr") == NULL)
     {
         return missing(c, 7, "snr");
+    }
+    if (r->kicks && find(c, "excitation", "rate_max") == NULL &&
+        find(c, "excitation", "rate_max_deg") == NULL)
+    {
+        r->kick_rate_max = r->kick_rate;
+    }
+    if (r->kicks && r->kick_rate_max < r->kick_rate)
+    {
+        e = find(c, "excitation", "rate_max");
+        return bad(c, e != NULL ? e : find(c, "excitation", "rate_max_deg"),
+                   "must not be below rate");
     }
     if (!c->model_only && r->dt > r->duration)
     {
@@ -898,6 +991,16 @@ void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_
                 run->turb_intensity, run->turb_length,
                 run->turb_spectrum == AENL_SIM_GUST_DRYDEN ? "dryden" : "first_order",
                 (unsigned long long)run->turb_seed);
+    }
+    if (run->kicks)
+    {
+        static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
+        static const char *const k_sign[3] = {"random", "alternate", "positive"};
+        fprintf(fp,
+                "\n[excitation]\ntype = kicks\ndof = %s\nevery = %.17g\nrate = %.17g\n"
+                "rate_max = %.17g\nsign = %s\nseed = %llu\n",
+                k_dof[run->kick_dof], run->kick_every, run->kick_rate, run->kick_rate_max,
+                k_sign[run->kick_sign], (unsigned long long)run->kick_seed);
     }
     fprintf(fp, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n",
             run->duration, run->dt, run->rtol, run->atol);

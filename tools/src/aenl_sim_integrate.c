@@ -627,6 +627,19 @@ void aenl_sim_result_free(aenl_sim_result_t *res)
     memset(res, 0, sizeof(*res));
 }
 
+/* State index of the kicked DOF's displacement (0 without kicks). */
+static int kick_state(const sim_sys_t *s, const aenl_sim_run_t *run)
+{
+    for (int i = 0; run->kicks && i < s->nq; ++i)
+    {
+        if (s->dof[i] == (int)run->kick_dof)
+        {
+            return i;
+        }
+    }
+    return 0;
+}
+
 static void initial_state(const aenl_sim_model_t *model, const sim_sys_t *s, double *x)
 {
     int i;
@@ -778,6 +791,8 @@ static void add_noise(aenl_sim_result_t *res, const aenl_sim_run_t *run)
     }
 }
 
+/* The mode of state x at in->t from scratch: at the start and after a kick (a hysteresis DOF
+ * takes the direction of its rate; at rest the direction its branch would move it, or sticks). */
 static void initial_mode(integ_t *in, const double *x)
 {
     const sim_sys_t *s = in->sys;
@@ -805,13 +820,13 @@ static void initial_mode(integ_t *in, const double *x)
         }
         /* At rest: the direction the branch itself would move it, or stuck. */
         set_dir(s, &in->mode, q, 1, x);
-        rhs(in, &in->mode, 0.0, x, dx, NULL);
+        rhs(in, &in->mode, in->t, x, dx, NULL);
         if (dx[s->nq + q] > 0.0)
         {
             continue;
         }
         set_dir(s, &in->mode, q, -1, x);
-        rhs(in, &in->mode, 0.0, x, dx, NULL);
+        rhs(in, &in->mode, in->t, x, dx, NULL);
         if (dx[s->nq + q] < 0.0)
         {
             continue;
@@ -865,6 +880,14 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     n = res->n_samples;
     initial_state(model, &sys, in->x);
     gust_init(&gg, run, &sys, in->x);
+    const size_t kick_steps = sim_kick_steps(run);
+    const int kick_q = kick_state(&sys, run);
+    sim_kick_gen_t kg;
+    if (kick_steps > 0)
+    {
+        sim_kick_init(&kg, run);
+        in->x[sys.nq + kick_q] += sim_kick_next(&kg); /* the first kick, at t = 0 */
+    }
     initial_mode(in, in->x);
     emit(in, 0, in->x);
     in->next_k = 1;
@@ -890,6 +913,19 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
         {
             in->u = gust_next(&gg);
             st = integrate_to(in, (double)(k + 1) * run->dt, err);
+        }
+    }
+    else if (kick_steps > 0)
+    {
+        for (size_t k = kick_steps; st == AENL_OK; k += kick_steps)
+        {
+            st = integrate_to(in, (double)(k < n - 1 ? k : n - 1) * run->dt, err);
+            if (k >= n - 1)
+            {
+                break;
+            }
+            in->x[sys.nq + kick_q] += sim_kick_next(&kg);
+            initial_mode(in, in->x);
         }
     }
     else
@@ -975,6 +1011,13 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
     initial_state(model, &sys, x);
     memset(y, 0, sizeof(y)); /* stages fill y[0..nx); the rest stays defined */
     gust_init(&gg, run, &sys, x);
+    const size_t kick_steps = sim_kick_steps(run);
+    const int kick_q = kick_state(&sys, run);
+    sim_kick_gen_t kg;
+    if (kick_steps > 0)
+    {
+        sim_kick_init(&kg, run);
+    }
     memset(&mode, 0, sizeof(mode));
     for (j = 0; j < sys.nq; ++j)
     {
@@ -991,6 +1034,10 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         if (k + 1 == n)
         {
             break;
+        }
+        if (kick_steps > 0 && k % kick_steps == 0)
+        {
+            x[sys.nq + kick_q] += sim_kick_next(&kg);
         }
         u = gust_next(&gg);
         for (m = 0; m < n_sub; ++m)

@@ -18,6 +18,7 @@
 #ifndef AENL_SIM_INTERNAL_H
 #define AENL_SIM_INTERNAL_H
 
+#include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_sim.h"
 
 /* Jones approximation of the Wagner function (MODELS.md §1.1). */
@@ -70,6 +71,21 @@ typedef struct sim_mode
 } sim_mode_t;
 
 /** Lag states of a gust spectrum's filter: 1 first order, 2 Dryden. */
+/* The kick train's generator: sim_kick_next gives the rate jumps in order. */
+typedef struct sim_kick_gen
+{
+    aenl_rng_t rng;
+    double lo, hi;
+    aenl_sim_kick_sign_t sign;
+    size_t j;
+} sim_kick_gen_t;
+
+void sim_kick_init(sim_kick_gen_t *g, const aenl_sim_run_t *run);
+double sim_kick_next(sim_kick_gen_t *g);
+
+/* Output steps between kicks (0: no kicks; run validated). */
+size_t sim_kick_steps(const aenl_sim_run_t *run);
+
 int sim_gust_order(aenl_sim_gust_t spectrum);
 
 /** Gust filter states a run needs: 0 without turbulence, else sim_gust_order. */

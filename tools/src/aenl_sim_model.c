@@ -65,7 +65,56 @@ void aenl_sim_run_default(aenl_sim_run_t *run, aenl_sim_type_t type)
     run->atol = 1e-12;
     run->turb_length = (type == AENL_SIM_AIRFOIL2DOF) ? 2.0 : 0.25;
     run->turb_seed = 1;
+    run->kick_seed = 1;
     run->noise_seed = 42;
+}
+
+void sim_kick_init(sim_kick_gen_t *g, const aenl_sim_run_t *run)
+{
+    aenl_rng_seed(&g->rng, run->kick_seed);
+    g->lo = run->kick_rate;
+    g->hi = run->kick_rate_max;
+    g->sign = run->kick_sign;
+    g->j = 0;
+}
+
+double sim_kick_next(sim_kick_gen_t *g)
+{
+    /* Both draws every time, so the sizes do not depend on the sign rule. */
+    const double u = aenl_rng_uniform(&g->rng), v = aenl_rng_uniform(&g->rng);
+    const double r = g->lo + (g->hi - g->lo) * u;
+    double s = 1.0;
+    if (g->sign == AENL_SIM_KICK_RANDOM)
+    {
+        s = v < 0.5 ? -1.0 : 1.0;
+    }
+    else if (g->sign == AENL_SIM_KICK_ALTERNATE)
+    {
+        s = (g->j % 2u) == 0u ? 1.0 : -1.0;
+    }
+    ++g->j;
+    return s * r;
+}
+
+size_t sim_kick_steps(const aenl_sim_run_t *run)
+{
+    return run->kicks ? (size_t)floor(run->kick_every / run->dt + 0.5) : 0u;
+}
+
+aenl_status_t aenl_sim_kicks(const aenl_sim_run_t *run, size_t n, double *dv, aenl_err_t *err)
+{
+    sim_kick_gen_t g;
+    if (run == NULL || dv == NULL || !run->kicks)
+    {
+        aenl_err_set(err, "aenl_sim_kicks: NULL argument or a run without kicks");
+        return AENL_E_ARG;
+    }
+    sim_kick_init(&g, run);
+    for (size_t j = 0; j < n; ++j)
+    {
+        dv[j] = sim_kick_next(&g);
+    }
+    return AENL_OK;
 }
 
 double aenl_sim_velocity(const aenl_sim_model_t *model)
@@ -148,6 +197,46 @@ static aenl_status_t validate_law(const aenl_sim_law_t *law, const char *sec, ae
     }
     aenl_err_set(err, "[%s] unknown law", sec);
     return AENL_E_ARG;
+}
+
+static aenl_status_t check_kicks(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                 aenl_err_t *err)
+{
+    aenl_status_t st;
+    if (run->turbulence)
+    {
+        aenl_err_set(err, "[excitation] kicks and turbulence cannot be combined");
+        return AENL_E_ARG;
+    }
+    if ((int)run->kick_dof < 0 || (int)run->kick_dof >= AENL_SIM_N_DOF ||
+        (run->kick_dof == AENL_SIM_DOF_FLAP && model->type != AENL_SIM_SECTION3DOF))
+    {
+        aenl_err_set(err, "[excitation] dof: no such DOF in this model");
+        return AENL_E_ARG;
+    }
+    if ((st = check_pos(run->kick_every, "[excitation] every", err)) != AENL_OK)
+    {
+        return st;
+    }
+    const double steps = run->kick_every / run->dt;
+    if (!(steps >= 0.5) || fabs(steps - floor(steps + 0.5)) > 1e-9 * steps)
+    {
+        aenl_err_set(err, "[excitation] every (%g) must be a whole number of [run] dt (%g)",
+                     run->kick_every, run->dt);
+        return AENL_E_ARG;
+    }
+    if (!isfinite(run->kick_rate) || run->kick_rate < 0.0 || !isfinite(run->kick_rate_max) ||
+        run->kick_rate_max < run->kick_rate)
+    {
+        aenl_err_set(err, "[excitation] rate must be finite and >= 0, rate_max finite and >= rate");
+        return AENL_E_ARG;
+    }
+    if ((int)run->kick_sign < 0 || (int)run->kick_sign > (int)AENL_SIM_KICK_POSITIVE)
+    {
+        aenl_err_set(err, "[excitation] sign: unknown rule");
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
 }
 
 aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
@@ -250,6 +339,10 @@ aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_ru
         {
             aenl_err_set(err, "[excitation] intensity must be >= 0 and length_scale > 0");
             return AENL_E_ARG;
+        }
+        if (run->kicks && (st = check_kicks(model, run, err)) != AENL_OK)
+        {
+            return st;
         }
         if (!isfinite(run->snr) || run->snr < 0.0)
         {

@@ -46,6 +46,13 @@
  * instants are breakpoints of the integrator (it stops and restarts there), so the solution stays
  * exact for the piecewise-constant input. A run with intensity 0 equals a run without turbulence.
  *
+ * Kicks (optional, [excitation] type = kicks): a train of releases in one record, like stick
+ * raps or hammer taps on a rig. At t = 0 and every `every` after it the rate of one DOF jumps by
+ * a size drawn uniformly from [rate, rate_max] with a random, alternating or positive sign, from
+ * its own seeded generator; the integrator stops at each kick, applies it and restarts (a
+ * hysteresis DOF takes the direction of its new rate). Displacements and the aerodynamic and
+ * gust states carry on, so a release starts where the previous one has rung down to.
+ *
  * Measurement noise ([noise] snr): for every output channel, independent Gaussian noise of
  * standard deviation std(clean channel)/snr is added after the clean run, from its own seed.
  *
@@ -140,6 +147,14 @@ typedef enum aenl_sim_gust
     AENL_SIM_GUST_DRYDEN = 1       /**< the Dryden vertical-gust filter (two lags) */
 } aenl_sim_gust_t;
 
+/** Sign of each kick of a kick train. */
+typedef enum aenl_sim_kick_sign
+{
+    AENL_SIM_KICK_RANDOM = 0,    /**< + or − with equal chance (default) */
+    AENL_SIM_KICK_ALTERNATE = 1, /**< +, −, +, ... */
+    AENL_SIM_KICK_POSITIVE = 2   /**< always + */
+} aenl_sim_kick_sign_t;
+
 /** How to run a simulation: grid, tolerances, excitation and measurement noise. */
 typedef struct aenl_sim_run
 {
@@ -152,7 +167,20 @@ typedef struct aenl_sim_run
     double turb_length;    /**< L: semichords (airfoil2dof) or m (section3dof) > 0 */
     uint64_t turb_seed;
     aenl_sim_gust_t turb_spectrum; /**< gust spectrum (default first order) */
-    double snr;                    /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
+    /** Kick train ([excitation] type = kicks; not with turbulence): repeated releases, like
+     *  stick raps or hammer taps. At t = 0, kick_every, 2 kick_every, ... before the last sample
+     *  the rate of DOF kick_dof jumps by s·r: r uniform in [kick_rate, kick_rate_max] and the
+     *  sign s per kick_sign, both drawn in order from kick_seed (aenl_sim_kicks gives the
+     *  sequence). kick_every must be a whole number of output steps dt. Everything else about
+     *  the state carries on through a kick (aerodynamic states included). */
+    int kicks;
+    aenl_sim_dof_t kick_dof;
+    double kick_every;    /**< > 0, model time unit */
+    double kick_rate;     /**< >= 0: rad, ξ or m per model time unit */
+    double kick_rate_max; /**< >= kick_rate */
+    aenl_sim_kick_sign_t kick_sign;
+    uint64_t kick_seed;
+    double snr; /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
     uint64_t noise_seed;
     /** Runaway bound per output channel (in the result's channel order), channel units, >= 0:
      *  the simulation stops with AENL_E_NUMERIC as soon as an accepted step leaves
@@ -258,8 +286,11 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  *    [plunge] takes no _deg keys (ξ for airfoil2dof, metres for section3dof).
  *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
  *    as <name>_dot[_deg] (rate per model time unit). Default 0.
- *  - [excitation] type = none | turbulence, intensity (std(w_g)/U, >= 0), length_scale (L:
- *    semichords or m), spectrum = first_order | dryden (first_order), seed.
+ *  - [excitation] type = none | turbulence | kicks. turbulence: intensity (std(w_g)/U, >= 0),
+ *    length_scale (L: semichords or m), spectrum = first_order | dryden (first_order), seed.
+ *    kicks: dof* = pitch | plunge | flap, every* (model time unit, a whole number of dt),
+ *    rate[_deg]* (the rate jump, per model time unit; plunge: no _deg), rate_max[_deg] (=
+ *    rate), sign = random | alternate | positive (random), seed.
  *  - [run] duration*, dt* (model time unit), rtol (1e-10), atol (1e-12).
  *  - [noise] snr* (> 0, std(signal)/std(noise) per channel), seed (42).
  *  Unknown sections or keys, a key given twice, a missing required key, a non-numeric, NaN or
@@ -310,6 +341,13 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
  */
 aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n, double *w,
                                    aenl_err_t *err);
+
+/**
+ * @brief The kick train's rate jumps in order (the first at t = 0), as both integrators apply
+ *        them: dv[j] for j = 0 .. n-1.
+ * @return AENL_OK; AENL_E_ARG for NULL arguments or a run without kicks.
+ */
+aenl_status_t aenl_sim_kicks(const aenl_sim_run_t *run, size_t n, double *dv, aenl_err_t *err);
 
 /** @brief Release a result and zero it. Safe on a zeroed result. */
 void aenl_sim_result_free(aenl_sim_result_t *res);
