@@ -520,18 +520,19 @@ static void test_generated_cases_are_material(void)
         check_material(&c);
         if (c.stratum.regime == AENL_EVAL_DECAY)
         {
-            /* a sequence of releases covering the record, the first at the start */
+            /* a sequence of releases covering the record, the first at the start: the run's
+             * kick train, one kick per release */
             TEST_ASSERT_GREATER_OR_EQUAL_UINT(2u, (unsigned)c.n_releases);
-            TEST_ASSERT_EQUAL_UINT(0u, (unsigned)c.releases[0].start);
-            for (size_t r = 1; r < c.n_releases; ++r)
-            {
-                TEST_ASSERT_TRUE(c.releases[r].start > c.releases[r - 1].start);
-                TEST_ASSERT_TRUE(c.releases[r].start < c.n_samples);
-            }
+            TEST_ASSERT_EQUAL_INT(1, c.run.kicks);
+            TEST_ASSERT_EQUAL_DOUBLE((double)c.release_samples * c.run.dt, c.run.kick_every);
+            TEST_ASSERT_TRUE((c.n_releases - 1u) * c.release_samples < c.n_samples - 1u);
+            TEST_ASSERT_TRUE(c.n_releases * c.release_samples >= c.n_samples - 1u);
+            TEST_ASSERT_TRUE(c.run.kick_rate > 0.0 && c.run.kick_rate_max > c.run.kick_rate);
         }
         else
         {
             TEST_ASSERT_EQUAL_UINT(0u, (unsigned)c.n_releases);
+            TEST_ASSERT_EQUAL_INT(0, c.run.kicks);
         }
         aenl_eval_case_free(&c);
     }
@@ -568,20 +569,9 @@ static void test_case_is_a_function_of_seed_and_index(void)
     aenl_eval_case_free(&a);
 }
 
-static void test_ini_and_noise_reproduce_the_record(void)
+/* Case i's INI through the loader and the simulator gives its noisy record. */
+static void reproduce_case(long i)
 {
-    /* A noisy, non-decay case: its INI through the loader and the simulator gives its record. */
-    long i = -1;
-    for (size_t k = 0; k < 240 && i < 0; ++k)
-    {
-        aenl_eval_stratum_t s;
-        aenl_eval_stratum_of(k, &s);
-        if (s.variant == AENL_EVAL_FREEPLAY && s.regime == AENL_EVAL_LCO &&
-            s.model == AENL_SIM_AIRFOIL2DOF && s.snr > 0.0)
-        {
-            i = (long)k;
-        }
-    }
     aenl_eval_case_t c;
     make(i, &c);
     char path[512];
@@ -598,12 +588,35 @@ static void test_ini_and_noise_reproduce_the_record(void)
     TEST_ASSERT_EQUAL_DOUBLE(c.model.law[AENL_SIM_DOF_PITCH].x_f, m.law[AENL_SIM_DOF_PITCH].x_f);
     TEST_ASSERT_EQUAL_DOUBLE(c.run.dt, r.dt);
     TEST_ASSERT_EQUAL_DOUBLE(c.run.snr, r.snr);
+    TEST_ASSERT_EQUAL_INT(c.run.kicks, r.kicks);
     aenl_sim_result_t res;
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &r, &res, &err), err.msg);
     TEST_ASSERT_EQUAL_UINT(c.n_samples, res.n_samples);
     TEST_ASSERT_EQUAL_MEMORY(c.y, res.y, c.n_samples * c.n_channels * sizeof(double));
     aenl_sim_result_free(&res);
     aenl_eval_case_free(&c);
+}
+
+static void test_ini_and_noise_reproduce_the_record(void)
+{
+    /* Noisy cases, a limit cycle and a train of releases (its kicks are in the INI): the INI
+     * through the loader and the simulator gives the record. */
+    for (int regime = 0; regime < 2; ++regime)
+    {
+        long i = -1;
+        for (size_t k = 0; k < 240 && i < 0; ++k)
+        {
+            aenl_eval_stratum_t s;
+            aenl_eval_stratum_of(k, &s);
+            if (s.variant == AENL_EVAL_FREEPLAY &&
+                s.regime == (regime == 0 ? AENL_EVAL_LCO : AENL_EVAL_DECAY) &&
+                s.model == AENL_SIM_AIRFOIL2DOF && s.snr > 0.0)
+            {
+                i = (long)k;
+            }
+        }
+        reproduce_case(i);
+    }
 }
 
 static void test_another_simulator_keeps_the_design(void)

@@ -1069,6 +1069,10 @@ static double secant_change(const aenl_sim_law_t *l, double xa)
 
 static aenl_status_t quantiles(const double *y, size_t n, double *q01, double *q99)
 {
+    if (n == 0)
+    {
+        return AENL_E_ARG;
+    }
     double *s = malloc(n * sizeof(double));
     if (s == NULL)
     {
@@ -1090,8 +1094,8 @@ static double release_decay(const aenl_eval_case_t *c, const double *x)
     size_t m = 0;
     for (size_t i = 0; i < c->n_releases && m < 64; ++i)
     {
-        const size_t a = c->releases[i].start;
-        const size_t b = i + 1 < c->n_releases ? c->releases[i + 1].start : c->n_samples;
+        const size_t a = i * c->release_samples;
+        const size_t b = i + 1 < c->n_releases ? a + c->release_samples : c->n_samples;
         const size_t p = (size_t)c->samples_per_period;
         const size_t f = (b - a) / 5 > p ? (b - a) / 5 : ((b - a) / 2 < p ? (b - a) / 2 : p);
         if (f >= 4 && b - a >= c->release_samples / 2)
@@ -1385,61 +1389,31 @@ static aenl_status_t pilot_release(design_t *d, const double omega, aenl_err_t *
     return AENL_OK;
 }
 
-/* Decay: releases one after the other, like repeated stick raps. Each starts where the previous
- * one ended (displacements, and velocities from a 5-point backward difference) plus a velocity
- * kick of random sign in kick_dof with the energy of the law at an amplitude A (0.8..1.25)x
- * (kick_speed, times the pilot's kick_gain), and rings down for release_samples samples
- * (aerodynamic lag states restart from zero). */
+/* Decay: releases one after the other, like repeated stick raps, as the simulator's kick train
+ * (one run): every release_samples samples, the first at t = 0, the rate of kick_dof jumps by a
+ * kick of random sign whose size is uniform between the kicks with the energy of the law at
+ * amplitudes 0.8 A and 1.25 A (kick_speed, times the pilot's kick_gain). The state carries on
+ * through a kick, so each release starts where the previous one has rung down to. */
 static aenl_status_t run_releases(design_t *d, aenl_err_t *e2)
 {
     aenl_eval_case_t *c = d->c;
     const size_t n = c->n_samples;
     const double omega = 2.0 * PI / (c->run.dt * c->samples_per_period);
-    aenl_sim_model_t m = c->model;
     aenl_status_t st;
-    size_t at = 0;
     if ((st = pilot_release(d, omega, e2)) != AENL_OK)
     {
         return st;
     }
     const size_t len = c->release_samples;
-    c->releases = calloc(n / len + 2, sizeof(*c->releases));
-    if (c->releases == NULL)
-    {
-        return AENL_E_IO;
-    }
-    while (at + 1 < n)
-    {
-        aenl_eval_release_t *rel = &c->releases[c->n_releases];
-        const double amp = c->amplitude * uni(&d->rng, 0.8, 1.25);
-        const size_t steps = (n - 1 - at) < len ? (n - 1 - at) : len;
-        if (at > 0)
-        {
-            for (int q = 0; q < AENL_SIM_N_DOF; ++q)
-            {
-                if (m.type == AENL_SIM_SECTION3DOF || q != AENL_SIM_DOF_FLAP)
-                {
-                    const double *y = c->clean + (size_t)dof_column(m.type, q) * n + at;
-                    m.x0[q] = y[0];
-                    m.v0[q] =
-                        (25.0 * y[0] - 48.0 * y[-1] + 36.0 * y[-2] - 16.0 * y[-3] + 3.0 * y[-4]) /
-                        (12.0 * c->run.dt);
-                }
-            }
-        }
-        m.v0[d->kick_dof] +=
-            (chance(&d->rng, 0.5) ? 1.0 : -1.0) * d->kick_gain * kick_speed(d, amp) * omega;
-        rel->start = at;
-        memcpy(rel->x0, m.x0, sizeof(m.x0));
-        memcpy(rel->v0, m.v0, sizeof(m.v0));
-        if ((st = run_piece(d, &m, steps, at, at > 0, e2)) != AENL_OK)
-        {
-            return st;
-        }
-        ++c->n_releases;
-        at += steps;
-    }
-    return AENL_OK;
+    c->run.kicks = 1;
+    c->run.kick_dof = (aenl_sim_dof_t)d->kick_dof;
+    c->run.kick_every = (double)len * c->run.dt;
+    c->run.kick_rate = d->kick_gain * kick_speed(d, 0.8 * c->amplitude) * omega;
+    c->run.kick_rate_max = d->kick_gain * kick_speed(d, 1.25 * c->amplitude) * omega;
+    c->run.kick_sign = AENL_SIM_KICK_RANDOM;
+    c->run.kick_seed = aenl_rng_next(&d->rng) >> 16;
+    c->n_releases = (n - 2) / len + 1; /* kicks at 0, len, ... before the last sample */
+    return run_piece(d, &c->model, n - 1, 0, 0, e2);
 }
 
 /* Simulate one designed attempt: 0 accepted, 1 rejected (d->why), or a status through *st. */
@@ -1566,7 +1540,6 @@ void aenl_eval_case_free(aenl_eval_case_t *c)
     }
     free(c->y);
     free(c->clean);
-    free(c->releases);
     memset(c, 0, sizeof(*c));
 }
 
@@ -1613,29 +1586,11 @@ aenl_status_t aenl_eval_case_write_ini(const aenl_eval_case_t *c, const char *pa
         fprintf(f, " %.9g", c->switch_points[i]);
     }
     fprintf(f, "%s, gap %.9g\n", c->n_switch == 0 ? " none" : "", c->gap);
-    aenl_sim_model_t m = c->model;
-    double duration = c->run.duration;
     if (c->n_releases > 0)
     {
-        /* A decay record is a sequence of releases: this file runs the first one. */
-        fprintf(f,
-                "; decay record of %zu releases (dt %.17g); each row: start sample, then the "
-                "initial displacements and velocities (pitch, plunge, flap; rad, xi or m, per "
-                "time unit)\n",
-                c->n_releases, c->run.dt);
-        for (size_t i = 0; i < c->n_releases; ++i)
-        {
-            const aenl_eval_release_t *r = &c->releases[i];
-            fprintf(f, ";   %zu %.9g %.9g %.9g %.9g %.9g %.9g\n", r->start, r->x0[0], r->x0[1],
-                    r->x0[2], r->v0[0], r->v0[1], r->v0[2]);
-        }
-        memcpy(m.x0, c->releases[0].x0, sizeof(m.x0));
-        memcpy(m.v0, c->releases[0].v0, sizeof(m.v0));
-        const size_t end = c->n_releases > 1 ? c->releases[1].start : c->n_samples - 1;
-        duration = (double)end * c->run.dt;
+        fprintf(f, "; decay record: %zu releases of %zu samples (the [excitation] kick train)\n",
+                c->n_releases, c->release_samples);
     }
-    aenl_sim_run_t run = c->run;
-    run.duration = duration;
-    aenl_sim_write_ini(f, &m, &run);
+    aenl_sim_write_ini(f, &c->model, &c->run);
     return aenl_outfile_commit(&of, err);
 }

@@ -63,14 +63,15 @@
  * per period of that mode (log-uniform), 20 000..60 000 samples; the first is the initial state.
  *
  * Regimes:
- *  - decay: a sequence of releases, like repeated stick raps. Each starts where the previous one
- *    ended (displacements, velocities from a 5-point backward difference) plus a velocity kick of
- *    random sign in the DOF (linear cases: pitch 70 %, plunge 30 %) with the energy of the law at
- *    an amplitude (0.8..1.25) A, scaled (1..4x) so that a pilot ring-down's first excursion
- *    reaches A; a release lasts until the pilot's excursion falls below A/F (F 3..10) and, for a
- *    gap law, below 2.5x the switching points' largest distance from the centre; at least 3
- *    periods, at most 150. The aerodynamic lag states restart from zero at each release and the
- *    2-DOF start-up terms are off (a release in established flow).
+ *  - decay: a sequence of releases, like repeated stick raps: the simulator's kick train
+ *    ([excitation] type = kicks, one run). Every release_samples samples, the first at t = 0,
+ *    the rate of the DOF (linear cases: pitch 70 %, plunge 30 %) jumps by a kick of random sign
+ *    whose size is uniform between the kicks with the energy of the law at amplitudes 0.8 A and
+ *    1.25 A, scaled (1..4x) so that a pilot ring-down's first excursion reaches A; a release
+ *    lasts until the pilot's excursion falls below A/F (F 3..10) and, for a gap law, below 2.5x
+ *    the switching points' largest distance from the centre; at least 3 periods, at most 150.
+ *    The state (aerodynamic states included) carries on through a kick, and the 2-DOF start-up
+ *    terms are off (a release in established flow).
  *  - LCO: one run from the initial displacement (the transient included).
  *  - turbulence: the gust model of aenl_sim.h, length scale 2 semichords or 0.25 m.
  * Integration: rtol 1e-8 (1e-7 with turbulence, where the integrator restarts at every held gust
@@ -89,8 +90,7 @@
  *
  * Noise: after the checks, exactly the simulator's measurement noise (aenl_sim_simulate with the
  * case's run: per channel std(clean)/snr, one generator seeded with noise_seed), so the written
- * INI reproduces LCO and turbulence records bit for bit; for a decay it holds the first release
- * (the comments list every release's initial state).
+ * INI reproduces every record bit for bit (a decay's releases are its kick train).
  *
  * Memory: a case owns its columns (heap, aenl_eval_case_free). No global state; re-entrant.
  */
@@ -152,14 +152,6 @@ typedef struct aenl_eval_metrics
                              second/first half */
 } aenl_eval_metrics_t;
 
-/** One release of a decay record: where it starts and the initial state of its run. */
-typedef struct aenl_eval_release
-{
-    size_t start;              /**< first sample (it repeats the previous release's last) */
-    double x0[AENL_SIM_N_DOF]; /**< displacements (the previous release's end) */
-    double v0[AENL_SIM_N_DOF]; /**< velocities: the kick */
-} aenl_eval_release_t;
-
 /** One generated case. All fields are set by aenl_eval_case_make. */
 typedef struct aenl_eval_case
 {
@@ -188,9 +180,8 @@ typedef struct aenl_eval_case
     double velocity_ratio;     /**< velocity / linear flutter speed (laws at slope 1) */
     aenl_eval_metrics_t metrics;
 
-    size_t release_samples;        /**< decay: samples per release */
-    size_t n_releases;             /**< decay: releases in the record (else 0) */
-    aenl_eval_release_t *releases; /**< decay: n_releases (heap) */
+    size_t release_samples; /**< decay: samples per release (release i starts at i times it) */
+    size_t n_releases;      /**< decay: releases in the record (else 0) */
 
     /* the record */
     size_t n_samples;
@@ -256,8 +247,7 @@ void aenl_eval_case_free(aenl_eval_case_t *c);
 /**
  * @brief Write the case's model INI (DESIGN.md §4; values in radians/SI with 17 digits, the case
  *        description and truth as comments): `aenl simulate` on it reproduces the noisy record
- *        exactly for LCO and turbulence cases; for a decay it runs the first release and the
- *        comments list every release (start sample, initial displacements and velocities).
+ *        exactly (a decay's releases are the run's kick train).
  * @return AENL_OK or AENL_E_IO with a message.
  */
 aenl_status_t aenl_eval_case_write_ini(const aenl_eval_case_t *c, const char *path,
