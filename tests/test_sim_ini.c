@@ -116,6 +116,21 @@ static void test_ini_values_and_units(void)
     TEST_ASSERT_EQUAL_DOUBLE(-0.005, m.law[AENL_SIM_DOF_PITCH].x_f);
 }
 
+/* Write m and run with aenl_sim_write_ini to file `name` and load it back. */
+static void write_and_load(const char *name, const aenl_sim_model_t *m, const aenl_sim_run_t *run,
+                           aenl_sim_model_t *back, aenl_sim_run_t *rback)
+{
+    char path[512];
+    aenl_err_t err;
+    (void)snprintf(path, sizeof(path), "%s", write_tmp(name, ""));
+    FILE *fp = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(fp);
+    aenl_sim_write_ini(fp, m, run);
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, back, rback, &err), err.msg);
+}
+
 /* The writer and the reader agree: every field written comes back bit for bit (%.17g). */
 static void test_ini_write_reads_back(void)
 {
@@ -153,16 +168,7 @@ static void test_ini_write_reads_back(void)
         run.noise_seed = 77u;
         run.duration = type == 0 ? 123.5 : 2.5;
         run.dt = type == 0 ? 0.25 : 0.002;
-        char path[512];
-        (void)snprintf(path, sizeof(path), "%s", write_tmp("written.ini", ""));
-        FILE *fp = fopen(path, "w");
-        TEST_ASSERT_NOT_NULL(fp);
-        aenl_sim_write_ini(fp, &m, &run);
-        TEST_ASSERT_EQUAL_INT(0, fclose(fp));
-        aenl_err_t err;
-        aenl_err_clear(&err);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &back, &rback, &err),
-                                      err.msg);
+        write_and_load("written.ini", &m, &run, &back, &rback);
         TEST_ASSERT_EQUAL_INT(m.type, back.type);
         TEST_ASSERT_EQUAL_MEMORY(&m.law, &back.law, sizeof(m.law));
         TEST_ASSERT_EQUAL_MEMORY(m.x0, back.x0, sizeof(m.x0));
@@ -201,56 +207,40 @@ static void test_ini_kick_train(void)
     TEST_ASSERT_EQUAL_UINT64(9u, r.kick_seed);
     r.kick_rate_max = 0.5;
     r.kick_sign = AENL_SIM_KICK_RANDOM;
-    char wpath[512];
-    (void)snprintf(wpath, sizeof(wpath), "%s", write_tmp("kicks_written.ini", ""));
-    FILE *fp = fopen(wpath, "w");
-    TEST_ASSERT_NOT_NULL(fp);
-    aenl_sim_write_ini(fp, &m, &r);
-    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(wpath, &back, &rback, &err), err.msg);
+    write_and_load("kicks_written.ini", &m, &r, &back, &rback);
     TEST_ASSERT_EQUAL_MEMORY(&r, &rback, sizeof(r));
 
-    const char *run = "[run]\nduration = 6\ndt = 0.5\n";
-    char buf[512];
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\nevery = 2\nrate = 1\n%s", run);
-    expect_error("kick_no_dof.ini", buf, "kick_no_dof.ini:4:", "'dof'");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = flap\nevery = 2\nrate = 1\n%s",
-                   run);
-    expect_error("kick_flap_2dof.ini", buf, "kick_flap_2dof.ini:6:", "pitch or plunge");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nrate = 1\n%s", run);
-    expect_error("kick_no_every.ini", buf, "kick_no_every.ini:4:", "'every'");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = plunge\nevery = 2\n"
-                              "rate_deg = 1\n%s",
-                   run);
-    expect_error("kick_plunge_deg.ini", buf, "kick_plunge_deg.ini:8:", "rate_deg");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\nrate = 1\n"
-                              "intensity = 0.1\n%s",
-                   run);
-    expect_error("kick_turb_key.ini", buf, "kick_turb_key.ini:9:", "intensity");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = turbulence\nintensity = 0.1\nevery = 2\n%s",
-                   run);
-    expect_error("turb_kick_key.ini", buf, "turb_kick_key.ini:7:", "type = kicks");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2.25\n"
-                              "rate = 1\n%s",
-                   run);
-    expect_error("kick_every.ini", buf, "kick_every.ini", "whole number");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\n"
-                              "rate = 1\nrate_max = 0.5\n%s",
-                   run);
-    expect_error("kick_rate_max.ini", buf, "kick_rate_max.ini:9:", "rate_max");
-    (void)snprintf(buf, sizeof(buf),
-                   GOOD_MODEL "[excitation]\ntype = kicks\ndof = pitch\nevery = 2\n"
-                              "rate = 1\nsign = up\n%s",
-                   run);
-    expect_error("kick_sign.ini", buf, "kick_sign.ini:9:", "sign");
+    /* Rejected: the [excitation] section after GOOD_MODEL, the message's file:line and key. */
+    static const struct
+    {
+        const char *name, *excitation, *where, *what;
+    } bad[] = {
+        {"kick_no_dof.ini", "type = kicks\nevery = 2\nrate = 1\n", ":4:", "'dof'"},
+        {"kick_flap_2dof.ini", "type = kicks\ndof = flap\nevery = 2\nrate = 1\n",
+         ":6:", "pitch or plunge"},
+        {"kick_no_every.ini", "type = kicks\ndof = pitch\nrate = 1\n", ":4:", "'every'"},
+        {"kick_plunge_deg.ini", "type = kicks\ndof = plunge\nevery = 2\nrate_deg = 1\n",
+         ":8:", "rate_deg"},
+        {"kick_turb_key.ini", "type = kicks\ndof = pitch\nevery = 2\nrate = 1\nintensity = 0.1\n",
+         ":9:", "intensity"},
+        {"turb_kick_key.ini", "type = turbulence\nintensity = 0.1\nevery = 2\n",
+         ":7:", "type = kicks"},
+        {"kick_every.ini", "type = kicks\ndof = pitch\nevery = 2.25\nrate = 1\n", "",
+         "whole number"},
+        {"kick_rate_max.ini", "type = kicks\ndof = pitch\nevery = 2\nrate = 1\nrate_max = 0.5\n",
+         ":9:", "rate_max"},
+        {"kick_sign.ini", "type = kicks\ndof = pitch\nevery = 2\nrate = 1\nsign = up\n",
+         ":9:", "sign"},
+    };
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+    {
+        char buf[512], where[64];
+        (void)snprintf(buf, sizeof(buf),
+                       GOOD_MODEL "[excitation]\n%s[run]\nduration = 6\ndt = 0.5\n",
+                       bad[i].excitation);
+        (void)snprintf(where, sizeof(where), "%s%s", bad[i].name, bad[i].where);
+        expect_error(bad[i].name, buf, where, bad[i].what);
+    }
 }
 
 static void test_ini_rejects_bad_files(void)
