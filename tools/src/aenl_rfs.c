@@ -601,7 +601,7 @@ typedef struct
 {
     double a, b, s; /* kinks (standardised): kink a; gap [a, b]; hysteresis gap [a, b] +- s/2 */
     aenl_rfs_law_t law;
-    int offset; /* a law the same in both directions plus a rising-motion offset a + b x^2 */
+    int offset; /* plus a rising-motion offset a + b x^2 (hysteresis has a of its own) */
 } rfs_law_t;
 
 static double clip(double x, double a, double b)
@@ -662,7 +662,17 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
         case AENL_RFS_LINEAR:
             break;
     }
-    if (lw->offset && q > 0)
+    if (lw->offset && lw->law == AENL_RFS_HYSTERESIS)
+    {
+        /* its rising-motion offset a is a column already: b x^2 only */
+        for (size_t k = 0; k < k2; ++k)
+        {
+            const double u = wk->node[k % K] / wk->x_abs;
+            T[q * k2 + k] = k < K ? u * u : 0.0;
+        }
+        q += 1u;
+    }
+    else if (lw->offset && q > 0)
     {
         for (size_t k = 0; k < k2; ++k)
         {
@@ -1106,9 +1116,10 @@ static double pair_t(const double *a, const double *b)
  * AENL_RFS_T_CRIT. Among those, the smooth polynomial stands unless the best kinked law beats it by
  * a paired t of RFS_T_PAIR (a kinked law with free switching points can mimic a polynomial over a
  * bounded range, so kinks must earn their place); hysteresis replaces it only when the
- * direction-dependent law beats it by RFS_T_PAIR as well, both as it is and with a rising-motion
- * offset of its own (d_off) that may change with amplitude (a + b x^2): what marks hysteresis is
- * switching points that move with the direction. An offset alone is a force that follows the
+ * direction-dependent law beats it by RFS_T_PAIR as well, both as they are and with the same
+ * rising-motion offset, which may change with amplitude (a + b x^2), added to each (d_off): what
+ * marks hysteresis is switching points that move with the direction, so that is all the second
+ * comparison leaves to tell them apart. An offset alone is a force that follows the
  * motion, which dry friction, the kicks of a decay train, or damping the linear terms miss give
  * as well; damping that grows with the speed (|v| v, largest mid-stroke) and forcing whose
  * correlation with the direction of motion changes with amplitude (turbulence driving a
@@ -1148,7 +1159,7 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_
         law = pair_t(d[kinked], d[AENL_RFS_POLY]) >= RFS_T_PAIR ? kinked : AENL_RFS_POLY;
     }
     if (usable[AENL_RFS_HYSTERESIS] && pair_t(d[AENL_RFS_HYSTERESIS], d[law]) >= RFS_T_PAIR &&
-        pair_t(d[AENL_RFS_HYSTERESIS], d_off[law]) >= RFS_T_PAIR)
+        pair_t(d_off[AENL_RFS_HYSTERESIS], d_off[law]) >= RFS_T_PAIR)
     {
         law = AENL_RFS_HYSTERESIS;
     }
@@ -1226,14 +1237,16 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
                 d[l][f] = ok ? base - v : 0.0;
                 usable[l] = usable[l] && ok;
             }
-            /* the laws the same in both directions, with a rising-motion offset */
+            /* every law with a rising-motion offset that may change with amplitude; the
+             * offset's own fold gains, not the better of the law's with and without it on the
+             * fold scored (that would pick the competitor on the test data) */
             d_off[l][f] = d[l][f];
-            if (l >= AENL_RFS_POLY && l <= AENL_RFS_GAP && usable[l])
+            if (l >= AENL_RFS_POLY && usable[l])
             {
                 rfs_law_t lw_off = law[l];
                 lw_off.offset = 1;
                 const double v = test_rss(&wk, &wk.fold[f], &lw_off, &wk.one, &ok);
-                d_off[l][f] = ok && base - v > d[l][f] ? base - v : d[l][f];
+                d_off[l][f] = ok ? base - v : d[l][f];
             }
         }
     }

@@ -61,7 +61,8 @@ typedef enum aenl_rfs_law
                                  rising-motion offset (hysteresis); the shift lags the motion
                                  (rising motion meets the gap higher up, as in the loop of
                                  MODELS.md); it must beat the laws the same in both directions
-                                 given a rising-motion offset a + b x^2 */
+                                 when each, and it, is given a rising-motion offset
+                                 a + b x^2 */
 } aenl_rfs_law_t;
 
 #define AENL_RFS_N_LAWS 5
