@@ -704,9 +704,13 @@ static void print_summary(tally_t *t)
     for (int r = 0; r < (int)AENL_EVAL_N_REGIMES; ++r)
     {
         const size_t *b = t->by_regime[r];
+        if (b[0] == 0)
+        {
+            continue; /* --regime left it out */
+        }
         printf("  %-10s  %5zu  %5.1f %%  %5.1f %%  %6.3f\n",
                aenl_eval_regime_name((aenl_eval_regime_t)r), b[0], pct(b[1], b[0]), pct(b[2], b[0]),
-               b[0] > 0 ? t->brier[r] / (double)b[0] : (double)NAN);
+               t->brier[r] / (double)b[0]);
     }
     printf("per model\n");
     for (int m = 0; m < 2; ++m)
