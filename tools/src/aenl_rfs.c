@@ -662,25 +662,20 @@ static size_t law_map(const rfs_work_t *wk, const rfs_law_t *lw, double *T)
         case AENL_RFS_LINEAR:
             break;
     }
-    if (lw->offset && lw->law == AENL_RFS_HYSTERESIS)
+    if (lw->offset && q > 0)
     {
-        /* its rising-motion offset a is a column already: b x^2 only */
+        /* a rising-motion offset a + b x^2; the hysteresis law has its a as a column already */
+        const size_t own = lw->law == AENL_RFS_HYSTERESIS ? 1u : 0u;
         for (size_t k = 0; k < k2; ++k)
         {
             const double u = wk->node[k % K] / wk->x_abs;
-            T[q * k2 + k] = k < K ? u * u : 0.0;
+            if (!own)
+            {
+                T[q * k2 + k] = k < K ? 1.0 : 0.0;
+            }
+            T[(q + 1u - own) * k2 + k] = k < K ? u * u : 0.0;
         }
-        q += 1u;
-    }
-    else if (lw->offset && q > 0)
-    {
-        for (size_t k = 0; k < k2; ++k)
-        {
-            const double u = wk->node[k % K] / wk->x_abs;
-            T[q * k2 + k] = k < K ? 1.0 : 0.0;
-            T[(q + 1u) * k2 + k] = k < K ? u * u : 0.0;
-        }
-        q += 2u;
+        q += 2u - own;
     }
     return q;
 }
