@@ -236,6 +236,11 @@ static void check_case(const char *name, int other_sim)
     {
         TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] <= 2.0 * r.floor_before[nc], name);
         TEST_ASSERT_EQUAL_size_t(0, r.n_dis);
+        /* and the summaries' test of the baseline, run only then, accepts it */
+        TEST_ASSERT_EQUAL_UINT(o.summary_records, r.base_test.n_rep);
+        printf("  summary test of the baseline: distance^2 %.3g for %zu, p %.3g\n", r.base_test.d2,
+               r.base_test.d, r.base_test.p);
+        TEST_ASSERT_TRUE_MESSAGE(r.base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL, name);
     }
     else
     {
@@ -417,6 +422,74 @@ static void test_bound_tells_ridge_from_determined(void)
     TEST_ASSERT_EQUAL_size_t(0, np);
 }
 
+/* p of the summaries' test of model `m` on the case's truth measured with turbulence and noise
+ * seeds moved by k (k = 0: the case's own). */
+static double summary_test_p(aenl_diagnose_case_t *c, const aenl_sim_model_t *m, uint64_t k)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    c->truth_run.turb_seed += 7u * k;
+    c->truth_run.noise_seed += 13u * k;
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_case_measure(c, &t, &err), err.msg);
+    c->truth_run.turb_seed -= 7u * k;
+    c->truth_run.noise_seed -= 13u * k;
+    const size_t n = t.n_rows, n_ch = t.n_cols - 1u;
+    double noise[AENL_SIM_MAX_Q];
+    for (size_t q = 0; q < n_ch; ++q)
+    {
+        aenl_diagnose_chan_t ch;
+        TEST_ASSERT_EQUAL_INT(AENL_OK,
+                              aenl_diagnose_chan_setup(aenl_table_col(&t, q + 1u), n, &ch, &err));
+        noise[q] = ch.noise_sd;
+    }
+    aenl_sim_run_t run = c->base_run;
+    run.duration = (double)(n - 1u) * run.dt;
+    aenl_diagnose_sumtest_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(
+        AENL_OK, aenl_diagnose_summary_test(m, &run, noise, t.data + n, n, 64u, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(8u * n_ch, r.d);
+    TEST_ASSERT_TRUE(r.d2 >= 0.0 && r.p >= 1.0 / 65.0 && r.p <= 1.0);
+    aenl_table_free(&t);
+    return r.p;
+}
+
+/* The Monte Carlo test of the summaries (aenl_diagnose_summary_test). Size: on records of the
+ * model itself (the null case's linear airfoil under other gust and noise seeds) the record's
+ * rank among the 65 is uniform, so p is uniform on k / 65: of 20 records at most 4 have p at
+ * or below the level 0.05 (3 / 65; binomial(20, 0.046): P(>= 5) = 0.002) and their mean p lies
+ * within 3 standard deviations (0.065) of 33 / 65. Power: the hidden freeplay's record rejects
+ * its linear baseline. Bad record counts are refused. */
+static void test_summary_test_size_and_power(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, c.effect);
+    unsigned low = 0;
+    double sum = 0.0;
+    for (uint64_t k = 1; k <= 20u; ++k)
+    {
+        const double p = summary_test_p(&c, &c.base, k);
+        low += p <= AENL_DIAGNOSE_SUMTEST_LEVEL;
+        sum += p;
+    }
+    printf("summary test on 20 records of the model: mean p %.3f, %u at or below %.2f\n",
+           sum / 20.0, low, AENL_DIAGNOSE_SUMTEST_LEVEL);
+    TEST_ASSERT_TRUE(low <= 4u);
+    TEST_ASSERT_DOUBLE_WITHIN(0.195, 33.0 / 65.0, sum / 20.0);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(0, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_FREEPLAY, c.effect);
+    const double p_fp = summary_test_p(&c, &c.base, 0);
+    printf("summary test of the linear baseline on a hidden freeplay: p %.3g\n", p_fp);
+    TEST_ASSERT_TRUE(p_fp <= AENL_DIAGNOSE_SUMTEST_LEVEL);
+    aenl_diagnose_sumtest_t r;
+    const double y[4] = {0.0, 1.0, 0.0, 1.0};
+    TEST_ASSERT_EQUAL_INT(
+        AENL_E_ARG, aenl_diagnose_summary_test(&c.base, &c.base_run, NULL, y, 2u, 16u, &r, &err));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -433,5 +506,6 @@ int main(void)
     RUN_TEST(test_null_section3dof);
     RUN_TEST(test_hidden_softening_quintic);
     RUN_TEST(test_bound_tells_ridge_from_determined);
+    RUN_TEST(test_summary_test_size_and_power);
     return UNITY_END();
 }

@@ -160,6 +160,11 @@ static void run_case(size_t k, uint64_t seed, const bd_opts_t *bo, tally_t *t)
         (void)snprintf(chi, sizeof(chi), "  chi2 %.3g/%zu%s", r.chi2, r.chi2_dof,
                        r.summary_rejected ? " rejected" : "");
     }
+    else if (r.base_test.n_rep > 0u)
+    {
+        (void)snprintf(chi, sizeof(chi), "  baseline's summaries p %.2f%s", r.base_test.p,
+                       r.base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL ? "" : " rejected");
+    }
     printf(
         "%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-16s  gap %.3g -> %.3g (x%.1f, "
         "floor %.3g)  %4u sims %6.1f s  %s%s\n",

@@ -164,6 +164,41 @@ static aenl_sim_run_t replicate_run(const aenl_sim_run_t *run, unsigned q)
     return out;
 }
 
+/* Summaries of n_rep records of `model` (replicate seeds 0..n_rep-1) into s[q * N_SUM + i], their
+ * mean and their covariance cov (d x d, one record's, unbiased); *d: summaries a record. */
+static aenl_status_t replicate_moments(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
+                                       const double *noise_sd, unsigned n_rep, double *s,
+                                       double *mean, double *cov, size_t *d_out, aenl_err_t *err)
+{
+    size_t d = 0;
+    aenl_status_t st = AENL_OK;
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        const aenl_sim_run_t run = replicate_run(run_in, q);
+        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, &d, err);
+    }
+    *d_out = d;
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        for (size_t i = 0; i < d; ++i)
+        {
+            mean[i] += s[(size_t)q * N_SUM + i] / (double)n_rep;
+        }
+    }
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        const double *sq = s + (size_t)q * N_SUM;
+        for (size_t i = 0; i < d; ++i)
+        {
+            for (size_t j = 0; j < d; ++j)
+            {
+                cov[i * d + j] += (sq[i] - mean[i]) * (sq[j] - mean[j]) / (double)(n_rep - 1u);
+            }
+        }
+    }
+    return st;
+}
+
 /* What the summaries say about the parameters at `model`: Cholesky factor of their covariance
  * (one record), the mean sensitivities, the mean summaries over the first n_jac seeds, and the
  * Fisher information with the noise of the sensitivities taken off. */
@@ -207,35 +242,14 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
         return AENL_E_DIM;
     }
     size_t d = 0;
-    aenl_status_t st = AENL_OK;
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
-    {
-        const aenl_sim_run_t run = replicate_run(run_in, q);
-        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, &d, err);
-    }
-    inf->d = d;
-    /* Covariance of one record's summaries (d x d, column-major = row-major: symmetric). */
     double mean[N_SUM] = {0.0};
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    aenl_status_t st = replicate_moments(model, run_in, noise_sd, n_rep, s, mean, cov, &d, err);
+    inf->d = d;
+    for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
     {
         for (size_t i = 0; i < d; ++i)
         {
-            mean[i] += s[(size_t)q * N_SUM + i] / (double)n_rep;
-            if (q < n_jac)
-            {
-                inf->centre[i] += s[(size_t)q * N_SUM + i] / (double)n_jac;
-            }
-        }
-    }
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
-    {
-        const double *sq = s + (size_t)q * N_SUM;
-        for (size_t i = 0; i < d; ++i)
-        {
-            for (size_t j = 0; j < d; ++j)
-            {
-                cov[i * d + j] += (sq[i] - mean[i]) * (sq[j] - mean[j]) / (double)(n_rep - 1u);
-            }
+            inf->centre[i] += s[(size_t)q * N_SUM + i] / (double)n_jac;
         }
     }
     /* Sensitivities: central differences over the first n_jac replicates' seeds, per seed
@@ -377,15 +391,15 @@ aenl_status_t aenl_diagnose_bound(const aenl_sim_model_t *model, const aenl_sim_
     return st;
 }
 
-/* Weighted residual norm r' S^-1 r of summaries r (the covariance's factor in inf), times w. */
-static double quad(const info_t *inf, const double *r, double w)
+/* Weighted residual norm r' S^-1 r of summaries r (d of them; chol: S's upper Cholesky
+ * factor), times w. */
+static double quad(const double *chol, size_t d, const double *r, double w)
 {
     double x[N_SUM] = {0.0};
-    memcpy(x, r, inf->d * sizeof(double));
-    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)inf->d, 1, inf->chol,
-                         (lapack_int)inf->d, x, 1);
+    memcpy(x, r, d * sizeof(double));
+    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, 1, chol, (lapack_int)d, x, 1);
     double q = 0.0;
-    for (size_t i = 0; i < inf->d; ++i)
+    for (size_t i = 0; i < d; ++i)
     {
         q += r[i] * x[i];
     }
@@ -474,7 +488,7 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
     {
         r[i] = s_meas[i] - centre[i];
     }
-    out->chi2_start = quad(inf, r, w);
+    out->chi2_start = quad(inf->chol, d, r, w);
     double q_cur = out->chi2_start;
     unsigned evals = 0;
     for (unsigned it = 0; it < SUMFIT_STEPS && h_ok && st == AENL_OK; ++it)
@@ -524,7 +538,7 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
             {
                 r_t[i] = s_meas[i] - c_t[i];
             }
-            const double q_t = quad(inf, r_t, w);
+            const double q_t = quad(inf->chol, d, r_t, w);
             if (q_t < q_cur)
             {
                 accepted = 1;
@@ -547,6 +561,98 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
         fisher_sd(inf, &start->law[dof], effect, 1.0 + 1.0 / (double)n_jac, out->sd);
     }
     free(inf);
+    return st;
+}
+
+aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                         const double *noise_sd, const double *y_meas, size_t n,
+                                         unsigned n_rep, aenl_diagnose_sumtest_t *out,
+                                         aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    const size_t n_ch = model->type == AENL_SIM_AIRFOIL2DOF ? 2u : 3u;
+    if (n_rep < n_ch * N_SUM_CH + 8u || n_rep > 4096u)
+    {
+        aenl_err_set(err, "summary test: %u records (%zu..4096)", n_rep, n_ch * N_SUM_CH + 8u);
+        return AENL_E_ARG;
+    }
+    /* rows 0..n_rep-1 the model's records, row n_rep the record's */
+    const size_t n_all = (size_t)n_rep + 1u;
+    double *s = malloc(n_all * N_SUM * sizeof(double));
+    double *cov = calloc(N_SUM * N_SUM, sizeof(double));
+    if (s == NULL || cov == NULL)
+    {
+        free(s);
+        free(cov);
+        aenl_err_set(err, "out of memory (summaries)");
+        return AENL_E_DIM;
+    }
+    size_t d = 0, dm = 0;
+    double mean[N_SUM] = {0.0};
+    aenl_status_t st = replicate_moments(model, run, noise_sd, n_rep, s, mean, cov, &d, err);
+    if (st == AENL_OK)
+    {
+        st = summarise(y_meas, n, n_ch, s + (size_t)n_rep * N_SUM, &dm, err);
+    }
+    if (st == AENL_OK && dm != d)
+    {
+        aenl_err_set(err, "summaries: the record has %zu, the model %zu", dm, d);
+        st = AENL_E_ARG;
+    }
+    if (st == AENL_OK)
+    {
+        /* The pooled mean and covariance of all n_rep + 1, the record's included, so that every
+         * record is treated alike. */
+        memset(mean, 0, sizeof(mean));
+        memset(cov, 0, N_SUM * N_SUM * sizeof(double));
+        for (size_t q = 0; q < n_all; ++q)
+        {
+            for (size_t i = 0; i < d; ++i)
+            {
+                mean[i] += s[q * N_SUM + i] / (double)n_all;
+            }
+        }
+        for (size_t q = 0; q < n_all; ++q)
+        {
+            for (size_t i = 0; i < d; ++i)
+            {
+                for (size_t j = 0; j < d; ++j)
+                {
+                    cov[i * d + j] += (s[q * N_SUM + i] - mean[i]) * (s[q * N_SUM + j] - mean[j]) /
+                                      (double)(n_all - 1u);
+                }
+            }
+        }
+        if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, cov, (lapack_int)d) != 0)
+        {
+            aenl_err_set(err, "summaries: their covariance is singular");
+            st = AENL_E_NUMERIC;
+        }
+    }
+    if (st == AENL_OK)
+    {
+        double d2[4097];
+        for (size_t q = 0; q < n_all; ++q)
+        {
+            double r[N_SUM] = {0.0};
+            for (size_t i = 0; i < d; ++i)
+            {
+                r[i] = s[q * N_SUM + i] - mean[i];
+            }
+            d2[q] = quad(cov, d, r, 1.0);
+        }
+        size_t at_least = 0;
+        for (size_t q = 0; q < n_all; ++q)
+        {
+            at_least += d2[q] >= d2[n_rep];
+        }
+        out->d2 = d2[n_rep];
+        out->d = d;
+        out->n_rep = n_rep;
+        out->p = (double)at_least / (double)n_all;
+    }
+    free(cov);
+    free(s);
     return st;
 }
 

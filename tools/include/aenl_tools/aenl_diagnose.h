@@ -52,6 +52,9 @@
 #define AENL_DIAGNOSE_N_CURVE  192  /**< 2 directions x N_LAGS x N_GRID */
 #define AENL_DIAGNOSE_MAX_SEG  4096 /**< longest Welch segment */
 #define AENL_DIAGNOSE_MAX_BINS 2049 /**< Welch bins: MAX_SEG / 2 + 1 */
+/** Level of the baseline's summary test (aenl_diagnose_summary_test): the summaries reject the
+ *  baseline when its p is at most this. */
+#define AENL_DIAGNOSE_SUMTEST_LEVEL 0.05
 
 /** The missing effect named by the diagnosis. */
 typedef enum aenl_diagnose_effect
@@ -141,6 +144,15 @@ typedef struct aenl_diagnose_sig
     double amp;                           /**< half of the 1..99 % quantile range */
 } aenl_diagnose_sig_t;
 
+/** Result of aenl_diagnose_summary_test(). */
+typedef struct aenl_diagnose_sumtest
+{
+    double d2;      /**< the record's squared Mahalanobis distance from the pooled mean */
+    double p;       /**< share of the n_rep + 1 records at least as far out as the record's */
+    size_t d;       /**< summaries (8 a channel) */
+    unsigned n_rep; /**< records of the model simulated (0: no test) */
+} aenl_diagnose_sumtest_t;
+
 /** Everything one diagnosis found. */
 typedef struct aenl_diagnose_result
 {
@@ -180,10 +192,15 @@ typedef struct aenl_diagnose_result
     size_t n_param_sd;       /**< their count (0: no summary fit) */
     double chi2_start, chi2; /**< weighted summary misfit before and after the summary fit */
     size_t chi2_dof;         /**< its degrees of freedom, summaries - parameters (0: none) */
-    int summary_rejected;    /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
-                                  model; the gap's fit is kept and n_param_sd is 0 */
-    unsigned n_sims;         /**< simulations run */
-    double seconds;          /**< wall time */
+    /** When the baseline agrees within none_ratio x its floor (and opts.summary_records > 0):
+     *  the baseline's summary test (aenl_diagnose_summary_test with summary_records records),
+     *  a second look with the precise summaries the gap weighs loosely. base_test.n_rep 0: not
+     *  run, or the records were unusable. */
+    aenl_diagnose_sumtest_t base_test;
+    int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
+                               model; the gap's fit is kept and n_param_sd is 0 */
+    unsigned n_sims;      /**< simulations run */
+    double seconds;       /**< wall time */
 } aenl_diagnose_result_t;
 
 /** Defaults (see the field comments). Cannot fail. */
@@ -368,6 +385,27 @@ aenl_status_t aenl_diagnose_fit_summaries(const aenl_sim_model_t *start, const a
                                           const double *noise_sd, const double *y_meas, size_t n,
                                           unsigned n_rep, unsigned n_jac,
                                           aenl_diagnose_sumfit_t *out, aenl_err_t *err);
+
+/**
+ * @brief Does `model` under `run` account for the summaries of the record (those of
+ *        aenl_diagnose_bound: mean, log std, log kurtosis, log peak frequency and the second and
+ *        third harmonics of every channel)? A Monte Carlo test: n_rep records of the model with
+ *        their own gust and noise seeds (measurement noise of std noise_sd[channel]) and the
+ *        record are pooled; each one's squared Mahalanobis distance from the pooled mean under
+ *        the pooled covariance is computed the same way, and p is the share of the n_rep + 1 at
+ *        least as far out as the record. If the model is right the record is one more draw of the
+ *        same kind, its rank is uniform and P(p <= k / (n_rep + 1)) = k / (n_rep + 1), whatever
+ *        the summaries' distribution (the peak frequency and harmonics of gust records are far
+ *        from Gaussian, which a Hotelling T^2 on them would need). y_meas: the record,
+ *        [channel][sample], n samples, the model's channels.
+ * @return AENL_OK; AENL_E_ARG when n_rep is outside 8 channels + 8..4096 or the record's
+ *         channels are not the model's; AENL_E_NUMERIC when a record cannot be simulated or is
+ *         unusable, or the covariance is singular; AENL_E_DIM out of memory.
+ */
+aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                                         const double *noise_sd, const double *y_meas, size_t n,
+                                         unsigned n_rep, aenl_diagnose_sumtest_t *out,
+                                         aenl_err_t *err);
 
 /** aenl_diagnose_bound() for a case's truth and test (truth_run: a Dryden spectrum applies,
  *  truth_rk4_steps does not), as standard deviation / |truth| in rel_sd. */
