@@ -483,7 +483,8 @@ static void test_identify_model_verdict_reads_the_diagnosis(void)
         TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[k].res.cls);
     }
 
-    /* none (the baseline within its floor): no evidence either way, the record's verdict */
+    /* none (the baseline within its floor), its summaries not tested: no evidence either way,
+     * the record's verdict */
     data_result(&r);
     d->effect = AENL_DIAGNOSE_NONE;
     apply(&r, d);
@@ -491,6 +492,31 @@ static void test_identify_model_verdict_reads_the_diagnosis(void)
     TEST_ASSERT_EQUAL_INT(0, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.ch[0].res.cls);
+    TEST_ASSERT_EQUAL_INT(-1, r.model.base_test);
+
+    /* none, and the baseline's summaries agree too (4 of 65 records as far out: p above the
+     * level): linear, with the weight of the baseline (score 2) as for the preload above */
+    data_result(&r);
+    d->base_test.n_rep = 64;
+    d->base_test.d = 24;
+    d->base_test.d2 = 40.0;
+    d->base_test.p = 4.0 / 65.0;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(1, r.model.base_test);
+    TEST_ASSERT_EQUAL_INT(-1, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.verdict_class);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 6.0 / 17.0, r.verdict_confidence);
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        TEST_ASSERT_EQUAL_INT(AENL_CLASS_LINEAR, r.ch[k].res.cls);
+    }
+    /* the summaries reject the baseline (3 of 65, at the level): the record's verdict stands */
+    data_result(&r);
+    d->base_test.p = 3.0 / 65.0;
+    apply(&r, d);
+    TEST_ASSERT_EQUAL_INT(0, r.model.base_test);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
 
     /* a disagreement no candidate explains: the record's own verdict stands */
     data_result(&r);

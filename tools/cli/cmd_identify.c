@@ -580,7 +580,22 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
                m->gap_before);
         return;
     }
-    if (m->effect == AENL_DIAGNOSE_NONE)
+    if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 1)
+    {
+        printf("the baseline fits the record (gap %.3g, within twice its noise floor), and so do "
+               "its summaries (p %.2f: the record's distance over %zu summaries ranked among "
+               "simulated records of the baseline): no missing effect\n",
+               m->gap_before, m->base_p, m->base_d);
+    }
+    else if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 0)
+    {
+        printf("the baseline fits the record by the gap (%.3g, within twice its noise floor) but "
+               "not by its summaries (p %.2f: the record's distance over %zu summaries ranked "
+               "among simulated records of the baseline): a small effect the test cannot name; "
+               "the verdict is the record's own\n",
+               m->gap_before, m->base_p, m->base_d);
+    }
+    else if (m->effect == AENL_DIAGNOSE_NONE)
     {
         printf("the baseline fits the record (gap %.3g, within twice its noise floor): no "
                "evidence either way, the verdict is the record's own\n",
@@ -616,8 +631,8 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
 static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
                         const aenl_identify_opts_t *o, const char *model)
 {
-    const int by_model =
-        r->model.applied && r->model.explained && r->model.effect != AENL_DIAGNOSE_NONE;
+    const int by_model = r->model.applied && r->model.explained &&
+                         (r->model.effect != AENL_DIAGNOSE_NONE || r->model.base_test == 1);
     int w_name = 7;
     for (size_t i = 0; i < r->n_channels; ++i)
     {

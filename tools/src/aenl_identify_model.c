@@ -159,11 +159,23 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
     m->effect2 = AENL_DIAGNOSE_NONE;
     m->gap_after2 = (double)NAN;
     m->n_diagnoses = 1;
-    if (!d->explained || d->effect == AENL_DIAGNOSE_NONE)
+    m->base_test = -1;
+    m->base_d2 = (double)NAN;
+    m->base_p = (double)NAN;
+    if (d->explained && d->effect == AENL_DIAGNOSE_NONE && d->base_test.n_rep > 0u)
     {
-        /* No disagreement it can explain, or none beyond twice the noise floor: the test has no
-         * evidence either way (a small law under turbulence stays within the floor), and the
-         * record's own analysis, an independent test, stands. */
+        m->base_test = d->base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL;
+        m->base_d2 = d->base_test.d2;
+        m->base_p = d->base_test.p;
+        m->base_d = d->base_test.d;
+    }
+    if (!d->explained || (d->effect == AENL_DIAGNOSE_NONE && m->base_test != 1))
+    {
+        /* No disagreement it can explain; or none beyond twice the noise floor by the gap, but
+         * the precise summaries reject the baseline (a small law under turbulence stays within
+         * the floor) or could not be tested: the test has no evidence either way, and the
+         * record's own analysis, an independent test, stands. A baseline that both accept is
+         * the record's model: linear. */
         return AENL_OK;
     }
     /* Weights of the baseline and of every calibrated candidate from their penalised gaps. */

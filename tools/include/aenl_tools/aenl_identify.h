@@ -126,6 +126,11 @@ typedef struct aenl_identify_model
     aenl_sim_dof_t dof2;            /**< its DOF */
     double gap_after2;              /**< total gap with both effects, each refitted with the
                                          other in place (NaN: no second effect) */
+    int base_test;                  /**< the baseline fits within twice its floor: its summaries'
+                                         test (aenl_diagnose_summary_test) -1 not run, 0 rejects
+                                         it (the record's verdict stands), 1 accepts it (linear) */
+    double base_d2, base_p;         /**<   the record's distance^2 and p */
+    size_t base_d;                  /**<   and the summaries' count */
     unsigned n_diagnoses;           /**< diagnoses run by aenl_identify_model_test (1..4) */
     long data_verdict;              /**< the record alone: channel named (-1 none), */
     aenl_class_t data_class;        /**<   class */
@@ -184,8 +189,11 @@ void aenl_identify_free(aenl_identify_result_t *r);
  *        same record against a baseline model (aenl_diagnose_run), read in identify's classes.
  *        Freeplay, hysteresis and the polynomial (hardening from its cubic's sign) keep their
  *        class; a preload (a constant moment: the stiffness keeps its slope) is linear. When the
- *        diagnosis names none (the baseline within twice its noise floor: no evidence either
- *        way) or finds a disagreement no candidate explains, the record's own verdict stands. The
+ *        baseline fits within twice its noise floor, the record is linear if the summaries' test
+ *        of the baseline also accepts it (p above AENL_DIAGNOSE_SUMTEST_LEVEL); if that test
+ *        rejects it or did not run (no evidence either way: a small law under turbulence stays
+ *        within the floor), and when the diagnosis finds a disagreement no candidate explains,
+ *        the record's own verdict stands. The
  * named DOF's channel (by name) takes the fitted law: class, switching points (freeplay [α_f, α_f +
  * δ]; hysteresis the distinct kinks ±α_f, ±(α_f + δ) of both branches) with standard errors from
  * the summary fit (α_f + δ: sd(α_f) + sd(δ), a bound whatever their correlation; NaN without it).
