@@ -52,7 +52,10 @@ static void help(void)
         "--summary-records N  records simulated to refit the named effect's parameters to the\n"
         "                 record's summaries (amplitude, frequency, kurtosis, harmonics of every\n"
         "                 channel, efficiently weighted) and give their standard errors\n"
-        "                 (params_sd in JSON); 32..4096, default 64; 0: keep the gap's fit\n"
+        "                 (params_sd in JSON); when no effect is named because the baseline\n"
+        "                 fits within twice its floor, records of the baseline that the\n"
+        "                 record's summaries are ranked among (the report says whether they\n"
+        "                 agree); 32..4096, default 64; 0: neither (keep the gap's fit)\n"
         "--no-plots       no figures\n"
         "-v               progress on stderr\n");
 }
