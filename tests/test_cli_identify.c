@@ -543,6 +543,33 @@ static void test_cli_identify_with_model(void)
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "and a second effect"), out);
 }
 
+/* --model on a linear record: a rap test of the 3-DOF section without any law (the conditions
+ * of tools/examples/section3dof_raps_base.ini, 8 s, SNR 10) against its own model. The baseline
+ * fits within its noise floor and its summaries agree, so the model-based verdict is linear,
+ * whatever the record alone says. */
+static void test_cli_identify_with_model_linear(void)
+{
+    static const char rig[] = "[model]\ntype = section3dof\nvelocity = 12\n\n"
+                              "[excitation]\ntype = kicks\ndof = pitch\nevery = 1.5\n"
+                              "rate_deg = 20\nrate_max_deg = 40\nseed = 3\n\n"
+                              "[run]\nduration = 8\ndt = 0.002\n";
+    char truth[1024];
+    (void)snprintf(truth, sizeof(truth), "%s\n[noise]\nsnr = 10\nseed = 5\n", rig);
+    const char *base = cli_file("id_lin_base.ini", rig);
+    const char *data = simulate(cli_file("id_lin_truth.ini", truth), "id_lin.csv");
+    static cli_result_t r;
+    const char *args[] = {"identify", data, "--model", base, "--json", NULL};
+    cJSON *root = run_json(args, &r);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "verdict");
+    TEST_ASSERT_EQUAL_STRING_MESSAGE(
+        "linear", cJSON_GetObjectItemCaseSensitive(v, "class")->valuestring, r.out);
+    cJSON_Delete(root);
+    const char *table[] = {"identify", data, "--model", base, NULL};
+    const char *out = run_table(table, &r);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "and its summaries agree (p "), out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict (model-based): linear"), out);
+}
+
 /* --model on two freeplays at once (tools/examples/section3dof_two_freeplays.ini: pitch gap
  * -0.1..0.1 deg, flap gap -1..1 deg, noise-free): the test names the flap's, finds the pitch's
  * with the flap's in the model, and refits each with the other in place. Both channels are
@@ -729,6 +756,7 @@ int main(void)
     RUN_TEST(test_cli_identify_table_and_channel);
     RUN_TEST(test_cli_identify_plot);
     RUN_TEST(test_cli_identify_with_model);
+    RUN_TEST(test_cli_identify_with_model_linear);
     RUN_TEST(test_cli_identify_with_model_two_freeplays);
     RUN_TEST(test_cli_identify_bad_input);
     return UNITY_END();

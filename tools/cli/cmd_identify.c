@@ -582,18 +582,16 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
     }
     if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 1)
     {
-        printf("the baseline fits the record (gap %.3g, within twice its noise floor), and so do "
-               "its summaries (p %.2f: the record's distance over %zu summaries ranked among "
-               "simulated records of the baseline): no missing effect\n",
-               m->gap_before, m->base_p, m->base_d);
+        printf("the baseline fits the record (gap %.3g, within twice its noise floor), and its "
+               "summaries agree (p %.2f): no missing effect\n",
+               m->gap_before, m->base_p);
     }
     else if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 0)
     {
         printf("the baseline fits the record by the gap (%.3g, within twice its noise floor) but "
-               "not by its summaries (p %.2f: the record's distance over %zu summaries ranked "
-               "among simulated records of the baseline): a small effect the test cannot name; "
-               "the verdict is the record's own\n",
-               m->gap_before, m->base_p, m->base_d);
+               "not by its summaries (p %.2f): a small effect the test cannot name; the verdict "
+               "is the record's own\n",
+               m->gap_before, m->base_p);
     }
     else if (m->effect == AENL_DIAGNOSE_NONE)
     {
