@@ -164,37 +164,41 @@ static aenl_sim_run_t replicate_run(const aenl_sim_run_t *run, unsigned q)
     return out;
 }
 
-/* Summaries of n_rep records of `model` (replicate seeds 0..n_rep-1) into s[q * N_SUM + i], their
- * mean and their covariance cov (d x d, one record's, unbiased); *d: summaries a record. */
-static aenl_status_t replicate_moments(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
-                                       const double *noise_sd, unsigned n_rep, double *s,
-                                       double *mean, double *cov, size_t *d_out, aenl_err_t *err)
+/* Mean and covariance cov (d x d, unbiased) of the rows s[q * N_SUM + 0..d-1], q < n_rows;
+ * mean and cov start at zero. */
+static void row_moments(const double *s, size_t n_rows, size_t d, double *mean, double *cov)
 {
-    size_t d = 0;
-    aenl_status_t st = AENL_OK;
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
-    {
-        const aenl_sim_run_t run = replicate_run(run_in, q);
-        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, &d, err);
-    }
-    *d_out = d;
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    for (size_t q = 0; q < n_rows; ++q)
     {
         for (size_t i = 0; i < d; ++i)
         {
-            mean[i] += s[(size_t)q * N_SUM + i] / (double)n_rep;
+            mean[i] += s[q * N_SUM + i] / (double)n_rows;
         }
     }
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    for (size_t q = 0; q < n_rows; ++q)
     {
-        const double *sq = s + (size_t)q * N_SUM;
+        const double *sq = s + q * N_SUM;
         for (size_t i = 0; i < d; ++i)
         {
             for (size_t j = 0; j < d; ++j)
             {
-                cov[i * d + j] += (sq[i] - mean[i]) * (sq[j] - mean[j]) / (double)(n_rep - 1u);
+                cov[i * d + j] += (sq[i] - mean[i]) * (sq[j] - mean[j]) / (double)(n_rows - 1u);
             }
         }
+    }
+}
+
+/* Summaries of n_rep records of `model` (replicate seeds 0..n_rep-1) into s[q * N_SUM + i];
+ * *d: summaries a record. */
+static aenl_status_t replicate_summaries(const aenl_sim_model_t *model,
+                                         const aenl_sim_run_t *run_in, const double *noise_sd,
+                                         unsigned n_rep, double *s, size_t *d, aenl_err_t *err)
+{
+    aenl_status_t st = AENL_OK;
+    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
+    {
+        const aenl_sim_run_t run = replicate_run(run_in, q);
+        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, d, err);
     }
     return st;
 }
@@ -243,8 +247,12 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
     }
     size_t d = 0;
     double mean[N_SUM] = {0.0};
-    aenl_status_t st = replicate_moments(model, run_in, noise_sd, n_rep, s, mean, cov, &d, err);
+    aenl_status_t st = replicate_summaries(model, run_in, noise_sd, n_rep, s, &d, err);
     inf->d = d;
+    if (st == AENL_OK)
+    {
+        row_moments(s, n_rep, d, mean, cov); /* one record's covariance (symmetric) */
+    }
     for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
     {
         for (size_t i = 0; i < d; ++i)
@@ -580,16 +588,18 @@ aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const ae
     const size_t n_all = (size_t)n_rep + 1u;
     double *s = malloc(n_all * N_SUM * sizeof(double));
     double *cov = calloc(N_SUM * N_SUM, sizeof(double));
-    if (s == NULL || cov == NULL)
+    double *d2 = malloc(n_all * sizeof(double));
+    if (s == NULL || cov == NULL || d2 == NULL)
     {
         free(s);
         free(cov);
+        free(d2);
         aenl_err_set(err, "out of memory (summaries)");
         return AENL_E_DIM;
     }
     size_t d = 0, dm = 0;
     double mean[N_SUM] = {0.0};
-    aenl_status_t st = replicate_moments(model, run, noise_sd, n_rep, s, mean, cov, &d, err);
+    aenl_status_t st = replicate_summaries(model, run, noise_sd, n_rep, s, &d, err);
     if (st == AENL_OK)
     {
         st = summarise(y_meas, n, n_ch, s + (size_t)n_rep * N_SUM, &dm, err);
@@ -603,26 +613,7 @@ aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const ae
     {
         /* The pooled mean and covariance of all n_rep + 1, the record's included, so that every
          * record is treated alike. */
-        memset(mean, 0, sizeof(mean));
-        memset(cov, 0, N_SUM * N_SUM * sizeof(double));
-        for (size_t q = 0; q < n_all; ++q)
-        {
-            for (size_t i = 0; i < d; ++i)
-            {
-                mean[i] += s[q * N_SUM + i] / (double)n_all;
-            }
-        }
-        for (size_t q = 0; q < n_all; ++q)
-        {
-            for (size_t i = 0; i < d; ++i)
-            {
-                for (size_t j = 0; j < d; ++j)
-                {
-                    cov[i * d + j] += (s[q * N_SUM + i] - mean[i]) * (s[q * N_SUM + j] - mean[j]) /
-                                      (double)(n_all - 1u);
-                }
-            }
-        }
+        row_moments(s, n_all, d, mean, cov);
         if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'U', (lapack_int)d, cov, (lapack_int)d) != 0)
         {
             aenl_err_set(err, "summaries: their covariance is singular");
@@ -631,7 +622,6 @@ aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const ae
     }
     if (st == AENL_OK)
     {
-        double d2[4097];
         for (size_t q = 0; q < n_all; ++q)
         {
             double r[N_SUM] = {0.0};
@@ -651,6 +641,7 @@ aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const ae
         out->n_rep = n_rep;
         out->p = (double)at_least / (double)n_all;
     }
+    free(d2);
     free(cov);
     free(s);
     return st;
