@@ -584,14 +584,14 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
     {
         printf("the baseline fits the record (gap %.3g, within twice its noise floor), and its "
                "summaries agree (p %.2f): no missing effect\n",
-               m->gap_before, m->base_p);
+               m->gap_before, m->base_sum.p);
     }
     else if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 0)
     {
         printf("the baseline fits the record by the gap (%.3g, within twice its noise floor) but "
                "not by its summaries (p %.2f): a small effect the test cannot name; the verdict "
                "is the record's own\n",
-               m->gap_before, m->base_p);
+               m->gap_before, m->base_sum.p);
     }
     else if (m->effect == AENL_DIAGNOSE_NONE)
     {

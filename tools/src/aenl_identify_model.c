@@ -160,14 +160,10 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
     m->gap_after2 = (double)NAN;
     m->n_diagnoses = 1;
     m->base_test = -1;
-    m->base_d2 = (double)NAN;
-    m->base_p = (double)NAN;
     if (d->explained && d->effect == AENL_DIAGNOSE_NONE && d->base_test.n_rep > 0u)
     {
         m->base_test = d->base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL;
-        m->base_d2 = d->base_test.d2;
-        m->base_p = d->base_test.p;
-        m->base_d = d->base_test.d;
+        m->base_sum = d->base_test;
     }
     if (!d->explained || (d->effect == AENL_DIAGNOSE_NONE && m->base_test != 1))
     {

@@ -129,12 +129,11 @@ typedef struct aenl_identify_model
     int base_test;                  /**< the baseline fits within twice its floor: its summaries'
                                          test (aenl_diagnose_summary_test) -1 not run, 0 rejects
                                          it (the record's verdict stands), 1 accepts it (linear) */
-    double base_d2, base_p;         /**<   the record's distance^2 and p */
-    size_t base_d;                  /**<   and the summaries' count */
-    unsigned n_diagnoses;           /**< diagnoses run by aenl_identify_model_test (1..4) */
-    long data_verdict;              /**< the record alone: channel named (-1 none), */
-    aenl_class_t data_class;        /**<   class */
-    double data_confidence;         /**<   and confidence */
+    aenl_diagnose_sumtest_t base_sum; /**<   that test (base_test >= 0) */
+    unsigned n_diagnoses;             /**< diagnoses run by aenl_identify_model_test (1..4) */
+    long data_verdict;                /**< the record alone: channel named (-1 none), */
+    aenl_class_t data_class;          /**<   class */
+    double data_confidence;           /**<   and confidence */
 } aenl_identify_model_t;
 
 /** Result of one record. */
