@@ -246,11 +246,11 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
         return AENL_E_DIM;
     }
     size_t d = 0;
-    double mean[N_SUM] = {0.0};
     aenl_status_t st = replicate_summaries(model, run_in, noise_sd, n_rep, s, &d, err);
     inf->d = d;
     if (st == AENL_OK)
     {
+        double mean[N_SUM] = {0.0};
         row_moments(s, n_rep, d, mean, cov); /* one record's covariance (symmetric) */
     }
     for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
