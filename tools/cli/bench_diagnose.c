@@ -155,15 +155,16 @@ static void run_case(size_t k, uint64_t seed, const bd_opts_t *bo, tally_t *t)
         len += w > 0 ? (size_t)w : 0u;
     }
     char chi[48] = "";
+    const int agrees = aenl_diagnose_baseline_agrees(&r);
     if (r.chi2_dof > 0u)
     {
         (void)snprintf(chi, sizeof(chi), "  chi2 %.3g/%zu%s", r.chi2, r.chi2_dof,
                        r.summary_rejected ? " rejected" : "");
     }
-    else if (r.base_test.n_rep > 0u)
+    else if (agrees >= 0)
     {
         (void)snprintf(chi, sizeof(chi), "  baseline's summaries p %.2f%s", r.base_test.p,
-                       r.base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL ? "" : " rejected");
+                       agrees ? "" : " rejected");
     }
     printf(
         "%-20s %4llu  %-10s %-6s -> %-10s %-6s %-3s  err%% %-16s  gap %.3g -> %.3g (x%.1f, "

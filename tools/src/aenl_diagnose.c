@@ -1276,6 +1276,15 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     return AENL_OK;
 }
 
+int aenl_diagnose_baseline_agrees(const aenl_diagnose_result_t *r)
+{
+    if (r->base_test.n_rep == 0u)
+    {
+        return -1;
+    }
+    return r->base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL;
+}
+
 aenl_status_t aenl_diagnose_run(const aenl_table_t *measured, const aenl_sim_model_t *base,
                                 const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
                                 aenl_diagnose_result_t *out, aenl_err_t *err)

@@ -593,15 +593,15 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     {
         fprintf(fp, " (the baseline agrees within %.3g x its noise floor)",
                 r->gap_before[nc] / fmax(r->floor_before[nc], AENL_DIAGNOSE_MIN_FLOOR));
-        if (r->base_test.n_rep > 0u)
+        const int agrees = aenl_diagnose_baseline_agrees(r);
+        if (agrees >= 0)
         {
             fprintf(fp,
                     "\n  summaries of the record against %u simulated records of the baseline: "
                     "%s (p %.3f; the record's distance ranked among theirs)",
                     r->base_test.n_rep,
-                    r->base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL
-                        ? "they agree"
-                        : "they disagree, a small effect the signatures cannot name",
+                    agrees ? "they agree"
+                           : "they disagree, a small effect the signatures cannot name",
                     r->base_test.p);
         }
     }

@@ -160,9 +160,9 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
     m->gap_after2 = (double)NAN;
     m->n_diagnoses = 1;
     m->base_test = -1;
-    if (d->explained && d->effect == AENL_DIAGNOSE_NONE && d->base_test.n_rep > 0u)
+    if (d->explained && d->effect == AENL_DIAGNOSE_NONE)
     {
-        m->base_test = d->base_test.p > AENL_DIAGNOSE_SUMTEST_LEVEL;
+        m->base_test = aenl_diagnose_baseline_agrees(d);
         m->base_sum = d->base_test;
     }
     if (!d->explained || (d->effect == AENL_DIAGNOSE_NONE && m->base_test != 1))

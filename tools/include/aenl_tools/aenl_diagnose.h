@@ -206,6 +206,10 @@ typedef struct aenl_diagnose_result
 /** Defaults (see the field comments). Cannot fail. */
 void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o);
 
+/** The baseline's summary test of r (r->base_test): 1 it ran and the summaries agree (p above
+ *  AENL_DIAGNOSE_SUMTEST_LEVEL), 0 it ran and they reject the baseline, -1 it did not run. */
+int aenl_diagnose_baseline_agrees(const aenl_diagnose_result_t *r);
+
 /** "freeplay", "hysteresis", "polynomial", "preload", "none". */
 const char *aenl_diagnose_effect_name(aenl_diagnose_effect_t e);
 /** "pitch", "plunge", "flap". */
