@@ -395,6 +395,72 @@ static void test_hidden_softening_quintic(void)
     aenl_eval_case_free(&c);
 }
 
+/* The simulations' measurement noise is what the record's high-frequency scale has beyond the
+ * baseline's own response; the reference is the noise actually added. The 2-DOF null case's gust
+ * record sampled 5 times a pitch period, where the response's own third differences are large:
+ * noise-free, the diagnosis against the model that made it adds no noise and finds no gap at all;
+ * with white noise of a known std added, it finds that std within 10 % while the record's raw
+ * scale is over 20 % above it. */
+static void test_noise_beyond_the_baseline(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    const size_t n = 4000u;
+    aenl_sim_run_t run = c.base_run;
+    run.snr = 0.0;
+    run.dt = 2.0 * PI / 5.0; /* the pitch frequency is 1 in the model's time unit */
+    run.duration = (double)(n - 1u) * run.dt;
+    aenl_sim_result_t y;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&c.base, &run, &y, &err), err.msg);
+    TEST_ASSERT_TRUE(y.n_samples >= n);
+    const char *names[] = {"t", "alpha", "xi"};
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n, 3u, names, &err));
+    for (size_t i = 0; i < n; ++i)
+    {
+        t.data[i] = (double)i * run.dt;
+        t.data[n + i] = y.y[i];
+        t.data[2u * n + i] = y.y[y.n_samples + i];
+    }
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    o.summary_records = 0;
+    o.n_replicates = 2;
+    o.n_refine = 0;
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &c.base, &run, &o, &r, &err),
+                                  err.msg);
+    const double raw = r.chan[0].noise_record;
+    printf("noise-free, sampled 5 times a period: alpha's raw scale %.3g, noise %.3g, gap %.3g\n",
+           raw, r.chan[0].noise_sd, r.gap_before[r.n_channels]);
+    TEST_ASSERT_TRUE(raw > 0.0);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, r.chan[0].noise_sd);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, r.chan[1].noise_sd);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, r.gap_before[r.n_channels]);
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, r.effect);
+    aenl_diagnose_result_free(&r);
+    /* white noise as large as the response's own scale */
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 99u);
+    const double sigma = raw;
+    for (size_t i = 0; i < n; ++i)
+    {
+        t.data[n + i] += sigma * aenl_rng_gauss(&g);
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &c.base, &run, &o, &r, &err),
+                                  err.msg);
+    printf("  with noise of std %.3g: raw scale %.3g, noise %.3g\n", sigma, r.chan[0].noise_record,
+           r.chan[0].noise_sd);
+    TEST_ASSERT_TRUE(r.chan[0].noise_record > 1.2 * sigma);
+    TEST_ASSERT_DOUBLE_WITHIN(0.1 * sigma, sigma, r.chan[0].noise_sd);
+    aenl_diagnose_result_free(&r);
+    aenl_table_free(&t);
+    aenl_sim_result_free(&y);
+}
+
 static void test_bound_tells_ridge_from_determined(void)
 {
     aenl_err_t err;
@@ -498,6 +564,7 @@ int main(void)
     RUN_TEST(test_peak_freq_matches_brute_force);
     RUN_TEST(test_chan_setup_noise_and_period);
     RUN_TEST(test_chan_setup_rejects);
+    RUN_TEST(test_noise_beyond_the_baseline);
     RUN_TEST(test_run_rejects_wrong_step_and_channels);
     RUN_TEST(test_hidden_freeplay_airfoil2dof);
     RUN_TEST(test_hidden_freeplay_other_simulator);

@@ -515,8 +515,10 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     for (size_t c = 0; c < nc; ++c)
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
-        fprintf(fp, " %s (std %.4g, noise %.3g, period %.4g)", r->names[c], ch->scale, ch->noise_sd,
-                ch->period * r->dt);
+        fprintf(fp,
+                " %s (std %.4g, noise %.3g of the record's high-frequency scale %.3g, period "
+                "%.4g)",
+                r->names[c], ch->scale, ch->noise_sd, ch->noise_record, ch->period * r->dt);
     }
     for (size_t c = 0; c < nc; ++c)
     {

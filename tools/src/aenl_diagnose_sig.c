@@ -311,6 +311,7 @@ aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_
         return AENL_E_ARG;
     }
     aenl_status_t st = noise_std(x, n, &c->noise_sd, err);
+    c->noise_record = c->noise_sd;
     if (st != AENL_OK)
     {
         return st;

@@ -117,12 +117,15 @@ typedef struct aenl_diagnose_dis
 /** Per-channel signature settings, fixed from the measured record (read-only). */
 typedef struct aenl_diagnose_chan
 {
-    double scale;    /**< std of the measured channel */
-    double noise_sd; /**< estimated measurement-noise std */
-    double mean;     /**< mean of the pre-filtered measured channel */
-    double period;   /**< dominant period, samples */
-    double cutoff;   /**< pre-filter cutoff, fraction of the sample rate */
-    size_t settle;   /**< leading samples left out of every signature */
+    double scale;        /**< std of the measured channel */
+    double noise_sd;     /**< measurement-noise std: what the record's high-frequency scale
+                              has beyond the baseline's own response (aenl_diagnose_run) */
+    double noise_record; /**< the record's high-frequency scale (third differences): its
+                              noise std if the response itself is smooth there */
+    double mean;         /**< mean of the pre-filtered measured channel */
+    double period;       /**< dominant period, samples */
+    double cutoff;       /**< pre-filter cutoff, fraction of the sample rate */
+    size_t settle;       /**< leading samples left out of every signature */
     uint16_t lags[AENL_DIAGNOSE_N_LAGS];
     double x_min, x_max, bandwidth; /**< curve grid and kernel bandwidth */
     size_t seg;                     /**< Welch segment length */
