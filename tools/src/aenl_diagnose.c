@@ -219,12 +219,27 @@ static double gap_of(const ctx_t *x, const aenl_diagnose_sig_t *a, const aenl_di
 }
 
 /* Replicate floor of a model: main signatures `main_sig` plus n_rep replicates; the floor of
- * every gap is the RMS over all pairs. Per-element floors (elem, NULL to skip) for the bands. */
+ * every gap is the RMS over all pairs of runs that stayed bounded. A run that diverges differs
+ * from every other by the cap, which measures the divergence, not the noise: the share of runs
+ * that stayed bounded is kept apart (`bounded`). Per-element floors (elem, NULL to skip) for the
+ * bands. */
 typedef struct
 {
     double ch[N_CH_MAX + 1]; /* per channel, [n_ch] total */
     double fam[N_CH_MAX][N_FAM];
+    double bounded; /* share of the runs with every channel's signature valid */
 } floor_t;
+
+/* 1 when every channel of a run's signatures is valid (the run did not diverge). */
+static int run_bounded(const aenl_diagnose_sig_t *sig, size_t n_ch)
+{
+    int ok = 1;
+    for (size_t c = 0; c < n_ch; ++c)
+    {
+        ok = ok && sig[c].valid;
+    }
+    return ok;
+}
 
 static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
                               const aenl_diagnose_sig_t *main_sig, unsigned n_rep, floor_t *fl,
@@ -249,11 +264,16 @@ static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
     {
         memset(elem, 0, x->n_ch * per_ch * sizeof(double));
     }
-    size_t n_pair = 0;
+    size_t n_pair = 0, n_bounded = 0;
     for (size_t i = 0; i < n_run && st == AENL_OK; ++i)
     {
+        n_bounded += run_bounded(s + i * x->n_ch, x->n_ch) ? 1u : 0u;
         for (size_t j = i + 1u; j < n_run; ++j)
         {
+            if (!run_bounded(s + i * x->n_ch, x->n_ch) || !run_bounded(s + j * x->n_ch, x->n_ch))
+            {
+                continue;
+            }
             double ch[N_CH_MAX] = {0}, fam[N_CH_MAX][N_FAM] = {{0}};
             const double g = gap_of(x, s + i * x->n_ch, s + j * x->n_ch, ch, fam);
             fl->ch[x->n_ch] += g * g;
@@ -288,22 +308,24 @@ static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
     {
         return st;
     }
+    fl->bounded = (double)n_bounded / (double)n_run;
+    const double np = n_pair > 0u ? (double)n_pair : 1.0; /* no pair: floors 0 */
     for (size_t c = 0; c <= x->n_ch; ++c)
     {
-        fl->ch[c] = sqrt(fl->ch[c] / (double)n_pair);
+        fl->ch[c] = sqrt(fl->ch[c] / np);
     }
     for (size_t c = 0; c < x->n_ch; ++c)
     {
         for (int f = 0; f < N_FAM; ++f)
         {
-            fl->fam[c][f] = sqrt(fl->fam[c][f] / (double)n_pair);
+            fl->fam[c][f] = sqrt(fl->fam[c][f] / np);
         }
     }
     if (elem != NULL)
     {
         for (size_t i = 0; i < x->n_ch * per_ch; ++i)
         {
-            elem[i] = sqrt(elem[i] / (double)n_pair);
+            elem[i] = sqrt(elem[i] / np);
         }
     }
     return AENL_OK;
@@ -1201,6 +1223,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         cd->n_evals = s->n_evals;
         cd->refined = i < opts->n_refine;
         cd->score = HUGE_VAL;
+        cd->bounded = 1.0;
         if (i < N_FLOOR_CAND && st == AENL_OK)
         {
             floor_t fl_c;
@@ -1219,6 +1242,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             }
             free(ms);
             cd->floor = st == AENL_OK ? fl_c.ch[n_ch] : 0.0;
+            cd->bounded = st == AENL_OK ? fl_c.bounded : 1.0;
             common = fmax(common, cd->floor);
         }
     }
@@ -1232,7 +1256,10 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     for (size_t i = 0; i < n_sp; ++i)
     {
         aenl_diagnose_cand_t *cd = &r->cand[i];
-        cd->score = (cd->gap / common) * (cd->gap / common) + opts->penalty * cd->n_params;
+        /* a candidate none of whose runs stayed bounded cannot be the record's model */
+        cd->score = cd->bounded > 0.0 ? (cd->gap / common) * (cd->gap / common) +
+                                            opts->penalty * cd->n_params - 2.0 * log(cd->bounded)
+                                      : HUGE_VAL;
         if (best == n_sp || cd->score < r->cand[best].score)
         {
             best = i;
@@ -1307,6 +1334,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         }
         fl_after = &fl_extra;
         r->cand[r->chosen].floor = fl_extra.ch[n_ch];
+        r->cand[r->chosen].bounded = fl_extra.bounded;
     }
     memcpy(r->floor_after, fl_after->ch, sizeof(r->floor_after));
     set_sig(r, fl_after, r->fam_after, r->sig_after);

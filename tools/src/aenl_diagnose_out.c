@@ -149,15 +149,15 @@ static aenl_status_t write_candidates(const aenl_diagnose_result_t *r, const cha
     {
         return st;
     }
-    fprintf(of.fp, "effect,dof,n_params,gap,floor,score,n_evals,refined,delta,alpha_f,preload,"
-                   "c3,c5,chosen\n");
+    fprintf(of.fp, "effect,dof,n_params,gap,floor,bounded,score,n_evals,refined,delta,alpha_f,"
+                   "preload,c3,c5,chosen\n");
     for (size_t i = 0; i < r->n_cand; ++i)
     {
         const aenl_diagnose_cand_t *c = &r->cand[i];
-        fprintf(of.fp, "%s,%s,%u,%.6g,%.6g,%.6g,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
+        fprintf(of.fp, "%s,%s,%u,%.6g,%.6g,%.4g,%.6g,%u,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n",
                 aenl_diagnose_effect_name(c->effect), aenl_diagnose_dof_name(c->dof), c->n_params,
-                c->gap, c->floor, c->score, c->n_evals, c->refined, c->law.delta, c->law.x_f,
-                c->law.preload, c->law.n_coeffs >= 3u ? c->law.coeffs[2] : 0.0,
+                c->gap, c->floor, c->bounded, c->score, c->n_evals, c->refined, c->law.delta,
+                c->law.x_f, c->law.preload, c->law.n_coeffs >= 3u ? c->law.coeffs[2] : 0.0,
                 c->law.n_coeffs >= 5u ? c->law.coeffs[4] : 0.0, i == r->chosen ? 1 : 0);
     }
     return aenl_outfile_commit(&of, err);
@@ -570,6 +570,11 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
                 aenl_diagnose_effect_name(c->effect), aenl_diagnose_dof_name(c->dof), c->n_params,
                 c->gap, c->score);
         print_law(fp, &c->law, c->dof);
+        if (c->bounded < 1.0)
+        {
+            fprintf(fp, "  (%.0f %% of its runs diverge: the record did not)",
+                    100.0 * (1.0 - c->bounded));
+        }
         fprintf(fp, "\n");
     }
     fprintf(fp, "\nmissing effect: %s", aenl_diagnose_effect_name(r->effect));

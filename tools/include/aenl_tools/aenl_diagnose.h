@@ -100,7 +100,10 @@ typedef struct aenl_diagnose_cand
     aenl_sim_law_t law; /**< the fitted law of the DOF */
     double gap;         /**< total gap of the fitted model (main seeds) */
     double floor;       /**< its replicate floor (0 when not computed: not among the best) */
-    double score;       /**< (gap / common floor)^2 + penalty * n_params; HUGE_VAL unscored */
+    double bounded;     /**< share of its runs (main seeds and replicates) that stayed bounded
+                             under the record's conditions (1 when its floor was not computed) */
+    double score;       /**< (gap / common floor)^2 + penalty * n_params - 2 ln bounded (the
+                             log-likelihood of a record that stayed bounded); HUGE_VAL unscored */
     unsigned n_evals;   /**< simulations spent */
     int refined;        /**< 1 when Nelder-Mead ran */
 } aenl_diagnose_cand_t;
