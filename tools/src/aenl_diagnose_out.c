@@ -583,6 +583,14 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
         fprintf(fp, " in %s: ", aenl_diagnose_dof_name(r->dof));
         print_law(fp, &r->updated.law[r->dof], r->dof);
         print_param_sd(fp, r);
+        if (r->base_test.n_rep > 0u)
+        {
+            fprintf(fp,
+                    "\n  named although the baseline's gap is within %.3g x its noise floor: the "
+                    "summaries of %u simulated records of the baseline reject it (p %.3f)",
+                    r->gap_before[nc] / fmax(r->floor_before[nc], AENL_DIAGNOSE_MIN_FLOOR),
+                    r->base_test.n_rep, r->base_test.p);
+        }
         if (r->summary_rejected)
         {
             fprintf(fp,

@@ -20,12 +20,15 @@
  *  4. Gap per channel: RMS over the four signature families of each family's RMS normalised
  *     difference (quantiles, envelope and curves in units of the measured std, spectrum as
  *     ln amplitude ratio); total: RMS over channels. Noise floor: RMS of the gap between
- *     independent replicates of the same model.
+ *     independent replicates of the same model that stayed bounded. The measurement noise the
+ *     simulations get is what the record's high-frequency scale has beyond the baseline's own.
  *  5. Candidates per DOF whose baseline law is linear: freeplay (gap δ, start α_f), hysteresis
  *     (δ, α_f, M0), cubic polynomial (c3), quintic polynomial (c3, c5), preload (M0). Each is
  *     calibrated by a coarse grid,
  *     then Nelder-Mead on the total gap squared. Choice: "none" when the baseline gap is within
- *     `none_ratio` times its floor; otherwise the least (gap / floor)^2 + penalty * n_params.
+ *     `none_ratio` times its floor (unless the summaries reject the baseline); otherwise the
+ *     least (gap / floor)^2 + penalty * n_params - 2 ln(share of the candidate's runs that
+ *     stayed bounded: the record did).
  *
  * Memory: the result owns heap arrays released by aenl_diagnose_result_free(). No global state;
  * re-entrant. Cost: a few hundred simulations of the record (see the README for timings).
@@ -200,8 +203,9 @@ typedef struct aenl_diagnose_result
     size_t chi2_dof;         /**< its degrees of freedom, summaries - parameters (0: none) */
     /** When the baseline agrees within none_ratio x its floor (and opts.summary_records > 0):
      *  the baseline's summary test (aenl_diagnose_summary_test with summary_records records),
-     *  a second look with the precise summaries the gap weighs loosely. base_test.n_rep 0: not
-     *  run, or the records were unusable. */
+     *  a second look with the precise summaries the gap weighs loosely; when they reject the
+     *  baseline, a candidate that takes 30 % off its gap is named as beyond the floor.
+     *  base_test.n_rep 0: not run, or the records were unusable. */
     aenl_diagnose_sumtest_t base_test;
     int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
                                model; the gap's fit is kept and n_param_sd is 0 */
