@@ -461,6 +461,62 @@ static void test_noise_beyond_the_baseline(void)
     aenl_sim_result_free(&y);
 }
 
+/* A noise-free free decay against the model that made it: every run of the baseline is alike
+ * (no turbulence, no noise), so its floor is 0 and the summaries have nothing random to rank; the
+ * baseline reproduces the record and agrees (before, the summaries' test could not run and
+ * identify --model fell back to the record's own verdict: polynomial on the suite's case 0). */
+static void test_exact_baseline_agrees(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    const size_t n = 3000u;
+    aenl_sim_run_t run = c.base_run;
+    run.snr = 0.0;
+    run.turb_intensity = 0.0;
+    run.duration = (double)(n - 1u) * run.dt;
+    aenl_sim_model_t m = c.base;
+    m.x0[AENL_SIM_DOF_PITCH] = 0.02;
+    aenl_sim_result_t y;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &y, &err), err.msg);
+    TEST_ASSERT_TRUE(y.n_samples >= n);
+    const char *names[] = {"t", "alpha", "xi"};
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n, 3u, names, &err));
+    for (size_t i = 0; i < n; ++i)
+    {
+        t.data[i] = (double)i * run.dt;
+        t.data[n + i] = y.y[i];
+        t.data[2u * n + i] = y.y[y.n_samples + i];
+    }
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    o.n_replicates = 2;
+    o.n_refine = 0;
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &m, &run, &o, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, r.effect);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, r.floor_before[r.n_channels]);
+    TEST_ASSERT_EQUAL_INT(1, r.base_exact);
+    TEST_ASSERT_EQUAL_UINT(0, r.base_test.n_rep);
+    TEST_ASSERT_EQUAL_INT(1, aenl_diagnose_baseline_agrees(&r));
+    aenl_diagnose_result_free(&r);
+    /* the same record against a baseline 10 % stiffer in pitch: no longer reproduced */
+    aenl_sim_model_t stiff = m;
+    stiff.law[AENL_SIM_DOF_PITCH].kind = AENL_SIM_LAW_POLYNOMIAL;
+    stiff.law[AENL_SIM_DOF_PITCH].n_coeffs = 1u;
+    stiff.law[AENL_SIM_DOF_PITCH].coeffs[0] = 1.1;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &stiff, &run, &o, &r, &err),
+                                  err.msg);
+    TEST_ASSERT_EQUAL_INT(0, r.base_exact);
+    TEST_ASSERT_TRUE(aenl_diagnose_baseline_agrees(&r) != 1);
+    aenl_diagnose_result_free(&r);
+    aenl_table_free(&t);
+    aenl_sim_result_free(&y);
+}
+
 static void test_bound_tells_ridge_from_determined(void)
 {
     aenl_err_t err;
@@ -565,6 +621,7 @@ int main(void)
     RUN_TEST(test_chan_setup_noise_and_period);
     RUN_TEST(test_chan_setup_rejects);
     RUN_TEST(test_noise_beyond_the_baseline);
+    RUN_TEST(test_exact_baseline_agrees);
     RUN_TEST(test_run_rejects_wrong_step_and_channels);
     RUN_TEST(test_hidden_freeplay_airfoil2dof);
     RUN_TEST(test_hidden_freeplay_other_simulator);

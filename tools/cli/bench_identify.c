@@ -848,11 +848,21 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
         else if (res.model.base_test >= 0)
         {
             const aenl_diagnose_sumtest_t *bs = &res.model.base_sum;
-            printf("  case %zu (%s): the baseline fits (gap %.3g); its summaries' distance^2 %.3g "
-                   "for %zu, p %.3g (the record alone: %s): %s\n",
-                   i, aenl_class_name(c.cls), res.model.gap_before, bs->d2, bs->d, bs->p,
-                   aenl_class_name(res.model.data_class),
-                   res.model.base_test == 1 ? "linear" : "the record's verdict stands");
+            const char *says = res.model.base_test == 1 ? "linear" : "the record's verdict stands";
+            if (bs->n_rep == 0u)
+            {
+                printf("  case %zu (%s): the baseline reproduces the record (gap %.3g, its runs "
+                       "all alike; the record alone: %s): %s\n",
+                       i, aenl_class_name(c.cls), res.model.gap_before,
+                       aenl_class_name(res.model.data_class), says);
+            }
+            else
+            {
+                printf("  case %zu (%s): the baseline fits (gap %.3g); its summaries' distance^2 "
+                       "%.3g for %zu, p %.3g (the record alone: %s): %s\n",
+                       i, aenl_class_name(c.cls), res.model.gap_before, bs->d2, bs->d, bs->p,
+                       aenl_class_name(res.model.data_class), says);
+            }
         }
         else if (res.model.effect2 != AENL_DIAGNOSE_NONE)
         {

@@ -580,7 +580,13 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
                m->gap_before);
         return;
     }
-    if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 1)
+    if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 1 && m->base_sum.n_rep == 0u)
+    {
+        printf("the baseline reproduces the record (gap %.3g; its runs are all alike, without "
+               "turbulence or noise): no missing effect\n",
+               m->gap_before);
+    }
+    else if (m->effect == AENL_DIAGNOSE_NONE && m->base_test == 1)
     {
         printf("the baseline fits the record (gap %.3g, within twice its noise floor), and its "
                "summaries agree (p %.2f): no missing effect\n",

@@ -609,7 +609,12 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
         fprintf(fp, " (the baseline agrees within %.3g x its noise floor)",
                 r->gap_before[nc] / fmax(r->floor_before[nc], AENL_DIAGNOSE_MIN_FLOOR));
         const int agrees = aenl_diagnose_baseline_agrees(r);
-        if (agrees >= 0)
+        if (r->base_exact)
+        {
+            fprintf(fp, "\n  the baseline's runs are all alike (no turbulence, no noise) and "
+                        "reproduce the record: nothing random is left for its summaries to rank");
+        }
+        else if (agrees >= 0)
         {
             fprintf(fp,
                     "\n  summaries of the record against %u simulated records of the baseline: "

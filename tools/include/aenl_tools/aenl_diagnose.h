@@ -207,6 +207,9 @@ typedef struct aenl_diagnose_result
      *  baseline, a candidate that takes 30 % off its gap is named as beyond the floor.
      *  base_test.n_rep 0: not run, or the records were unusable. */
     aenl_diagnose_sumtest_t base_test;
+    int base_exact; /**< 1: instead of that test, the baseline's runs are all alike (floor 0: no
+                         turbulence, a noise-free record) and reproduce the record within twice
+                         the least floor; the baseline agrees, nothing random is left to rank */
     int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
                                model; the gap's fit is kept and n_param_sd is 0 */
     unsigned n_sims;      /**< simulations run */
@@ -217,7 +220,8 @@ typedef struct aenl_diagnose_result
 void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o);
 
 /** The baseline's summary test of r (r->base_test): 1 it ran and the summaries agree (p above
- *  AENL_DIAGNOSE_SUMTEST_LEVEL), 0 it ran and they reject the baseline, -1 it did not run. */
+ *  AENL_DIAGNOSE_SUMTEST_LEVEL) or the baseline reproduces the record exactly (r->base_exact),
+ *  0 it ran and they reject the baseline, -1 it did not run. */
 int aenl_diagnose_baseline_agrees(const aenl_diagnose_result_t *r);
 
 /** "freeplay", "hysteresis", "polynomial", "preload", "none". */
