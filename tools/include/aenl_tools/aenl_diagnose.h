@@ -185,6 +185,10 @@ typedef struct aenl_diagnose_result
     aenl_sim_dof_t dof;            /**< its DOF (meaningless for NONE) */
     size_t chosen;                 /**< index into cand, or n_cand for NONE */
     int explained;                 /**< 0: significant disagreement no candidate reduces */
+    /** 1: instead of the test of base_test, the baseline's runs are all alike (floor 0: no
+     *  turbulence, a noise-free record) and reproduce the record within twice the least floor;
+     *  it agrees, nothing random is left to rank. */
+    int base_exact;
     double common_floor;        /**< floor the candidates' scores are in units of (their largest) */
     aenl_sim_model_t updated;   /**< baseline plus the named effect */
     aenl_sim_run_t run;         /**< conditions of the comparison (no noise) */
@@ -207,9 +211,6 @@ typedef struct aenl_diagnose_result
      *  baseline, a candidate that takes 30 % off its gap is named as beyond the floor.
      *  base_test.n_rep 0: not run, or the records were unusable. */
     aenl_diagnose_sumtest_t base_test;
-    int base_exact; /**< 1: instead of that test, the baseline's runs are all alike (floor 0: no
-                         turbulence, a noise-free record) and reproduce the record within twice
-                         the least floor; the baseline agrees, nothing random is left to rank */
     int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
                                model; the gap's fit is kept and n_param_sd is 0 */
     unsigned n_sims;      /**< simulations run */
