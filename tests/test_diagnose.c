@@ -395,6 +395,28 @@ static void test_hidden_softening_quintic(void)
     aenl_eval_case_free(&c);
 }
 
+/* A noise-free record of the 2-DOF null case's model m (its pitch and plunge) under run, n
+ * samples (run's duration set), into t; the caller frees t. */
+static void a2_record(const aenl_sim_model_t *m, aenl_sim_run_t *run, size_t n, aenl_table_t *t)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    run->snr = 0.0;
+    run->duration = (double)(n - 1u) * run->dt;
+    aenl_sim_result_t y;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(m, run, &y, &err), err.msg);
+    TEST_ASSERT_TRUE(y.n_samples >= n);
+    const char *names[] = {"t", "alpha", "xi"};
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(t, n, 3u, names, &err));
+    for (size_t i = 0; i < n; ++i)
+    {
+        t->data[i] = (double)i * run->dt;
+        t->data[n + i] = y.y[i];
+        t->data[2u * n + i] = y.y[y.n_samples + i];
+    }
+    aenl_sim_result_free(&y);
+}
+
 /* The simulations' measurement noise is what the record's high-frequency scale has beyond the
  * baseline's own response; the reference is the noise actually added. The 2-DOF null case's gust
  * record sampled 5 times a pitch period, where the response's own third differences are large:
@@ -410,21 +432,9 @@ static void test_noise_beyond_the_baseline(void)
     TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
     const size_t n = 4000u;
     aenl_sim_run_t run = c.base_run;
-    run.snr = 0.0;
     run.dt = 2.0 * PI / 5.0; /* the pitch frequency is 1 in the model's time unit */
-    run.duration = (double)(n - 1u) * run.dt;
-    aenl_sim_result_t y;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&c.base, &run, &y, &err), err.msg);
-    TEST_ASSERT_TRUE(y.n_samples >= n);
-    const char *names[] = {"t", "alpha", "xi"};
     aenl_table_t t;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n, 3u, names, &err));
-    for (size_t i = 0; i < n; ++i)
-    {
-        t.data[i] = (double)i * run.dt;
-        t.data[n + i] = y.y[i];
-        t.data[2u * n + i] = y.y[y.n_samples + i];
-    }
+    a2_record(&c.base, &run, n, &t);
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
     o.summary_records = 0;
@@ -458,7 +468,6 @@ static void test_noise_beyond_the_baseline(void)
     TEST_ASSERT_DOUBLE_WITHIN(0.1 * sigma, sigma, r.chan[0].noise_sd);
     aenl_diagnose_result_free(&r);
     aenl_table_free(&t);
-    aenl_sim_result_free(&y);
 }
 
 /* A noise-free free decay against the model that made it: every run of the baseline is alike
@@ -472,25 +481,12 @@ static void test_exact_baseline_agrees(void)
     aenl_diagnose_case_t c;
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
     TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
-    const size_t n = 3000u;
     aenl_sim_run_t run = c.base_run;
-    run.snr = 0.0;
     run.turb_intensity = 0.0;
-    run.duration = (double)(n - 1u) * run.dt;
     aenl_sim_model_t m = c.base;
     m.x0[AENL_SIM_DOF_PITCH] = 0.02;
-    aenl_sim_result_t y;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &y, &err), err.msg);
-    TEST_ASSERT_TRUE(y.n_samples >= n);
-    const char *names[] = {"t", "alpha", "xi"};
     aenl_table_t t;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n, 3u, names, &err));
-    for (size_t i = 0; i < n; ++i)
-    {
-        t.data[i] = (double)i * run.dt;
-        t.data[n + i] = y.y[i];
-        t.data[2u * n + i] = y.y[y.n_samples + i];
-    }
+    a2_record(&m, &run, 3000u, &t);
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
     o.n_replicates = 2;
@@ -514,7 +510,6 @@ static void test_exact_baseline_agrees(void)
     TEST_ASSERT_TRUE(aenl_diagnose_baseline_agrees(&r) != 1);
     aenl_diagnose_result_free(&r);
     aenl_table_free(&t);
-    aenl_sim_result_free(&y);
 }
 
 static void test_bound_tells_ridge_from_determined(void)
