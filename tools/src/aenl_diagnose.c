@@ -1322,6 +1322,8 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         }
         else
         {
+            /* beyond the floor and nothing takes 30 % off: unexplained; within it (named only
+             * on the summaries' word): none stands */
             r->explained = sig_total <= opts->none_ratio;
         }
     }

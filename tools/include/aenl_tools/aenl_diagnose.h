@@ -124,8 +124,9 @@ typedef struct aenl_diagnose_dis
 typedef struct aenl_diagnose_chan
 {
     double scale;        /**< std of the measured channel */
-    double noise_sd;     /**< measurement-noise std: what the record's high-frequency scale
-                              has beyond the baseline's own response (aenl_diagnose_run) */
+    double noise_sd;     /**< measurement-noise std: noise_record, or what the record's third
+                              differences have beyond the baseline's own response where that is
+                              less (aenl_diagnose_run) */
     double noise_record; /**< the record's high-frequency scale (third differences): its
                               noise std if the response itself is smooth there */
     double mean;         /**< mean of the pre-filtered measured channel */
