@@ -144,6 +144,15 @@ static void test_chan_setup_noise_and_period(void)
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &b, NULL, &err));
     TEST_ASSERT_FALSE(b.valid);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 10.0, aenl_diagnose_distance(&c, &a, &b, fam));
+    /* A simulated record at rest (a model without noise that never moves): invalid, not an
+     * error (its curves cannot be formed; the LCO bench's noise-free cases 122 and 213 failed
+     * on one). */
+    for (size_t i = 0; i < n; ++i)
+    {
+        x[i] = 0.0;
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_signature(x, n, &c, &b, NULL, &err));
+    TEST_ASSERT_FALSE(b.valid);
     free(x);
 }
 

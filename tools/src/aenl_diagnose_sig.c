@@ -450,6 +450,19 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
             return AENL_OK; /* diverged: valid = 0 */
         }
     }
+    /* A simulated record that never moves (a model at rest, simulated without noise: the
+     * simulations of a noise-free record get none) has no conditional curves; like a diverged
+     * one it is no match for the record, which moves (aenl_diagnose_chan_setup rejects a
+     * constant one). */
+    int moves = 0;
+    for (size_t i = 1; i < n && !moves; ++i)
+    {
+        moves = fabs(x[i] - x[0]) > 0.0;
+    }
+    if (!moves)
+    {
+        return AENL_OK; /* valid = 0 */
+    }
     if (n <= c->settle + 64u || n - c->settle < c->seg)
     {
         aenl_err_set(err, "record of %zu samples is shorter than the signature needs", n);

@@ -143,7 +143,8 @@ typedef struct aenl_diagnose_chan
 /** Signature of one channel of one record. */
 typedef struct aenl_diagnose_sig
 {
-    int valid; /**< 0: the record diverged or was not finite (every difference capped) */
+    int valid; /**< 0: the record diverged, was not finite or never moved (every difference
+                    capped) */
     double quant[AENL_DIAGNOSE_N_QUANT];
     double env[AENL_DIAGNOSE_N_ENV];
     double mean[AENL_DIAGNOSE_N_CURVE]; /**< [dir: rising, falling][lag][node], NaN empty */
@@ -292,7 +293,7 @@ aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_
 
 /**
  * @brief Signature of x[0..n-1] under the settings c; psd (NULL or seg/2+1 values) receives
- *        the Welch PSD. A non-finite or diverged record gives valid = 0.
+ *        the Welch PSD. A non-finite, diverged or constant record gives valid = 0.
  */
 aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diagnose_chan_t *c,
                                       aenl_diagnose_sig_t *s, double *psd, aenl_err_t *err);
