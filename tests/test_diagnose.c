@@ -521,6 +521,77 @@ static void test_exact_baseline_agrees(void)
     aenl_table_free(&t);
 }
 
+/* The same linear gust record made twice: once driven by the model's own turbulence (the seed
+ * of its INI, as a record whose gusts were measured), once by turbulence the model does not
+ * know. The floor of runs that differ in their noise alone is well below that of runs with other
+ * turbulence; the first record is read as following the model's excitation and the candidates
+ * are scored in units of that floor, the second keeps the floor of other turbulence. Neither
+ * names an effect. */
+static void test_excitation_shared_or_not(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
+    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    const size_t n = 4000u;
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    o.summary_records = 0;
+    o.n_replicates = 2;
+    o.n_refine = 0;
+    for (int other = 0; other <= 1; ++other)
+    {
+        aenl_sim_run_t run = c.base_run;
+        run.turb_seed += other ? 123457u : 0u;
+        aenl_table_t t;
+        a2_record(&c.base, &run, n, &t);
+        aenl_rng_t g;
+        aenl_rng_seed(&g, 7u);
+        for (size_t k = 1; k <= 2u; ++k)
+        {
+            double m = 0.0, v = 0.0;
+            for (size_t i = 0; i < n; ++i)
+            {
+                m += t.data[k * n + i] / (double)n;
+            }
+            for (size_t i = 0; i < n; ++i)
+            {
+                v += (t.data[k * n + i] - m) * (t.data[k * n + i] - m) / (double)n;
+            }
+            for (size_t i = 0; i < n; ++i)
+            {
+                t.data[k * n + i] += 0.1 * sqrt(v) * aenl_rng_gauss(&g); /* SNR 10 */
+            }
+        }
+        aenl_diagnose_result_t r;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(
+            AENL_OK, aenl_diagnose_run(&t, &c.base, &c.base_run, &o, &r, &err), err.msg);
+        aenl_table_free(&t);
+        const size_t nc = r.n_channels;
+        printf("%s turbulence: gap %.3g, floor %.3g, floor of the noise alone %.3g, shared %d, "
+               "common floor %.3g, named %s\n",
+               other ? "other" : "the model's own", r.gap_before[nc], r.floor_before[nc],
+               r.floor_same, r.excitation_shared, r.common_floor,
+               aenl_diagnose_effect_name(r.effect));
+        TEST_ASSERT_TRUE(r.floor_same > 0.0 && r.floor_same < 0.5 * r.floor_before[nc]);
+        TEST_ASSERT_EQUAL_INT(!other, r.excitation_shared);
+        if (other)
+        {
+            TEST_ASSERT_TRUE(r.common_floor >= r.floor_before[nc]);
+            TEST_ASSERT_EQUAL_DOUBLE(r.floor_before[nc], r.base_floor);
+        }
+        else
+        {
+            TEST_ASSERT_EQUAL_DOUBLE(r.floor_same, r.common_floor);
+            TEST_ASSERT_TRUE(r.base_floor > 0.0 && r.base_floor <= r.floor_same);
+        }
+        TEST_ASSERT_TRUE(r.gap_before[nc] <= 2.0 * r.base_floor);
+        TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, r.effect);
+        aenl_diagnose_result_free(&r);
+    }
+}
+
 static void test_bound_tells_ridge_from_determined(void)
 {
     aenl_err_t err;
@@ -626,6 +697,7 @@ int main(void)
     RUN_TEST(test_chan_setup_rejects);
     RUN_TEST(test_noise_beyond_the_baseline);
     RUN_TEST(test_exact_baseline_agrees);
+    RUN_TEST(test_excitation_shared_or_not);
     RUN_TEST(test_run_rejects_wrong_step_and_channels);
     RUN_TEST(test_hidden_freeplay_airfoil2dof);
     RUN_TEST(test_hidden_freeplay_other_simulator);

@@ -563,6 +563,15 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     }
     fprintf(fp, "\ncandidates (calibrated by simulation; score = (gap / common floor)^2 + "
                 "penalty x parameters):\n");
+    if (r->excitation_shared)
+    {
+        fprintf(fp,
+                "  the record follows the model's own turbulence: its best gap is nearer, in "
+                "ratio, to the floor of runs that differ in their noise alone than to that of "
+                "runs with other turbulence (baseline's %.3g); the common floor is the former, "
+                "%.3g\n",
+                r->floor_before[nc], r->common_floor);
+    }
     for (size_t i = 0; i < r->n_cand; ++i)
     {
         const aenl_diagnose_cand_t *c = &r->cand[i];
@@ -588,7 +597,7 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
             fprintf(fp,
                     "\n  named although the baseline's gap is within %.3g x its noise floor: the "
                     "summaries of %u simulated records of the baseline reject it (p %.3f)",
-                    r->gap_before[nc] / fmax(r->floor_before[nc], AENL_DIAGNOSE_MIN_FLOOR),
+                    r->gap_before[nc] / fmax(r->base_floor, AENL_DIAGNOSE_MIN_FLOOR),
                     r->base_test.n_rep, r->base_test.p);
         }
         if (r->summary_rejected)
@@ -607,7 +616,7 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     else
     {
         fprintf(fp, " (the baseline agrees within %.3g x its noise floor)",
-                r->gap_before[nc] / fmax(r->floor_before[nc], AENL_DIAGNOSE_MIN_FLOOR));
+                r->gap_before[nc] / fmax(r->base_floor, AENL_DIAGNOSE_MIN_FLOOR));
         const int agrees = aenl_diagnose_baseline_agrees(r);
         if (r->base_exact)
         {

@@ -191,7 +191,19 @@ typedef struct aenl_diagnose_result
      *  turbulence, a noise-free record) and reproduce the record within twice the least floor;
      *  it agrees, nothing random is left to rank. */
     int base_exact;
-    double common_floor;        /**< floor the candidates' scores are in units of (their largest) */
+    double common_floor; /**< floor the candidates' scores are in units of (their largest):
+                              floor_same when excitation_shared */
+    double floor_same;   /**< the largest floor of runs that share the main run's excitation and
+                              differ in their noise only (baseline's and the best candidates') */
+    /** 1: the record follows the main run's excitation (a known input, or a simulation with the
+     *  model's turbulence seed): the best gap is nearer, in ratio, to floor_same than to the
+     *  floor of independent excitations, or more than none_ratio below the latter; the scores
+     *  are then in units of floor_same. */
+    int excitation_shared;
+    /** The baseline's floor in the scale the record follows: floor_before[total], or the floor
+     *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
+     *  an effect. */
+    double base_floor;
     aenl_sim_model_t updated;   /**< baseline plus the named effect */
     aenl_sim_run_t run;         /**< conditions of the comparison (no noise) */
     double snr[AENL_SIM_MAX_Q]; /**< measured std / noise std per channel (for the INI) */
