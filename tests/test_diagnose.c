@@ -404,6 +404,15 @@ static void test_hidden_softening_quintic(void)
     aenl_eval_case_free(&c);
 }
 
+/* The representative 2-DOF null case (a linear gust record) of aenl_diagnose_case_make. */
+static void a2_none(aenl_diagnose_case_t *c)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, c, &err));
+    TEST_ASSERT_EQUAL_STRING("a2_none", c->name);
+}
+
 /* A noise-free record of the 2-DOF null case's model m (its pitch and plunge) under run, n
  * samples (run's duration set), into t; the caller frees t. */
 static void a2_record(const aenl_sim_model_t *m, aenl_sim_run_t *run, size_t n, aenl_table_t *t)
@@ -437,8 +446,7 @@ static void test_noise_beyond_the_baseline(void)
     aenl_err_t err;
     aenl_err_clear(&err);
     aenl_diagnose_case_t c;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
-    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    a2_none(&c);
     const size_t n = 4000u;
     aenl_sim_run_t run = c.base_run;
     run.dt = 2.0 * PI / 5.0; /* the pitch frequency is 1 in the model's time unit */
@@ -488,8 +496,7 @@ static void test_exact_baseline_agrees(void)
     aenl_err_t err;
     aenl_err_clear(&err);
     aenl_diagnose_case_t c;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
-    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    a2_none(&c);
     aenl_sim_run_t run = c.base_run;
     run.turb_intensity = 0.0;
     aenl_sim_model_t m = c.base;
@@ -522,7 +529,7 @@ static void test_exact_baseline_agrees(void)
 }
 
 /* The same linear gust record made twice: once driven by the model's own turbulence (the seed
- * of its INI, as a record whose gusts were measured), once by turbulence the model does not
+ * of its INI, as a record simulated from it), once by turbulence the model does not
  * know. The floor of runs that differ in their noise alone is well below that of runs with other
  * turbulence; the first record is read as following the model's excitation and the candidates
  * are scored in units of that floor, the second keeps the floor of other turbulence. Neither
@@ -532,8 +539,7 @@ static void test_excitation_shared_or_not(void)
     aenl_err_t err;
     aenl_err_clear(&err);
     aenl_diagnose_case_t c;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_diagnose_case_make(4, TRUTH_SEED, 0, &c, &err));
-    TEST_ASSERT_EQUAL_STRING("a2_none", c.name);
+    a2_none(&c);
     const size_t n = 4000u;
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
