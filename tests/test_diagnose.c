@@ -17,6 +17,7 @@
 #include "aenl_tools/aenl_diagnose.h"
 #include "aenl_tools/aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
+#include "aenl_diagnose_internal.h"
 #include "unity.h"
 
 #define PI 3.14159265358979323846
@@ -30,6 +31,63 @@ void setUp(void)
 
 void tearDown(void)
 {
+}
+
+/* Mean over `trials` sets of n_run runs of M independent N(0,1) elements of the pair statistic
+ * g^2 = sum of the M squared differences: rel_var's estimate of 2 / M (the relative variance of
+ * chi-square with M degrees of freedom), the reference. */
+static double mean_rel_var(size_t m, size_t n_run, unsigned trials, aenl_rng_t *g)
+{
+    double x[6][200];
+    double acc = 0.0;
+    for (unsigned t = 0; t < trials; ++t)
+    {
+        for (size_t i = 0; i < n_run; ++i)
+        {
+            for (size_t k = 0; k < m; ++k)
+            {
+                x[i][k] = aenl_rng_gauss(g);
+            }
+        }
+        double s2 = 0.0, s4 = 0.0;
+        size_t n_pair = 0;
+        for (size_t i = 0; i < n_run; ++i)
+        {
+            for (size_t j = i + 1u; j < n_run; ++j)
+            {
+                double q = 0.0;
+                for (size_t k = 0; k < m; ++k)
+                {
+                    q += (x[i][k] - x[j][k]) * (x[i][k] - x[j][k]);
+                }
+                s2 += q;
+                s4 += q * q;
+                n_pair++;
+            }
+        }
+        acc += aenl_diagnose_rel_var(s2, s4, n_pair, n_run);
+    }
+    return acc / (double)trials;
+}
+
+/* The relative variance of the replicate pairs' squared gaps, which sets the scores' chi-square
+ * units, against chi-square's 2 / M: the pairs of 4 and of 6 runs share runs (correlation 1/4),
+ * and uncorrected their spread would be 20 % (4 runs) and 14 % (6 runs) short. */
+static void test_rel_var_is_chi_square(void)
+{
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 11u);
+    const double r4 = mean_rel_var(200u, 4u, 4000u, &g) / (2.0 / 200.0);
+    const double r6 = mean_rel_var(200u, 6u, 2000u, &g) / (2.0 / 200.0);
+    const double r4_small = mean_rel_var(20u, 4u, 4000u, &g) / (2.0 / 20.0);
+    printf("rel_var / (2/M): M 200, 4 runs %.3f; 6 runs %.3f; M 20, 4 runs %.3f\n", r4, r6,
+           r4_small);
+    TEST_ASSERT_DOUBLE_WITHIN(0.06, 1.0, r4);
+    TEST_ASSERT_DOUBLE_WITHIN(0.06, 1.0, r6);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15, 1.0, r4_small);
+    /* nothing to measure: one pair, or every run alike */
+    TEST_ASSERT_TRUE(isnan(aenl_diagnose_rel_var(1.0, 1.0, 1u, 2u)));
+    TEST_ASSERT_TRUE(isnan(aenl_diagnose_rel_var(0.0, 0.0, 6u, 4u)));
 }
 
 static void test_welch_peak_at_sinusoid(void)
@@ -698,6 +756,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_welch_peak_at_sinusoid);
+    RUN_TEST(test_rel_var_is_chi_square);
     RUN_TEST(test_peak_freq_matches_brute_force);
     RUN_TEST(test_chan_setup_noise_and_period);
     RUN_TEST(test_chan_setup_rejects);

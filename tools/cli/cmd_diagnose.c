@@ -45,7 +45,7 @@ static void help(void)
         "                 \"updated_model\"} instead of the report (updated_model: the INI path\n"
         "                 with --out, else null)\n"
         "--replicates N   runs per noise-floor estimate besides the main one (default 3)\n"
-        "--penalty P      choice penalty per parameter in (gap/floor)^2 units (default 0.5)\n"
+        "--penalty P      choice penalty per parameter in chi-square units (default 2, AIC)\n"
         "--seed S         seed of the simulated measurement noise (default 1)\n"
         "--refine K       candidates refined by Nelder-Mead after the grid (default 4)\n"
         "--max-evals M    Nelder-Mead simulations per refined candidate (default 40)\n"

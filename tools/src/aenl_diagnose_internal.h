@@ -30,6 +30,16 @@ double aenl_diagnose_element(const aenl_diagnose_chan_t *c, const aenl_diagnose_
 /** Number of elements of family f. */
 size_t aenl_diagnose_n_elements(const aenl_diagnose_chan_t *c, aenl_diagnose_family_t f);
 
+/** Relative variance of the squared gaps of the pairs of n_run runs, from their sums s2 (of g^2)
+ *  and s4 (of g^4) over n_pair pairs: the dispersion that sets the effective number of
+ *  independent elements of a gap (for a sum of M squared normal differences, g^2 is chi-square
+ *  with M degrees of freedom in units of its mean, relative variance 2 / M). Pairs that share a
+ *  run are correlated (1/4 for such sums), so the spread between all n_run (n_run - 1) / 2 pairs
+ *  falls short of the marginal one by their mean correlation; that is corrected (not when some
+ *  pairs are missing: n_pair smaller). NAN with fewer than two pairs or no spread to measure
+ *  (every run alike). */
+double aenl_diagnose_rel_var(double s2, double s4, size_t n_pair, size_t n_run);
+
 /** Output channel names of a model type ("alpha","xi" or "h","alpha","beta"); count in *n. */
 const char *const *aenl_diagnose_channel_names(aenl_sim_type_t type, size_t *n);
 

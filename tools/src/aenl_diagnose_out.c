@@ -561,8 +561,10 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
         }
         fprintf(fp, "\n");
     }
-    fprintf(fp, "\ncandidates (calibrated by simulation; score = (gap / common floor)^2 + "
-                "penalty x parameters):\n");
+    fprintf(fp,
+            "\ncandidates (calibrated by simulation; score = M (gap / common floor)^2 + penalty "
+            "x parameters, M = %.4g from the replicates' spread):\n",
+            r->m_eff);
     if (r->excitation_shared)
     {
         fprintf(fp,

@@ -85,7 +85,7 @@ typedef struct
 
 static void model_weights(const aenl_diagnose_result_t *d, weights_t *w)
 {
-    const double g0 = d->gap_before[d->n_channels] / d->common_floor, s_base = g0 * g0;
+    const double g0 = d->gap_before[d->n_channels] / d->common_floor, s_base = d->m_eff * g0 * g0;
     double s0 = s_base;
     for (size_t i = 0; i < d->n_cand; ++i)
     {

@@ -27,8 +27,9 @@
  *     calibrated by a coarse grid,
  *     then Nelder-Mead on the total gap squared. Choice: "none" when the baseline gap is within
  *     `none_ratio` times its floor (unless the summaries reject the baseline); otherwise the
- *     least (gap / floor)^2 + penalty * n_params - 2 ln(share of the candidate's runs that
- *     stayed bounded: the record did).
+ *     least M (gap / floor)^2 + penalty * n_params - 2 ln(share of the candidate's runs that
+ *     stayed bounded: the record did), a chi-square-like score: M = 2 / the relative variance
+ *     of the replicate pairs' squared gaps, the gap's effective number of elements.
  *
  * Memory: the result owns heap arrays released by aenl_diagnose_result_free(). No global state;
  * re-entrant. Cost: a few hundred simulations of the record (see the README for timings).
@@ -82,7 +83,7 @@ typedef enum aenl_diagnose_family
 typedef struct aenl_diagnose_opts
 {
     unsigned n_replicates; /**< replicates per noise-floor estimate, >= 2 (default 3) */
-    double penalty;        /**< choice penalty per parameter, in (gap/floor)^2 units (0.5) */
+    double penalty;        /**< choice penalty per parameter, in chi-square units (2: AIC) */
     double none_ratio;     /**< baseline gap / floor at or below which "none" is named (2) */
     double report_ratio;   /**< a (channel, family) is reported when its gap / floor > this (3) */
     unsigned n_refine;     /**< candidates refined by Nelder-Mead after the grid (4) */
@@ -105,8 +106,9 @@ typedef struct aenl_diagnose_cand
     double floor;       /**< its replicate floor (0 when not computed: not among the best) */
     double bounded;     /**< share of its runs (main seeds and replicates) that stayed bounded
                              under the record's conditions (1 when its floor was not computed) */
-    double score;       /**< (gap / common floor)^2 + penalty * n_params - 2 ln bounded (the
-                             log-likelihood of a record that stayed bounded); HUGE_VAL unscored */
+    double score;       /**< m_eff (gap / common floor)^2 + penalty * n_params - 2 ln bounded
+                             (the log-likelihood of a record that stayed bounded); HUGE_VAL
+                             unscored */
     unsigned n_evals;   /**< simulations spent */
     int refined;        /**< 1 when Nelder-Mead ran */
 } aenl_diagnose_cand_t;
@@ -200,6 +202,11 @@ typedef struct aenl_diagnose_result
      *  floor of independent excitations, or more than none_ratio below the latter; the scores
      *  are then in units of floor_same. */
     int excitation_shared;
+    /** Effective number of independent elements of the gap, 2 / the relative variance of the
+     *  squared gaps of replicate pairs (pooled over the baseline's and the best candidates'
+     *  floors in the scale the record follows; 1 when every run is alike): the scores are
+     *  m_eff (gap / common_floor)^2 + penalty per parameter, in chi-square units. */
+    double m_eff;
     /** The baseline's floor in the scale the record follows: floor_before[total], or the floor
      *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
      *  an effect. */
