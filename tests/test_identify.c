@@ -349,7 +349,8 @@ static aenl_diagnose_result_t *diagnosis(void)
     d->updated.type = AENL_SIM_SECTION3DOF;
     d->explained = 1;
     d->common_floor = 0.5;
-    d->gap_before[3] = 5.0; /* (5 / 0.5)^2 = 100 */
+    d->m_eff = 1.0;
+    d->gap_before[3] = 5.0; /* 1 x (5 / 0.5)^2 = 100 */
     d->gap_after[3] = 0.6;
     const aenl_diagnose_effect_t eff[3] = {AENL_DIAGNOSE_HYSTERESIS, AENL_DIAGNOSE_FREEPLAY,
                                            AENL_DIAGNOSE_POLYNOMIAL};
