@@ -1057,8 +1057,9 @@ static double chi2_quantile_999(double k)
  * width is 0.1 % off. A fit that cannot run (an unusable record) keeps the gap's estimate and
  * reports the errors as not determined. */
 static aenl_status_t fit_summaries(ctx_t *x, const aenl_diagnose_opts_t *opts,
-                                   aenl_diagnose_result_t *r, aenl_err_t *err)
+                                   aenl_diagnose_result_t *r, int *moved, aenl_err_t *err)
 {
+    *moved = 0;
     double noise[N_CH_MAX];
     for (size_t c = 0; c < x->n_ch; ++c)
     {
@@ -1098,6 +1099,7 @@ static aenl_status_t fit_summaries(ctx_t *x, const aenl_diagnose_opts_t *opts,
         else
         {
             r->updated.law[r->dof] = f.law;
+            *moved = 1;
         }
     }
     progress(x, "summary fit of %s %s: chi2 %.4g", aenl_diagnose_effect_name(r->effect),
@@ -1345,6 +1347,8 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     }
     order_by_best(sp, n_sp, order);
     double common = r->floor_before[n_ch], common_same = fl_base.same;
+    floor_t fl_cand[N_FLOOR_CAND]; /* the contenders' floors, kept for the named one's after */
+    memset(fl_cand, 0, sizeof(fl_cand));
     double rv[2] = {fl_base.rv, fl_base.rv_same};
     size_t n_rv[2] = {isfinite(rv[0]) ? 1u : 0u, isfinite(rv[1]) ? 1u : 0u};
     rv[0] = n_rv[0] > 0u ? rv[0] : 0.0;
@@ -1365,7 +1369,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         cd->bounded = 1.0;
         if (i < N_FLOOR_CAND && st == AENL_OK)
         {
-            floor_t fl_c;
+            floor_t *const fl_c = &fl_cand[i];
             aenl_sim_model_t m = *base;
             m.law[s->dof] = cd->law;
             aenl_diagnose_sig_t *ms = malloc(n_ch * sizeof(*ms));
@@ -1377,14 +1381,14 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             st = sim_sig(&x, &m, 0, ms, NULL, NULL, err);
             if (st == AENL_OK)
             {
-                st = floor_of(&x, &m, ms, opts->n_replicates, &fl_c, NULL, err);
+                st = floor_of(&x, &m, ms, opts->n_replicates, fl_c, NULL, err);
             }
             free(ms);
-            cd->floor = st == AENL_OK ? fl_c.ch[n_ch] : 0.0;
-            cd->bounded = st == AENL_OK ? fl_c.bounded : 1.0;
+            cd->floor = st == AENL_OK ? fl_c->ch[n_ch] : 0.0;
+            cd->bounded = st == AENL_OK ? fl_c->bounded : 1.0;
             common = fmax(common, cd->floor);
-            common_same = st == AENL_OK ? fmax(common_same, fl_c.same) : common_same;
-            const double rv_c[2] = {fl_c.rv, fl_c.rv_same};
+            common_same = st == AENL_OK ? fmax(common_same, fl_c->same) : common_same;
+            const double rv_c[2] = {fl_c->rv, fl_c->rv_same};
             for (int k = 0; k < 2 && st == AENL_OK; ++k)
             {
                 rv[k] += isfinite(rv_c[k]) ? rv_c[k] : 0.0;
@@ -1456,6 +1460,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     r->dof = AENL_SIM_DOF_PITCH;
     r->updated = *base;
     int name_one = sig_total > opts->none_ratio;
+    int moved = 0; /* the summary fit moved the named law from the one whose floor it has */
     if (!name_one && opts->summary_records > 0u)
     {
         st = test_baseline(&x, base, opts, r, err);
@@ -1479,7 +1484,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             r->updated.law[r->dof] = r->cand[best].law; /* its gap: gap_after, below */
             if (opts->summary_records > 0u)
             {
-                st = fit_summaries(&x, opts, r, err);
+                st = fit_summaries(&x, opts, r, &moved, err);
                 if (st != AENL_OK)
                 {
                     return st;
@@ -1505,10 +1510,15 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     {
         r->cand[r->chosen].gap = r->gap_after[n_ch]; /* its final law */
     }
-    /* The named candidate may have moved since its floor (the summary fit): its own floor again. */
+    /* The named candidate's floor: as measured among the contenders, unless the summary fit has
+     * moved its law (or it was not among them): then its own floor again. */
     const floor_t *fl_after = &fl_base;
     floor_t fl_extra;
-    if (r->chosen < n_sp)
+    if (r->chosen < N_FLOOR_CAND && !moved)
+    {
+        fl_after = &fl_cand[r->chosen];
+    }
+    else if (r->chosen < n_sp)
     {
         st = floor_of(&x, &r->updated, r->sig_upd, opts->n_replicates, &fl_extra, NULL, err);
         if (st != AENL_OK)
