@@ -275,6 +275,18 @@ double aenl_diagnose_rel_var(double s2, double s4, size_t n_pair, size_t n_run)
     return v / (1.0 - rho) / (m * m);
 }
 
+/* Adds a floor's determined relative variances to the sums rv (and counts n) of the two scales:
+ * [0] other excitation, [1] the noise alone. */
+static void pool_rv(const floor_t *fl, double rv[2], size_t n[2])
+{
+    const double v[2] = {fl->rv, fl->rv_same};
+    for (int k = 0; k < 2; ++k)
+    {
+        rv[k] += isfinite(v[k]) ? v[k] : 0.0;
+        n[k] += isfinite(v[k]) ? 1u : 0u;
+    }
+}
+
 /* 1 when every channel of a run's signatures is valid (the run did not diverge). */
 static int run_bounded(const aenl_diagnose_sig_t *sig, size_t n_ch)
 {
@@ -1349,10 +1361,9 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     double common = r->floor_before[n_ch], common_same = fl_base.same;
     floor_t fl_cand[N_FLOOR_CAND]; /* the contenders' floors, kept for the named one's after */
     memset(fl_cand, 0, sizeof(fl_cand));
-    double rv[2] = {fl_base.rv, fl_base.rv_same};
-    size_t n_rv[2] = {isfinite(rv[0]) ? 1u : 0u, isfinite(rv[1]) ? 1u : 0u};
-    rv[0] = n_rv[0] > 0u ? rv[0] : 0.0;
-    rv[1] = n_rv[1] > 0u ? rv[1] : 0.0;
+    double rv[2] = {0.0, 0.0};
+    size_t n_rv[2] = {0, 0};
+    pool_rv(&fl_base, rv, n_rv);
     r->n_cand = n_sp;
     for (size_t i = 0; i < n_sp; ++i)
     {
@@ -1388,11 +1399,9 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             cd->bounded = st == AENL_OK ? fl_c->bounded : 1.0;
             common = fmax(common, cd->floor);
             common_same = st == AENL_OK ? fmax(common_same, fl_c->same) : common_same;
-            const double rv_c[2] = {fl_c->rv, fl_c->rv_same};
-            for (int k = 0; k < 2 && st == AENL_OK; ++k)
+            if (st == AENL_OK)
             {
-                rv[k] += isfinite(rv_c[k]) ? rv_c[k] : 0.0;
-                n_rv[k] += isfinite(rv_c[k]) ? 1u : 0u;
+                pool_rv(fl_c, rv, n_rv);
             }
         }
     }
