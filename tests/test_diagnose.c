@@ -755,7 +755,7 @@ static void test_summary_test_size_and_power(void)
 /* Part 1 or 2 (argument; none: both), so that ctest runs the two halves side by side. */
 int main(int argc, char **argv)
 {
-    const int part = argc > 1 ? atoi(argv[1]) : 0;
+    const long part = argc > 1 ? strtol(argv[1], NULL, 10) : 0;
     UNITY_BEGIN();
     if (part != 2)
     {
