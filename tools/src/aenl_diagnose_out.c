@@ -563,8 +563,9 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
     }
     fprintf(fp,
             "\ncandidates (calibrated by simulation; score = M (gap / common floor)^2 + penalty "
-            "x parameters, M = %.4g from the replicates' spread):\n",
-            r->m_eff);
+            "x parameters, M = %.4g: from the replicates' spread, over the best fit's "
+            "dispersion %.3g):\n",
+            r->m_eff, r->dispersion);
     if (r->excitation_shared)
     {
         fprintf(fp,

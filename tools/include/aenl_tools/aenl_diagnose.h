@@ -205,8 +205,13 @@ typedef struct aenl_diagnose_result
     /** Effective number of independent elements of the gap, 2 / the relative variance of the
      *  squared gaps of replicate pairs (pooled over the baseline's and the best candidates'
      *  floors in the scale the record follows; 1 when every run is alike): the scores are
-     *  m_eff (gap / common_floor)^2 + penalty per parameter, in chi-square units. */
+     *  m_eff (gap / common_floor)^2 + penalty per parameter, in chi-square units. Divided by
+     *  the dispersion (below). */
     double m_eff;
+    /** The best law's (gap / common_floor)^2 when above 1, else 1: how far even the best misses
+     *  the record beyond its floor (quasi-likelihood: the chi-square of the scores is divided by
+     *  it). */
+    double dispersion;
     /** The baseline's floor in the scale the record follows: floor_before[total], or the floor
      *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
      *  an effect. */
