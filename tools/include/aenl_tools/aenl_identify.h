@@ -78,6 +78,9 @@ typedef struct aenl_identify_opts
 
 /** Paper-style display curves of one channel: lags 1, 10, 30 (clipped to the record). */
 #define AENL_IDENTIFY_DISPLAY_LAGS 3
+/** Most diagnoses aenl_identify_model_test runs: the first effect, a second on top of it, and two
+ *  backfitting passes of two refits each. */
+#define AENL_IDENTIFY_MAX_DIAGNOSES 6
 
 /** Result for one channel. */
 typedef struct aenl_identify_channel
@@ -130,7 +133,7 @@ typedef struct aenl_identify_model
                                          test (aenl_diagnose_summary_test) -1 not run, 0 rejects
                                          it (the record's verdict stands), 1 accepts it (linear) */
     aenl_diagnose_sumtest_t base_sum; /**<   that test (base_test >= 0) */
-    unsigned n_diagnoses;             /**< diagnoses run by aenl_identify_model_test (1..4) */
+    unsigned n_diagnoses;             /**< diagnoses run by aenl_identify_model_test (1..6) */
     long data_verdict;                /**< the record alone: channel named (-1 none), */
     aenl_class_t data_class;          /**<   class */
     double data_confidence;           /**<   and confidence */
