@@ -249,7 +249,7 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
      * law's class, for then d[2] was fitted against a law no longer in the model. Found on the
      * two-freeplay example once the hysteresis could start at the paper's loop: d[1] named a
      * pitch hysteresis that fitted 2 % better than the freeplay, d[2] fitted the flap gap
-     * against it (edges 7 and 20 % of the width off), and d[3] named the pitch a freeplay,
+     * against it (edges 3 and 10 % of the width off), and d[3] named the pitch a freeplay,
      * which left the flap's law fitted to a model it was no longer part of. */
     aenl_diagnose_result_t d[AENL_IDENTIFY_MAX_DIAGNOSES];
     memset(d, 0, sizeof(d));
