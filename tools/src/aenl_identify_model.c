@@ -247,7 +247,8 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
      * place: d[2] the first DOF's (the baseline with d[1]'s law), d[3] the second's (the baseline
      * with the first DOF's final law); d[4], d[5] a second pass when d[3] changed the second
      * law's class, for then d[2] was fitted against a law no longer in the model. Found on the
-     * two-freeplay example once the hysteresis could start at the paper's loop: d[1] named a
+     * two-freeplay example once the hysteresis could start at the paper's loop, before the
+     * scores took the dispersion (which now names the freeplay at d[1] there): d[1] named a
      * pitch hysteresis that fitted 2 % better than the freeplay, d[2] fitted the flap gap
      * against it (edges 3 and 10 % of the width off), and d[3] named the pitch a freeplay,
      * which left the flap's law fitted to a model it was no longer part of. */
@@ -270,12 +271,12 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
         aenl_sim_model_t m = *base;
         m.law[other->dof] = other->updated.law[other->dof];
         st = aenl_diagnose_run(record, &m, run, &o, &d[k], err);
-        n_run += st == AENL_OK ? 1u : 0u;
-        first = st == AENL_OK && names_law(&d[k]) && d[k].dof == d[0].dof ? &d[k] : first;
         if (st != AENL_OK)
         {
             break;
         }
+        n_run++;
+        first = names_law(&d[k]) && d[k].dof == d[0].dof ? &d[k] : first;
         m = *base;
         m.law[first->dof] = first->updated.law[first->dof];
         st = aenl_diagnose_run(record, &m, run, &o, &d[k + 1u], err);
