@@ -586,6 +586,63 @@ static void test_exact_baseline_agrees(void)
     aenl_table_free(&t);
 }
 
+/* Where no two runs differ (a noise-free free decay), the scores' degrees of freedom M are
+ * measured over runs given a small nominal noise (0.1 % of each channel's std). The reference: M
+ * as the replicates measure it on the same record with white noise of that size added. Before, M
+ * stood at 1 where the runs were alike, and every difference of the scores shrank with it (the
+ * suite's decay 158). M grows slowly with the noise's size (on this record about 8 at 0.1 %, 11
+ * to 14 at 0.3 to 1 %, 22 at 3 %: more of the signatures' elements are the noise's), so the
+ * reference is at the nominal size. */
+static void test_dof_without_noise(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_diagnose_case_t c;
+    a2_none(&c);
+    aenl_sim_run_t run = c.base_run;
+    run.turb_intensity = 0.0;
+    aenl_sim_model_t m = c.base;
+    m.x0[AENL_SIM_DOF_PITCH] = 0.02;
+    const size_t n = 3000u;
+    aenl_table_t t;
+    a2_record(&m, &run, n, &t);
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    o.summary_records = 0;
+    o.n_replicates = 5;
+    o.n_refine = 0;
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &m, &run, &o, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, r.floor_before[r.n_channels]);
+    const double m_nominal = r.m_eff * r.dispersion;
+    aenl_diagnose_result_free(&r);
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 5u);
+    for (size_t k = 1; k <= 2u; ++k)
+    {
+        double s1 = 0.0, s2 = 0.0;
+        for (size_t i = 0; i < n; ++i)
+        {
+            s1 += t.data[k * n + i];
+            s2 += t.data[k * n + i] * t.data[k * n + i];
+        }
+        const double sd = sqrt(fmax(s2 / (double)n - (s1 / (double)n) * (s1 / (double)n), 0.0));
+        for (size_t i = 0; i < n; ++i)
+        {
+            t.data[k * n + i] += 1e-3 * sd * aenl_rng_gauss(&g);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &m, &run, &o, &r, &err), err.msg);
+    const double m_noisy = r.m_eff * r.dispersion;
+    printf("M of a noise-free decay (nominal noise) %.3g; with 0.1 %% noise %.3g (floor %.3g)\n",
+           m_nominal, m_noisy, r.floor_before[r.n_channels]);
+    TEST_ASSERT_TRUE(r.floor_before[r.n_channels] > 0.0);
+    TEST_ASSERT_TRUE(m_noisy > 2.0);
+    TEST_ASSERT_TRUE(m_nominal > 0.5 * m_noisy && m_nominal < 2.0 * m_noisy);
+    aenl_diagnose_result_free(&r);
+    aenl_table_free(&t);
+}
+
 /* The same linear gust record made twice: once driven by the model's own turbulence (the seed
  * of its INI, as a record simulated from it), once by turbulence the model does not
  * know. The floor of runs that differ in their noise alone is well below that of runs with other
@@ -766,6 +823,7 @@ int main(int argc, char **argv)
         RUN_TEST(test_chan_setup_rejects);
         RUN_TEST(test_noise_beyond_the_baseline);
         RUN_TEST(test_exact_baseline_agrees);
+        RUN_TEST(test_dof_without_noise);
         RUN_TEST(test_excitation_shared_or_not);
         RUN_TEST(test_run_rejects_wrong_step_and_channels);
         RUN_TEST(test_hidden_freeplay_airfoil2dof);

@@ -204,7 +204,8 @@ typedef struct aenl_diagnose_result
     int excitation_shared;
     /** Effective number of independent elements of the gap, 2 / the relative variance of the
      *  squared gaps of replicate pairs (pooled over the baseline's and the best candidates'
-     *  floors in the scale the record follows; 1 when every run is alike): the scores are
+     *  floors in the scale the record follows; where every run is alike, over the baseline's
+     *  runs given a nominal noise of 0.1 % of each channel's std): the scores are
      *  m_eff (gap / common_floor)^2 + penalty per parameter, in chi-square units. Divided by
      *  the dispersion (below). */
     double m_eff;
