@@ -493,6 +493,19 @@ static void a2_record(const aenl_sim_model_t *m, aenl_sim_run_t *run, size_t n, 
     aenl_sim_result_free(&y);
 }
 
+/* A noise-free free decay of the 2-DOF null case's model (no turbulence, pitch released from
+ * 0.02), n samples, into t; the model and run that made it into m and run. */
+static void a2_decay(aenl_sim_model_t *m, aenl_sim_run_t *run, size_t n, aenl_table_t *t)
+{
+    aenl_diagnose_case_t c;
+    a2_none(&c);
+    *run = c.base_run;
+    run->turb_intensity = 0.0;
+    *m = c.base;
+    m->x0[AENL_SIM_DOF_PITCH] = 0.02;
+    a2_record(m, run, n, t);
+}
+
 /* The simulations' measurement noise is what the record's high-frequency scale has beyond the
  * baseline's own response; the reference is the noise actually added. The 2-DOF null case's gust
  * record sampled 5 times a pitch period, where the response's own third differences are large:
@@ -553,14 +566,10 @@ static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
-    aenl_diagnose_case_t c;
-    a2_none(&c);
-    aenl_sim_run_t run = c.base_run;
-    run.turb_intensity = 0.0;
-    aenl_sim_model_t m = c.base;
-    m.x0[AENL_SIM_DOF_PITCH] = 0.02;
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
     aenl_table_t t;
-    a2_record(&m, &run, 3000u, &t);
+    a2_decay(&m, &run, 3000u, &t);
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
     o.n_replicates = 2;
@@ -597,15 +606,11 @@ static void test_dof_without_noise(void)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
-    aenl_diagnose_case_t c;
-    a2_none(&c);
-    aenl_sim_run_t run = c.base_run;
-    run.turb_intensity = 0.0;
-    aenl_sim_model_t m = c.base;
-    m.x0[AENL_SIM_DOF_PITCH] = 0.02;
     const size_t n = 3000u;
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
     aenl_table_t t;
-    a2_record(&m, &run, n, &t);
+    a2_decay(&m, &run, n, &t);
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
     o.summary_records = 0;
