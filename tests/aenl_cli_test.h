@@ -60,9 +60,11 @@ static inline size_t cli_slurp(const char *path, char *buf, size_t cap)
 /* Run AENL_CLI_PATH with argv (NULL-terminated, argv[0] is the subcommand), in dir `cwd`. */
 static inline void cli_run(cli_result_t *r, const char *const *args)
 {
+    /* per process: the parts of a suite run side by side in the same folder */
     char out_path[512], err_path[512];
-    (void)snprintf(out_path, sizeof(out_path), "%s/cli_stdout.txt", AENL_TEST_TMP_DIR);
-    (void)snprintf(err_path, sizeof(err_path), "%s/cli_stderr.txt", AENL_TEST_TMP_DIR);
+    const long self = (long)getpid();
+    (void)snprintf(out_path, sizeof(out_path), "%s/cli_stdout.%ld.txt", AENL_TEST_TMP_DIR, self);
+    (void)snprintf(err_path, sizeof(err_path), "%s/cli_stderr.%ld.txt", AENL_TEST_TMP_DIR, self);
     const char *argv[64];
     size_t n = 0;
     argv[n++] = AENL_CLI_PATH;
@@ -96,6 +98,8 @@ static inline void cli_run(cli_result_t *r, const char *const *args)
     r->status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
     r->n_out = cli_slurp(out_path, r->out, sizeof(r->out));
     cli_slurp(err_path, r->err, sizeof(r->err));
+    (void)unlink(out_path);
+    (void)unlink(err_path);
     r->err_lines = 0;
     for (const char *p = r->err; *p; ++p)
     {
