@@ -260,6 +260,40 @@ static void test_run_rejects_wrong_step_and_channels(void)
     aenl_table_free(&t);
 }
 
+/* The named law against its rival on the summaries (aenl_diagnose_result_t.rival), sought only
+ * where the gap accepts the best law: another effect or DOF the gap's scores could not tell
+ * from the best (within one penalty), and the named one the least chi2 + penalty x
+ * parameters of the two unless the rival's fit was rejected. */
+static void check_rival(const aenl_diagnose_result_t *r, double penalty)
+{
+    if (r->rival >= r->n_cand)
+    {
+        TEST_ASSERT_FALSE(r->by_summaries);
+        return;
+    }
+    TEST_ASSERT_TRUE(r->gap_accepts);
+    const aenl_diagnose_cand_t *c = &r->cand[r->chosen], *v = &r->cand[r->rival];
+    double least = HUGE_VAL;
+    for (size_t i = 0; i < r->n_cand; ++i)
+    {
+        least = fmin(least, r->cand[i].score);
+    }
+    printf("  rival %s %s: score %.4g (named %.4g, least %.4g); summary chi2 %.4g for %zu%s vs "
+           "the named's %.4g%s\n",
+           aenl_diagnose_effect_name(v->effect), aenl_diagnose_dof_name(v->dof), v->score, c->score,
+           least, r->rival_chi2, r->rival_chi2_dof, r->rival_rejected ? " rejected" : "", r->chi2,
+           r->by_summaries ? ", named by the summaries" : "");
+    TEST_ASSERT_TRUE(v->effect != c->effect || v->dof != c->dof);
+    TEST_ASSERT_TRUE(c->score - least < penalty && v->score - least < penalty);
+    TEST_ASSERT_TRUE(r->by_summaries == (c->score > least));
+    if (r->by_summaries || (!r->rival_rejected && isfinite(r->rival_chi2)))
+    {
+        TEST_ASSERT_FALSE(r->summary_rejected);
+        TEST_ASSERT_TRUE(r->rival_rejected ||
+                         r->chi2 + penalty * c->n_params <= r->rival_chi2 + penalty * v->n_params);
+    }
+}
+
 /* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too.
  * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, no
  * event location; Dryden gusts where the baseline assumes first-order ones). */
@@ -331,6 +365,7 @@ static void check_case(const char *name, int other_sim)
             TEST_ASSERT_TRUE_MESSAGE(sd_rel > 0.0 && rel[i] <= 5.0 * sd_rel, name);
         }
         TEST_ASSERT_TRUE_MESSAGE(r.gap_before[nc] >= 5.0 * r.gap_after[nc], name);
+        check_rival(&r, o.penalty);
         TEST_ASSERT_TRUE(r.n_dis >= 1u);
         TEST_ASSERT_TRUE(r.dis[0].significance > o.report_ratio);
     }

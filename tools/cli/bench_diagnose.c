@@ -154,9 +154,18 @@ static void run_case(size_t k, uint64_t seed, const bd_opts_t *bo, tally_t *t)
             snprintf(errs + len, sizeof(errs) - len, "%s%.1f", i ? "/" : "", 100.0 * rel[i]);
         len += w > 0 ? (size_t)w : 0u;
     }
-    char chi[48] = "";
+    char chi[128] = "";
     const int agrees = aenl_diagnose_baseline_agrees(&r);
-    if (r.chi2_dof > 0u)
+    if (r.chi2_dof > 0u && r.rival < r.n_cand)
+    {
+        (void)snprintf(chi, sizeof(chi), "  chi2 %.3g/%zu%s%s; rival %s %s %.3g/%zu%s", r.chi2,
+                       r.chi2_dof, r.summary_rejected ? " rejected" : "",
+                       r.by_summaries ? " (named by the summaries)" : "",
+                       aenl_diagnose_effect_name(r.cand[r.rival].effect),
+                       aenl_diagnose_dof_name(r.cand[r.rival].dof), r.rival_chi2, r.rival_chi2_dof,
+                       r.rival_rejected ? " rejected" : "");
+    }
+    else if (r.chi2_dof > 0u)
     {
         (void)snprintf(chi, sizeof(chi), "  chi2 %.3g/%zu%s", r.chi2, r.chi2_dof,
                        r.summary_rejected ? " rejected" : "");

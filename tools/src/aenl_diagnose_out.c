@@ -595,6 +595,18 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
         fprintf(fp, " in %s: ", aenl_diagnose_dof_name(r->dof));
         print_law(fp, &r->updated.law[r->dof], r->dof);
         print_param_sd(fp, r);
+        if (r->rival < r->n_cand)
+        {
+            const aenl_diagnose_cand_t *v = &r->cand[r->rival];
+            fprintf(fp,
+                    "\n  %s: the gap's scores could not tell it from %s in %s (%.4g vs %.4g, "
+                    "within one parameter's penalty); refitted to the summaries, that one has "
+                    "chi2 %.3g for %zu degrees of freedom%s",
+                    r->by_summaries ? "named by the summaries" : "confirmed by the summaries",
+                    aenl_diagnose_effect_name(v->effect), aenl_diagnose_dof_name(v->dof),
+                    r->cand[r->chosen].score, v->score, r->rival_chi2, r->rival_chi2_dof,
+                    r->rival_rejected ? " (rejected)" : "");
+        }
         if (r->base_test.n_rep > 0u)
         {
             fprintf(fp,

@@ -30,6 +30,10 @@
  *     least M (gap / floor)^2 + penalty * n_params - 2 ln(share of the candidate's runs that
  *     stayed bounded: the record did), a chi-square-like score: M = 2 / the relative variance
  *     of the replicate pairs' squared gaps, the gap's effective number of elements.
+ *     The named effect is refitted to the record's summaries (aenl_diagnose_fit_summaries),
+ *     and, where the gap accepts the best law, so are its rivals, the best of each other effect
+ *     or DOF within penalty of the best score: the least chi2 + penalty * n_params of the fits
+ *     the summaries do not reject is named (moment selection, Andrews & Lu 2001).
  *
  * Memory: the result owns heap arrays released by aenl_diagnose_result_free(). No global state;
  * re-entrant. Cost: a few hundred simulations of the record (see the README for timings).
@@ -213,6 +217,10 @@ typedef struct aenl_diagnose_result
      *  the record beyond its floor (quasi-likelihood: the chi-square of the scores is divided by
      *  it). */
     double dispersion;
+    /** 1: the gap accepts the best law at 0.1 %: M (least gap / common_floor)^2, M before the
+     *  dispersion, within the 99.9 % point of chi-square with M degrees of freedom. Only then
+     *  are the best score's rivals refitted to the summaries (rival). */
+    int gap_accepts;
     /** The baseline's floor in the scale the record follows: floor_before[total], or the floor
      *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
      *  an effect. */
@@ -240,8 +248,19 @@ typedef struct aenl_diagnose_result
     aenl_diagnose_sumtest_t base_test;
     int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
                                model; the gap's fit is kept and n_param_sd is 0 */
-    unsigned n_sims;      /**< simulations run */
-    double seconds;       /**< wall time */
+    /** The named law's rival (summary fit, an effect named, gap_accepts): the least-score
+     *  candidate of another effect or DOF within opts.penalty of the best score that also
+     *  takes 30 % off the baseline's gap; both are refitted to the summaries and the least
+     *  chi2 + penalty x parameters is named (a rejected fit loses to one that is not; either
+     *  fit not run, or both rejected: the best score stands). Index into cand, n_cand when
+     *  there is none. */
+    size_t rival;
+    double rival_chi2; /**< the rival's summary-fit chi2 (NaN: no rival, or its fit did not run) */
+    size_t rival_chi2_dof; /**< its degrees of freedom */
+    int rival_rejected;    /**< 1: the rival's chi2 beyond its 99.9 % point */
+    int by_summaries;      /**< 1: the summaries named the rival of the best score */
+    unsigned n_sims;       /**< simulations run */
+    double seconds;        /**< wall time */
 } aenl_diagnose_result_t;
 
 /** Defaults (see the field comments). Cannot fail. */
