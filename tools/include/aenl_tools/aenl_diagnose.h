@@ -206,6 +206,10 @@ typedef struct aenl_diagnose_result
      *  floor of independent excitations, or more than none_ratio below the latter; the scores
      *  are then in units of floor_same. */
     int excitation_shared;
+    /** 1: the gap accepts the best law at 0.1 %: M (least gap / common_floor)^2, M before the
+     *  dispersion, within the 99.9 % point of chi-square with M degrees of freedom. Only then
+     *  are the best score's rivals refitted to the summaries (rival). */
+    int gap_accepts;
     /** Effective number of independent elements of the gap, 2 / the relative variance of the
      *  squared gaps of replicate pairs (pooled over the baseline's and the best candidates'
      *  floors in the scale the record follows; where every run is alike, over the baseline's
@@ -217,10 +221,6 @@ typedef struct aenl_diagnose_result
      *  the record beyond its floor (quasi-likelihood: the chi-square of the scores is divided by
      *  it). */
     double dispersion;
-    /** 1: the gap accepts the best law at 0.1 %: M (least gap / common_floor)^2, M before the
-     *  dispersion, within the 99.9 % point of chi-square with M degrees of freedom. Only then
-     *  are the best score's rivals refitted to the summaries (rival). */
-    int gap_accepts;
     /** The baseline's floor in the scale the record follows: floor_before[total], or the floor
      *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
      *  an effect. */
@@ -233,6 +233,12 @@ typedef struct aenl_diagnose_result
     double *psd_meas, *psd_base, *psd_upd; /**< [channel][bin] Welch PSD, n_bins per channel */
     size_t n_bins;
     double *y_meas, *y_base, *y_upd; /**< [channel][sample] records (simulated ones noisy) */
+    /** When the baseline agrees within none_ratio x its floor (and opts.summary_records > 0):
+     *  the baseline's summary test (aenl_diagnose_summary_test with summary_records records),
+     *  a second look with the precise summaries the gap weighs loosely; when they reject the
+     *  baseline, a candidate that takes 30 % off its gap is named as beyond the floor.
+     *  base_test.n_rep 0: not run, or the records were unusable. */
+    aenl_diagnose_sumtest_t base_test;
     /** Summary fit (opts.summary_records > 0, an effect named): standard errors of the named
      *  effect's parameters, in the order of aenl_diagnose_param_errors and their units;
      *  INFINITY where not determined. */
@@ -240,14 +246,9 @@ typedef struct aenl_diagnose_result
     size_t n_param_sd;       /**< their count (0: no summary fit) */
     double chi2_start, chi2; /**< weighted summary misfit before and after the summary fit */
     size_t chi2_dof;         /**< its degrees of freedom, summaries - parameters (0: none) */
-    /** When the baseline agrees within none_ratio x its floor (and opts.summary_records > 0):
-     *  the baseline's summary test (aenl_diagnose_summary_test with summary_records records),
-     *  a second look with the precise summaries the gap weighs loosely; when they reject the
-     *  baseline, a candidate that takes 30 % off its gap is named as beyond the floor.
-     *  base_test.n_rep 0: not run, or the records were unusable. */
-    aenl_diagnose_sumtest_t base_test;
-    int summary_rejected; /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
-                               model; the gap's fit is kept and n_param_sd is 0 */
+    int summary_rejected;    /**< 1: chi2 beyond its 99.9 % point, the summaries reject the
+                                  model; the gap's fit is kept and n_param_sd is 0 */
+    int by_summaries;        /**< 1: the summaries named the rival of the best score */
     /** The named law's rival (summary fit, an effect named, gap_accepts): the least-score
      *  candidate of another effect or DOF within opts.penalty of the best score that also
      *  takes 30 % off the baseline's gap; both are refitted to the summaries and the least
@@ -258,7 +259,6 @@ typedef struct aenl_diagnose_result
     double rival_chi2; /**< the rival's summary-fit chi2 (NaN: no rival, or its fit did not run) */
     size_t rival_chi2_dof; /**< its degrees of freedom */
     int rival_rejected;    /**< 1: the rival's chi2 beyond its 99.9 % point */
-    int by_summaries;      /**< 1: the summaries named the rival of the best score */
     unsigned n_sims;       /**< simulations run */
     double seconds;        /**< wall time */
 } aenl_diagnose_result_t;
