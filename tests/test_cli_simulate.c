@@ -9,6 +9,8 @@
 
 #include <cjson/cJSON.h>
 #include <math.h>
+#include <stdint.h>
+#include <sys/stat.h>
 
 #include "unity.h"
 
@@ -48,6 +50,33 @@ static void test_cli_simulate_writes_the_csv_contract(void)
     cli_run(&r, args3);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,h,alpha,beta\n0,0,0.017453292519943", 36));
+}
+
+/* Output targets that are not regular files are written, never replaced: "-" and /dev/stdout
+ * give the CSV on standard output, /dev/null stays the device it is. */
+static void test_cli_simulate_writes_to_stdout_and_devices(void)
+{
+    const char *dash[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "-", NULL};
+    const char *named[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "/dev/stdout",
+                           NULL};
+    const char *null_dev[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "/dev/null",
+                              NULL};
+    struct stat before;
+    struct stat after;
+    cli_result_t r;
+    cli_run(&r, dash);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,alpha,xi\n0,0.017453292519943", 30));
+    cli_run(&r, named);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,alpha,xi\n0,0.017453292519943", 30));
+    TEST_ASSERT_EQUAL_INT(0, stat("/dev/null", &before));
+    cli_run(&r, null_dev);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_EQUAL_INT(0, lstat("/dev/null", &after));
+    TEST_ASSERT_TRUE_MESSAGE(S_ISCHR(after.st_mode), "/dev/null was replaced");
+    TEST_ASSERT_EQUAL_UINT64((uint64_t)before.st_ino, (uint64_t)after.st_ino);
 }
 
 static void test_cli_simulate_same_seed_same_file(void)
@@ -152,6 +181,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_cli_simulate_writes_the_csv_contract);
+    RUN_TEST(test_cli_simulate_writes_to_stdout_and_devices);
     RUN_TEST(test_cli_simulate_same_seed_same_file);
     RUN_TEST(test_cli_simulate_bad_ini);
     RUN_TEST(test_cli_flutter_json);

@@ -3,6 +3,7 @@
  * @file test_csv.c
  * @brief Host tools: CSV reader/writer and atomic output files (aenl_csv.h, aenl_io.h).
  */
+#define _DEFAULT_SOURCE /* mknod, makedev */
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
@@ -12,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -589,21 +592,184 @@ static void test_outfile_missing_folder_fails_cleanly(void)
 static void test_outfile_commit_failure_removes_temporary(void)
 {
     aenl_outfile_t of;
-    const char *path = tmp_path("is_a_dir");
+    char path[1024];
     char inner[1100];
+    (void)snprintf(path, sizeof path, "%s", tmp_path("is_a_dir"));
     (void)snprintf(inner, sizeof inner, "%s/child", path);
-    (void)mkdir(path, 0777);
-    write_text(inner, "x"); /* a non-empty folder: rename over it must fail */
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, tmp_path("is_a_dir"), &g_err));
+    (void)remove(inner);
+    (void)rmdir(path);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, path, &g_err));
     fputs("data\n", of.fp);
+    /* A non-empty folder takes the name while the file is written: rename over it must fail. */
+    TEST_ASSERT_EQUAL_INT(0, mkdir(path, 0777));
+    write_text(inner, "x");
     TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_commit(&of, &g_err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "is_a_dir: cannot rename into place"),
                                  g_err.msg);
     TEST_ASSERT_NULL(of.fp);
     TEST_ASSERT_NULL(of.tmp_path);
     TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    /* A folder named as the output is refused at open, before anything is written. */
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_outfile_open(&of, path, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "is a folder"), g_err.msg);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
     (void)remove(inner);
-    (void)rmdir(tmp_path("is_a_dir"));
+    (void)rmdir(path);
+}
+
+static void read_first_line(const char *path, char *buf, size_t n)
+{
+    FILE *fp = fopen(path, "r");
+    TEST_ASSERT_NOT_NULL_MESSAGE(fp, path);
+    buf[0] = '\0';
+    TEST_ASSERT_NOT_NULL(fgets(buf, (int)n, fp));
+    (void)fclose(fp);
+}
+
+static void write_through(const char *path, const char *text)
+{
+    aenl_outfile_t of;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_outfile_open(&of, path, &g_err), g_err.msg);
+    fputs(text, of.fp);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_outfile_commit(&of, &g_err), g_err.msg);
+}
+
+/* A character device is written, never replaced. As root a private twin of /dev/null (1, 3) is
+ * made here, so a regression cannot replace the system's; without root /dev/null itself is
+ * used, which a regression could not replace either (its folder is not writable). */
+static void test_outfile_device_written_not_replaced(void)
+{
+    struct stat before;
+    struct stat after;
+    const char *dev = "/dev/null";
+    char own[1024];
+    (void)snprintf(own, sizeof own, "%s", tmp_path("null_twin"));
+    (void)remove(own);
+    if (geteuid() == 0 && mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0)
+    {
+        dev = own;
+    }
+    TEST_ASSERT_EQUAL_INT(0, stat(dev, &before));
+    TEST_ASSERT_TRUE(S_ISCHR(before.st_mode));
+    write_through(dev, "discarded\n");
+    TEST_ASSERT_EQUAL_INT(0, lstat(dev, &after));
+    TEST_ASSERT_TRUE_MESSAGE(S_ISCHR(after.st_mode), "the device was replaced");
+    TEST_ASSERT_EQUAL_UINT64((uint64_t)before.st_ino, (uint64_t)after.st_ino);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)remove(own);
+}
+
+/* A FIFO is opened and written as it is: the reader gets the bytes, the FIFO stays. */
+static void test_outfile_fifo_written_not_replaced(void)
+{
+    char fifo[1024];
+    char got[1024];
+    char line[64];
+    struct stat st;
+    pid_t pid;
+    int status = -1;
+    (void)snprintf(fifo, sizeof fifo, "%s", tmp_path("out.fifo"));
+    (void)snprintf(got, sizeof got, "%s", tmp_path("fifo_got.txt"));
+    (void)remove(fifo);
+    (void)remove(got);
+    TEST_ASSERT_EQUAL_INT(0, mkfifo(fifo, 0600));
+    pid = fork();
+    TEST_ASSERT_TRUE(pid >= 0);
+    if (pid == 0)
+    {
+        /* The reader copies what arrives into a file; it exits with the test's verdict. */
+        char buf[256];
+        size_t n;
+        FILE *in = fopen(fifo, "r");
+        FILE *out = fopen(got, "w");
+        if (in == NULL || out == NULL)
+        {
+            _exit(1);
+        }
+        while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+        {
+            (void)fwrite(buf, 1, n, out);
+        }
+        _exit((fclose(in) == 0 && fclose(out) == 0) ? 0 : 1);
+    }
+    write_through(fifo, "through the fifo\n");
+    TEST_ASSERT_EQUAL_INT(pid, waitpid(pid, &status, 0));
+    TEST_ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    TEST_ASSERT_EQUAL_INT(0, lstat(fifo, &st));
+    TEST_ASSERT_TRUE_MESSAGE(S_ISFIFO(st.st_mode), "the FIFO was replaced");
+    read_first_line(got, line, sizeof line);
+    TEST_ASSERT_EQUAL_STRING("through the fifo\n", line);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)remove(fifo);
+    (void)remove(got);
+}
+
+/* A symbolic link is followed: the file it names is replaced, the link stays a link, and a
+ * dangling link creates the file it names. The replaced file keeps its permissions. */
+static void test_outfile_symlink_written_through(void)
+{
+    char real[1024];
+    char link_path[1024];
+    char dangling[1024];
+    char made[1024];
+    char line[64];
+    struct stat st;
+    (void)snprintf(real, sizeof real, "%s", tmp_path("real.txt"));
+    (void)snprintf(link_path, sizeof link_path, "%s", tmp_path("link.txt"));
+    (void)snprintf(dangling, sizeof dangling, "%s", tmp_path("dangling.txt"));
+    (void)snprintf(made, sizeof made, "%s", tmp_path("made.txt"));
+    (void)remove(link_path);
+    (void)remove(dangling);
+    (void)remove(made);
+    write_text(real, "old\n");
+    TEST_ASSERT_EQUAL_INT(0, chmod(real, 0640));
+    TEST_ASSERT_EQUAL_INT(0, symlink("real.txt", link_path)); /* relative to the link's folder */
+    TEST_ASSERT_EQUAL_INT(0, symlink("made.txt", dangling));
+    write_through(link_path, "new\n");
+    TEST_ASSERT_EQUAL_INT(0, lstat(link_path, &st));
+    TEST_ASSERT_TRUE_MESSAGE(S_ISLNK(st.st_mode), "the link was replaced");
+    read_first_line(real, line, sizeof line);
+    TEST_ASSERT_EQUAL_STRING("new\n", line);
+    TEST_ASSERT_EQUAL_INT(0, stat(real, &st));
+    TEST_ASSERT_EQUAL_UINT(0640U, (unsigned)(st.st_mode & 07777));
+    write_through(dangling, "created\n");
+    TEST_ASSERT_EQUAL_INT(0, lstat(dangling, &st));
+    TEST_ASSERT_TRUE(S_ISLNK(st.st_mode));
+    read_first_line(made, line, sizeof line);
+    TEST_ASSERT_EQUAL_STRING("created\n", line);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)remove(link_path);
+    (void)remove(dangling);
+    (void)remove(made);
+    (void)remove(real);
+}
+
+/* Places nothing may be written to fail at open with the path named, whoever runs the test:
+ * a file system that refuses new files even to root, and (without root) a read-only file. */
+static void test_outfile_unwritable_fails_cleanly(void)
+{
+    aenl_outfile_t of;
+    char ro[1024];
+    char line[64];
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_open(&of, "/proc/aenl_out.csv", &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "/proc/aenl_out.csv: cannot"), g_err.msg);
+    TEST_ASSERT_NULL(of.fp);
+    aenl_outfile_abort(&of);
+    (void)snprintf(ro, sizeof ro, "%s", tmp_path("read_only.txt"));
+    write_text(ro, "keep\n");
+    TEST_ASSERT_EQUAL_INT(0, chmod(ro, 0444));
+    if (geteuid() != 0)
+    {
+        aenl_err_clear(&g_err);
+        TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_open(&of, ro, &g_err));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "read_only.txt: cannot write"), g_err.msg);
+        read_first_line(ro, line, sizeof line);
+        TEST_ASSERT_EQUAL_STRING("keep\n", line);
+    }
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    (void)chmod(ro, 0644);
+    (void)remove(ro);
 }
 
 static void test_outfile_abort_all_removes_pending(void)
@@ -653,5 +819,9 @@ int main(void)
     RUN_TEST(test_outfile_missing_folder_fails_cleanly);
     RUN_TEST(test_outfile_commit_failure_removes_temporary);
     RUN_TEST(test_outfile_abort_all_removes_pending);
+    RUN_TEST(test_outfile_device_written_not_replaced);
+    RUN_TEST(test_outfile_fifo_written_not_replaced);
+    RUN_TEST(test_outfile_symlink_written_through);
+    RUN_TEST(test_outfile_unwritable_fails_cleanly);
     return UNITY_END();
 }

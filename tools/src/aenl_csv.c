@@ -800,6 +800,7 @@ aenl_status_t aenl_csv_writer_open(aenl_csv_writer_t *w, const char *path, const
     w->out.fp = NULL;
     w->out.path = NULL;
     w->out.tmp_path = NULL;
+    w->out.direct = 0;
     w->n_cols = 0;
     if (names == NULL || n_cols == 0)
     {

@@ -5,6 +5,9 @@
  *
  * An output file is written as ".<name>.tmp.<pid>.<counter>" in the folder of its final path
  * (same file system, so rename(2) is atomic) and renamed into place by aenl_outfile_commit().
+ * Only a regular file, or a name that does not exist yet, is replaced that way: symbolic links
+ * are followed and the file they name is written (the link stays), while a device, FIFO or
+ * socket, and "-" (standard output), are opened and written as they are, never replaced.
  * Every open temporary is listed in a process-wide table; aenl_outfile_abort_all() (registered
  * with atexit on the first open) unlinks what is still listed. The table is not thread-safe: the
  * tools are single-threaded. abort_all only calls unlink(), so a signal handler may call it.
@@ -19,6 +22,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* ---- error messages ------------------------------------------------------------------------ */
@@ -166,14 +170,145 @@ static void outfile_zero(aenl_outfile_t *of)
     of->fp = NULL;
     of->path = NULL;
     of->tmp_path = NULL;
+    of->direct = 0;
+}
+
+/* The file a path names once symbolic links are followed (a dangling link names the file it
+ * would create), in malloc'd memory. *st receives lstat's answer for that file and *exists
+ * whether it exists. Links are followed one at a time because realpath() fails on a dangling
+ * one, which a user may still expect to be written through. */
+static char *resolve_target(const char *path, struct stat *st, int *exists, int *magic,
+                            aenl_err_t *err)
+{
+    char *cur = dup_str(path);
+    int hops;
+    *magic = 0;
+    for (hops = 0; cur != NULL && hops < 40; ++hops)
+    {
+        char link[4096];
+        ssize_t n;
+        char *next;
+        if (lstat(cur, st) != 0)
+        {
+            if (errno == ENOENT)
+            {
+                *exists = 0;
+                return cur;
+            }
+            aenl_err_set(err, "%s: cannot examine (%s)", path, strerror(errno));
+            free(cur);
+            return NULL;
+        }
+        if (!S_ISLNK(st->st_mode))
+        {
+            *exists = 1;
+            return cur;
+        }
+        if (strncmp(cur, "/proc/", 6) == 0 || strncmp(cur, "/dev/fd/", 8) == 0)
+        {
+            /* A kernel's link to an open file (a pipe, a terminal, a redirected file): its text
+             * is not a path to write beside; the link itself is opened as it is. */
+            *magic = 1;
+            return cur;
+        }
+        n = readlink(cur, link, sizeof link - 1U);
+        if (n < 0)
+        {
+            aenl_err_set(err, "%s: cannot read the link (%s)", path, strerror(errno));
+            free(cur);
+            return NULL;
+        }
+        link[n] = '\0';
+        if (link[0] == '/' || strrchr(cur, '/') == NULL)
+        {
+            next = dup_str(link);
+        }
+        else
+        {
+            /* A relative target is relative to the link's own folder. */
+            size_t dir_len = (size_t)(strrchr(cur, '/') - cur) + 1U;
+            next = (char *)malloc(dir_len + (size_t)n + 1U);
+            if (next != NULL)
+            {
+                memcpy(next, cur, dir_len);
+                memcpy(next + dir_len, link, (size_t)n + 1U);
+            }
+        }
+        free(cur);
+        cur = next;
+    }
+    if (cur == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path);
+        return NULL;
+    }
+    free(cur);
+    aenl_err_set(err, "%s: too many levels of symbolic links", path);
+    return NULL;
+}
+
+/* "-" and the usual names of standard output are written through the process's own stream, so a
+ * redirection's offset and append mode are kept. */
+static int names_stdout(const char *path)
+{
+    return strcmp(path, "-") == 0 || strcmp(path, "/dev/stdout") == 0 ||
+           strcmp(path, "/dev/fd/1") == 0 || strcmp(path, "/proc/self/fd/1") == 0;
+}
+
+/* Standard output: flushed at commit, never closed. */
+static aenl_status_t open_stdout(aenl_outfile_t *of, aenl_err_t *err)
+{
+    of->path = dup_str("/dev/stdout");
+    if (of->path == NULL)
+    {
+        aenl_err_set(err, "standard output: out of memory");
+        return AENL_E_IO;
+    }
+    of->fp = stdout;
+    of->direct = 2;
+    return AENL_OK;
+}
+
+/* A device, FIFO or socket, or a kernel link to an open file: opened and written as it is,
+ * never replaced. Takes `target` (malloc'd). */
+static aenl_status_t open_direct(aenl_outfile_t *of, const char *path, char *target,
+                                 aenl_err_t *err)
+{
+    struct stat st;
+    int fd;
+    /* Through a kernel link a regular file is truncated, as a shell's '>' would do. */
+    const int trunc = (stat(target, &st) == 0 && S_ISREG(st.st_mode)) ? O_TRUNC : 0;
+    fd = open(target, O_WRONLY | O_NOCTTY | trunc);
+    if (fd < 0)
+    {
+        const int e = errno;
+        free(target);
+        aenl_err_set(err, "%s: cannot open for writing (%s)", path, strerror(e));
+        return AENL_E_IO;
+    }
+    of->fp = fdopen(fd, "w");
+    if (of->fp == NULL)
+    {
+        const int e = errno;
+        (void)close(fd);
+        free(target);
+        aenl_err_set(err, "%s: cannot open a stream (%s)", path, strerror(e));
+        return AENL_E_IO;
+    }
+    of->path = target;
+    of->direct = 1;
+    return AENL_OK;
 }
 
 aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t *err)
 {
     int fd = -1;
     int attempt;
+    int exists = 0;
+    int magic = 0;
     char *tmp = NULL;
     char *final_path;
+    struct stat st;
     size_t len;
 
     if (of == NULL)
@@ -187,21 +322,46 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
         aenl_err_set(err, "output file: empty path");
         return AENL_E_ARG;
     }
+    if (names_stdout(path))
+    {
+        return open_stdout(of, err);
+    }
     len = strlen(path);
     if (path[len - 1] == '/')
     {
         aenl_err_set(err, "%s: is a folder, not a file name", path);
         return AENL_E_ARG;
     }
-    final_path = dup_str(path);
+    final_path = resolve_target(path, &st, &exists, &magic, err);
     if (final_path == NULL)
     {
-        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    if (magic)
+    {
+        return open_direct(of, path, final_path, err);
+    }
+    if (exists && S_ISDIR(st.st_mode))
+    {
+        free(final_path);
+        aenl_err_set(err, "%s: is a folder, not a file name", path);
+        return AENL_E_ARG;
+    }
+    if (exists && !S_ISREG(st.st_mode))
+    {
+        return open_direct(of, path, final_path, err);
+    }
+    if (exists && access(final_path, W_OK) != 0)
+    {
+        /* Replacing by rename would succeed in a writable folder; a shell's '>' would not. */
+        const int e = errno;
+        free(final_path);
+        aenl_err_set(err, "%s: cannot write (%s)", path, strerror(e));
         return AENL_E_IO;
     }
     for (attempt = 0; attempt < 100; ++attempt)
     {
-        tmp = make_tmp_name(path, g_tmp_counter++);
+        tmp = make_tmp_name(final_path, g_tmp_counter++);
         if (tmp == NULL)
         {
             break;
@@ -229,6 +389,11 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
         free(final_path);
         aenl_err_set(err, "%s: cannot create (%s)", path, strerror(e));
         return AENL_E_IO;
+    }
+    if (exists)
+    {
+        /* The replacement keeps the permissions the user gave the file it replaces. */
+        (void)fchmod(fd, st.st_mode & 07777);
     }
     if (pending_add(tmp) != 0)
     {
@@ -263,11 +428,49 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
     return AENL_OK;
 }
 
+const char *aenl_outfile_write_path(const aenl_outfile_t *of)
+{
+    if (of == NULL)
+    {
+        return NULL;
+    }
+    return (of->tmp_path != NULL) ? of->tmp_path : of->path;
+}
+
+/* Flush and close a direct output (standard output is flushed, not closed). */
+static aenl_status_t commit_direct(aenl_outfile_t *of, aenl_err_t *err)
+{
+    int e = 0;
+    if (fflush(of->fp) != 0)
+    {
+        e = errno;
+    }
+    else if (ferror(of->fp))
+    {
+        e = EIO;
+    }
+    if (of->direct == 1 && fclose(of->fp) != 0 && e == 0)
+    {
+        e = errno;
+    }
+    if (e != 0)
+    {
+        aenl_err_set(err, "%s: cannot write (%s)", of->path, strerror(e));
+    }
+    free(of->path);
+    outfile_zero(of);
+    return (e != 0) ? AENL_E_IO : AENL_OK;
+}
+
 aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
 {
     int failed = 0;
     int e = 0;
     const char *what = "";
+    if (of != NULL && of->direct != 0 && of->fp != NULL && of->path != NULL)
+    {
+        return commit_direct(of, err);
+    }
     if (of == NULL || of->fp == NULL || of->tmp_path == NULL || of->path == NULL)
     {
         aenl_err_set(err, "aenl_outfile_commit: the output file is not open");
@@ -319,7 +522,11 @@ void aenl_outfile_abort(aenl_outfile_t *of)
     {
         return;
     }
-    if (of->fp != NULL)
+    if (of->fp != NULL && of->direct == 2)
+    {
+        (void)fflush(of->fp); /* standard output stays open */
+    }
+    else if (of->fp != NULL)
     {
         (void)fclose(of->fp);
     }

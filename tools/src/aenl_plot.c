@@ -111,7 +111,7 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     {
         return st;
     }
-    /* gnuplot writes the temporary itself; keep the name reserved but close our handle. */
+    /* gnuplot writes the temporary (or the device) itself; our handle only keeps it reserved. */
     if (fflush(of.fp) != 0)
     {
         aenl_outfile_abort(&of);
@@ -124,7 +124,15 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     {
         cap += strlen(vars[i].name) + strlen(vars[i].value) + 8;
     }
-    cap += strlen(of.tmp_path) + 16;
+    const char *gp_out = aenl_outfile_write_path(&of);
+    const int to_stdout = (of.direct == 2);
+    if (strchr(gp_out, '\'') != NULL)
+    {
+        aenl_outfile_abort(&of);
+        aenl_err_set(err, "%s: a figure's path must not hold a quote", out_path);
+        return AENL_E_ARG;
+    }
+    cap += strlen(gp_out) + 16;
     char *expr = malloc(cap);
     if (expr == NULL)
     {
@@ -132,7 +140,7 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         aenl_err_set(err, "out of memory");
         return AENL_E_IO;
     }
-    size_t pos = (size_t)snprintf(expr, cap, "out='%s';", of.tmp_path);
+    size_t pos = (size_t)snprintf(expr, cap, "out='%s';", gp_out);
     for (size_t i = 0; i < n_vars; ++i)
     {
         pos += (size_t)snprintf(expr + pos, cap - pos, "%s='%s';", vars[i].name, vars[i].value);
@@ -152,7 +160,10 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     if (pid == 0)
     {
         dup2(logfd, STDERR_FILENO);
-        dup2(logfd, STDOUT_FILENO);
+        if (!to_stdout)
+        {
+            dup2(logfd, STDOUT_FILENO);
+        }
         char *argv[] = {"gnuplot", "-e", expr, gp, NULL};
         execvp("gnuplot", argv);
         _exit(127);

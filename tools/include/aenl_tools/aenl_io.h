@@ -5,9 +5,11 @@
  *
  * Host functions report failures as an aenl_status_t plus one human-readable message in an
  * aenl_err_t (what and where: "data.csv:12:3: not a number 'x1'"). Only `main` prints.
- * Every file the tools write goes through aenl_outfile_t: it is written under a temporary name
- * in the same folder and renamed into place by aenl_outfile_commit(), so a failure (or an exit
- * before commit) never leaves a partial output file behind.
+ * Every file the tools write goes through aenl_outfile_t: a regular file (or a new name) is
+ * written under a temporary name in the same folder and renamed into place by
+ * aenl_outfile_commit(), so a failure (or an exit before commit) never leaves a partial output
+ * file behind. Symbolic links are followed (the file they name is replaced, the link kept); a
+ * device, FIFO or socket, and "-" for standard output, are written directly and never replaced.
  */
 #ifndef AENL_TOOLS_IO_H
 #define AENL_TOOLS_IO_H
@@ -39,14 +41,21 @@ typedef struct aenl_outfile
 {
     FILE *fp;       /**< write through this between open and commit */
     char *path;     /**< final path */
-    char *tmp_path; /**< temporary path in the same folder */
+    char *tmp_path; /**< temporary path in the same folder (NULL when written directly) */
+    int direct;     /**< 0 temporary and rename, 1 a device or FIFO written as it is, 2 stdout */
 } aenl_outfile_t;
 
 /**
- * @brief Create `path`'s temporary twin for writing. Fails with AENL_E_IO (message names the path)
- *        if the folder does not exist or is not writable. The final path is not touched.
+ * @brief Open `path` for writing: a regular file or a new name gets a temporary twin in the same
+ *        folder (symbolic links followed); a device, FIFO or socket is opened as it is; "-" is
+ *        standard output. Fails with AENL_E_IO (message names the path) if the folder does not
+ *        exist or is not writable, or the existing file is not writable; with AENL_E_ARG for a
+ *        folder. The final path is not touched.
  */
 aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t *err);
+
+/** The path another process should write to (the temporary, or the target when direct). */
+const char *aenl_outfile_write_path(const aenl_outfile_t *of);
 
 /**
  * @brief Flush, close and rename into place. On any write error the temporary is removed and
