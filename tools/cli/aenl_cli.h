@@ -73,7 +73,7 @@ int aenl_cmd_diagnose(int argc, char **argv);
 int aenl_bench_diagnose(int argc, char **argv);
 /** `aenl bench identify` (tools/cli/bench_identify.c). */
 int aenl_bench_identify(int argc, char **argv);
-/** Run `name`, a program in aenl's own folder, with args (tools/cli/cmd_bench.c). */
+/** Run `name`, a program in aenl's own folder, with args (tools/cli/cli_run.c). */
 int aenl_bench_run_sibling(const char *name, char *const *args, int n_args);
 
 #endif /* AENL_CLI_H */

@@ -14,7 +14,8 @@
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_diagnose.h"
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_diagnose_cases.h"
+#include "aenl_evalsuite.h"
 
 static const char *const k_cmd = "bench diagnose";
 
@@ -30,24 +31,25 @@ typedef struct
 
 static void help(void)
 {
-    printf("usage: aenl bench diagnose [--long] [--seed S] [--seeds N] [--case NAME] [--rk4]\n"
-           "                           [--dryden] [--bound] [--summary-records N] [-v]\n\n"
-           "Diagnoses every built-in hidden-effect case (tools/src/aenl_diagnose_cases.c): truth\n"
-           "parameters and seeds drawn from S, S+1, ... (N seeds, default 1), SNR 3, a baseline\n"
-           "lacking the effect. --long uses 60 s at 1 kHz (3-DOF) and 12000 samples (2-DOF).\n"
-           "--rk4 measures the truth with naive fixed-step RK4 (%u steps a sample, no event\n"
-           "location, hysteresis without sticking) and --dryden drives it with the Dryden gust\n"
-           "spectrum, while the diagnosis simulates its candidates as always (event-located\n"
-           "integrator, the baseline's first-order gusts): a simulator it does not share.\n"
-           "Goals (issue 6): effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
-           "null cases: none, gap within 2x the noise floor.\n"
-           "--bound also prints each case's information floor: the standard deviation of its\n"
-           "parameters that an efficient estimator on record summaries (mean, std, kurtosis,\n"
-           "peak frequency, 2nd and 3rd harmonics of every channel) could reach on records of\n"
-           "the truth's test (%u of them, sensitivities over %u seeds; README \"Hidden-effect\n"
-           "results\").\n"
-           "--summary-records N: records of the diagnosis's summary fit (default 64; 0: off).\n",
-           (unsigned)AENL_EVAL_RK4_STEPS, BOUND_RECORDS, BOUND_JAC);
+    printf(
+        "usage: aenl bench diagnose [--long] [--seed S] [--seeds N] [--case NAME] [--rk4]\n"
+        "                           [--dryden] [--bound] [--summary-records N] [-v]\n\n"
+        "Diagnoses every built-in hidden-effect case (tools/bench/aenl_diagnose_cases.c): truth\n"
+        "parameters and seeds drawn from S, S+1, ... (N seeds, default 1), SNR 3, a baseline\n"
+        "lacking the effect. --long uses 60 s at 1 kHz (3-DOF) and 12000 samples (2-DOF).\n"
+        "--rk4 measures the truth with naive fixed-step RK4 (%u steps a sample, no event\n"
+        "location, hysteresis without sticking) and --dryden drives it with the Dryden gust\n"
+        "spectrum, while the diagnosis simulates its candidates as always (event-located\n"
+        "integrator, the baseline's first-order gusts): a simulator it does not share.\n"
+        "Goals (issue 6): effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
+        "null cases: none, gap within 2x the noise floor.\n"
+        "--bound also prints each case's information floor: the standard deviation of its\n"
+        "parameters that an efficient estimator on record summaries (mean, std, kurtosis,\n"
+        "peak frequency, 2nd and 3rd harmonics of every channel) could reach on records of\n"
+        "the truth's test (%u of them, sensitivities over %u seeds; README \"Hidden-effect\n"
+        "results\").\n"
+        "--summary-records N: records of the diagnosis's summary fit (default 64; 0: off).\n",
+        (unsigned)AENL_EVAL_RK4_STEPS, BOUND_RECORDS, BOUND_JAC);
 }
 
 typedef struct

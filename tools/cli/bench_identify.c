@@ -33,7 +33,7 @@
 
 #include "aenl_cli.h"
 #include "aenl/aenl.h"
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_identify.h"
 
 static const char *const k_cmd = "bench identify";

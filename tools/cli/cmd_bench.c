@@ -231,65 +231,8 @@ static int bench_moments(void)
     return AENL_EXIT_OK;
 }
 
-/* Run `name` (a program in aenl's own folder) with args, its output passed through. */
-static int run_sibling(const char *name, char *const *args, int n_args)
-{
-    char self[1024];
-    const ssize_t len = readlink("/proc/self/exe", self, sizeof(self) - 1u);
-    char *slash = NULL;
-    if (len > 0)
-    {
-        self[len] = '\0';
-        slash = strrchr(self, '/');
-    }
-    char path[1200];
-    if (slash == NULL || snprintf(path, sizeof(path), "%.*s/%s", (int)(slash - self), self, name) >=
-                             (int)sizeof(path))
-    {
-        aenl_cli_error(k_cmd, "cannot locate %s next to aenl", name);
-        return AENL_EXIT_FAIL;
-    }
-    char *argv2[8];
-    int n = 0;
-    argv2[n++] = path;
-    for (int i = 0; i < n_args && n < 7; ++i)
-    {
-        argv2[n++] = args[i];
-    }
-    argv2[n] = NULL;
-    (void)fflush(stdout);
-    const pid_t pid = fork();
-    if (pid == 0)
-    {
-        execv(path, argv2);
-        _exit(127);
-    }
-    int status = 0;
-    if (pid < 0 || waitpid(pid, &status, 0) != pid)
-    {
-        aenl_cli_error(k_cmd, "cannot run %s", path);
-        return AENL_EXIT_FAIL;
-    }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 2)
-    {
-        return AENL_EXIT_USAGE; /* the bench printed its usage */
-    }
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    {
-        aenl_cli_error(k_cmd, "%s failed (%s)", path,
-                       WIFEXITED(status) && WEXITSTATUS(status) == 127 ? "not found" : "status");
-        return AENL_EXIT_FAIL;
-    }
-    return AENL_EXIT_OK;
-}
-
-int aenl_bench_run_sibling(const char *name, char *const *args, int n_args)
-{
-    return run_sibling(name, args, n_args);
-}
-
 /* `aenl bench stream [N] [--plain]`: float32 core over N samples (default 10^9) against a double
- * reference, by aenl_stream_bench (tools/cli/bench_stream_f32.c); --plain also runs the build
+ * reference, by aenl_stream_bench (tools/bench/bench_stream_f32.c); --plain also runs the build
  * without compensated summation (AENL_MOMENTS_COMPENSATED=0). */
 static int bench_stream(int argc, char **argv)
 {
@@ -312,11 +255,11 @@ static int bench_stream(int argc, char **argv)
         }
     }
     const int na = n_arg[0] != NULL ? 1 : 0;
-    int rc = run_sibling("aenl_stream_bench", n_arg, na);
+    int rc = aenl_bench_run_sibling("aenl_stream_bench", n_arg, na);
     if (rc == AENL_EXIT_OK && plain)
     {
         printf("\n");
-        rc = run_sibling("aenl_stream_bench_plain", n_arg, na);
+        rc = aenl_bench_run_sibling("aenl_stream_bench_plain", n_arg, na);
     }
     return rc;
 }

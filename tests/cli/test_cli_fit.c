@@ -146,13 +146,7 @@ static void test_cli_fit_json_model_and_header(void)
     fmt(hdr, sizeof(hdr), "%s/fit_model.h", AENL_TEST_TMP_DIR);
     TEST_ASSERT_TRUE(cli_exists(ini));
     TEST_ASSERT_TRUE(cli_exists(hdr));
-    fmt(src, sizeof(src), "%s", __FILE__);
-    char *slash = strrchr(src, '/');
-    TEST_ASSERT_NOT_NULL(slash);
-    *slash = '\0'; /* tests/ */
-    slash = strrchr(src, '/');
-    TEST_ASSERT_NOT_NULL(slash);
-    *slash = '\0'; /* source root */
+    fmt(src, sizeof(src), "%s", AENL_SOURCE_DIR);
     cli_file("use_model.c", "#include \"aenl/aenl_skf.h\"\n#include \"fit_model.h\"\n"
                             "int use_model(void);\n"
                             "int use_model(void)\n{\n    static aenl_skf_t f;\n"

@@ -15,7 +15,7 @@
 
 #include "unity.h"
 
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_sim.h"
 
 #define SEED 1u

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_identify.h"
 #include "aenl_tools/aenl_rng.h"
 #include "unity.h"

@@ -646,17 +646,3 @@ aenl_status_t aenl_diagnose_summary_test(const aenl_sim_model_t *model, const ae
     free(s);
     return st;
 }
-
-aenl_status_t aenl_diagnose_case_bound(const aenl_diagnose_case_t *c, unsigned n_rep,
-                                       unsigned n_jac, double rel_sd[AENL_DIAGNOSE_MAX_PAR],
-                                       size_t *n_par, aenl_err_t *err)
-{
-    const aenl_status_t st = aenl_diagnose_bound(&c->truth, &c->truth_run, c->effect, c->dof, NULL,
-                                                 n_rep, n_jac, rel_sd, n_par, err);
-    for (size_t k = 0; k < *n_par && st == AENL_OK; ++k)
-    {
-        rel_sd[k] /=
-            fmax(fabs(aenl_diagnose_param_get(&c->truth.law[c->dof], c->effect, k)), 1e-300);
-    }
-    return st;
-}

@@ -15,7 +15,8 @@
 #include <string.h>
 
 #include "aenl_tools/aenl_diagnose.h"
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_diagnose_cases.h"
+#include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_diagnose_internal.h"
 #include "unity.h"

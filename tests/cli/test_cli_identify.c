@@ -16,7 +16,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_evalsuite.h"
 #include "unity.h"
 
 #define DEG 0.017453292519943295
@@ -41,20 +41,10 @@ static const char *put_file(const char *name, const char *text)
 
 /* ---- records ------------------------------------------------------------------------------ */
 
-/* The source tree's root, from this file's path (tests/test_cli_identify.c). */
+/* The source tree's root (set by the build). */
 static const char *source_root(void)
 {
-    static char root[512];
-    (void)snprintf(root, sizeof(root), "%s", __FILE__);
-    for (int up = 0; up < 2; ++up)
-    {
-        char *slash = strrchr(root, '/');
-        if (slash != NULL)
-        {
-            *slash = '\0';
-        }
-    }
-    return root;
+    return AENL_SOURCE_DIR;
 }
 
 /* `aenl simulate INI -o NAME` into the test folder (once per name); the full path. */

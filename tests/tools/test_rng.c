@@ -2,7 +2,7 @@
 /**
  * @file test_rng.c
  * @brief Portable generator: xoshiro256** outputs against values computed independently (Python
- *        big integers, tests/test_rng.c header comment), Gaussian deviates against the polar
+ *        big integers, this file), Gaussian deviates against the polar
  *        method evaluated with Python's math.log, the portable log, and basic statistics.
  *
  * Reference values: a 20-line Python transcription of splitmix64 + xoshiro256** (Blackman &

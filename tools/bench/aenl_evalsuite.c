@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "aenl_tools/aenl_evalsuite.h"
+#include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_sort.h"
 
