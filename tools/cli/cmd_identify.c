@@ -36,7 +36,8 @@ static void help(void)
 {
     printf(
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
-        "                     [--no-prefilter] [--forced] [--model BASE.ini]\n\n"
+        "                     [--no-prefilter] [--forced] [--model BASE.ini]\n"
+        "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
@@ -64,6 +65,16 @@ static void help(void)
         "                fits within its noise, or nothing explains the misfit, the record's own\n"
         "                verdict stands. The record is then also held in memory, and the test\n"
         "                runs a few hundred simulations of it (seconds to minutes)\n\n"
+        "--method test   the likelihood-based test instead of the conditional moments: a\n"
+        "                linear state-space model of all channels is fitted by maximum\n"
+        "                likelihood, and each channel is tested for a structural law acting\n"
+        "                as a force, on the Kalman innovations, at family-wise level A\n"
+        "                (--level, default 0.01; a linear record is called nonlinear with\n"
+        "                probability about A). The law of a rejecting channel is chosen by\n"
+        "                the Bayesian information criterion: named when its weight reaches\n"
+        "                0.9, else 'undetermined' with the candidate laws and their weights;\n"
+        "                switching points come with 95 %% profile-likelihood intervals. The\n"
+        "                record is held in memory. See docs/identify-test.md\n\n"
         "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
         "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
@@ -253,6 +264,9 @@ typedef struct
 {
     const char *data, *channel, *plot_dir, *model;
     int json;
+    int by_test;      /* --method test */
+    int moments_only; /* an option that only the moments method takes was given */
+    double level;     /* --level */
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -261,6 +275,7 @@ static int parse_args(int argc, char **argv, args_t *a)
 {
     memset(a, 0, sizeof(*a));
     aenl_identify_opts_default(&a->opts);
+    a->level = 0.01;
     for (int i = 1; i < argc; ++i)
     {
         const char *o = argv[i];
@@ -277,10 +292,41 @@ static int parse_args(int argc, char **argv, args_t *a)
         else if (strcmp(o, "--no-prefilter") == 0)
         {
             a->opts.prefilter = 0;
+            a->moments_only = 1;
         }
         else if (strcmp(o, "--forced") == 0)
         {
             a->opts.forced = 1;
+            a->moments_only = 1;
+        }
+        else if (strcmp(o, "--method") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
+                return -1;
+            }
+            if (strcmp(v, "test") == 0 || strcmp(v, "moments") == 0)
+            {
+                a->by_test = v[0] == 't';
+            }
+            else
+            {
+                aenl_cli_error(k_cmd, "--method: '%s' is not a method (moments or test)", v);
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--level") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
+                aenl_cli_parse_double(k_cmd, "--level", v, &a->level) != 0)
+            {
+                return -1;
+            }
+            if (!(a->level > 0.0 && a->level < 0.5))
+            {
+                aenl_cli_error(k_cmd, "--level: %s is not a test level (0 < level < 0.5)", v);
+                return -1;
+            }
         }
         else if (strcmp(o, "--channel") == 0)
         {
@@ -295,6 +341,7 @@ static int parse_args(int argc, char **argv, args_t *a)
             {
                 return -1;
             }
+            a->moments_only = 1;
         }
         else if (strcmp(o, "--plot") == 0)
         {
@@ -307,6 +354,7 @@ static int parse_args(int argc, char **argv, args_t *a)
                 aenl_cli_error(k_cmd, "--plot: empty folder name");
                 return -1;
             }
+            a->moments_only = 1;
         }
         else if (strcmp(o, "--bandwidth") == 0)
         {
@@ -314,6 +362,7 @@ static int parse_args(int argc, char **argv, args_t *a)
             {
                 return -1;
             }
+            a->moments_only = 1;
             if (strcmp(v, "cv") == 0)
             {
                 a->opts.bandwidth = 0.0;
@@ -342,6 +391,13 @@ static int parse_args(int argc, char **argv, args_t *a)
     if (strcmp(a->data, "-") == 0)
     {
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
+        return -1;
+    }
+    if (a->by_test && a->moments_only)
+    {
+        aenl_cli_error(k_cmd, "--method test takes --channel, --json and --level only "
+                              "(--model, --plot, --bandwidth, --no-prefilter and --forced belong "
+                              "to the moments method)");
         return -1;
     }
     if (a->model != NULL && a->channel != NULL)
@@ -1412,6 +1468,10 @@ int aenl_cmd_identify(int argc, char **argv)
     if (pa != 0)
     {
         return pa > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
+    }
+    if (a.by_test)
+    {
+        return aenl_identify_by_test(a.data, a.channel, a.json, a.level);
     }
     aenl_err_t err;
     aenl_err_clear(&err);

@@ -1,0 +1,289 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_nltest.c
+ * @brief The record-alone test (aenl_nltest) and `aenl identify --method test`.
+ *
+ * References: the chi-square tail against closed forms (k = 2: exp(-x/2); k = 1:
+ * erfc(sqrt(x/2))) and published critical values; the test's level against its own definition
+ * (linear records from the project's simulator, another model than the test fits: a rejection
+ * count at level 0.01 that a binomial bound allows); its power and switching points against the
+ * simulated law's known gap.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cjson/cJSON.h>
+
+#include "aenl_cli_test.h"
+#include "aenl_tools/aenl_nltest.h"
+#include "aenl_tools/aenl_sim.h"
+#include "aenl_tools/aenl_stats.h"
+#include "unity.h"
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+#define DEG 0.017453292519943295
+
+/* ---- chi-square tail --------------------------------------------------------------------------
+ */
+
+static void test_chi2_sf_closed_forms(void)
+{
+    const double xs[] = {1e-6, 0.1, 1.0, 3.0, 10.0, 50.0, 200.0, 700.0};
+    for (size_t i = 0; i < sizeof(xs) / sizeof(xs[0]); ++i)
+    {
+        const double x = xs[i];
+        const double two = exp(-0.5 * x);
+        const double one = erfc(sqrt(0.5 * x));
+        TEST_ASSERT_DOUBLE_WITHIN(1e-13 * two + 1e-300, two, aenl_chi2_sf(x, 2.0));
+        TEST_ASSERT_DOUBLE_WITHIN(1e-12 * one + 1e-300, one, aenl_chi2_sf(x, 1.0));
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, aenl_chi2_sf(0.0, 3.0));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, aenl_chi2_sf(INFINITY, 3.0));
+    TEST_ASSERT_TRUE(isnan(aenl_chi2_sf(1.0, 0.0)));
+}
+
+/* Upper critical values from the standard tables (Abramowitz & Stegun, table 26.8), printed to
+ * six figures: the tail at the printed value is the level within 1e-4 of itself. */
+static void test_chi2_sf_critical_values(void)
+{
+    const struct
+    {
+        double k, x, alpha;
+    } tab[] = {{1, 3.84146, 0.05},  {1, 6.63490, 0.01},   {5, 11.0705, 0.05},
+               {10, 23.2093, 0.01}, {24, 51.1786, 0.001}, {30, 43.7730, 0.05},
+               {30, 50.8922, 0.01}, {100, 135.807, 0.01}};
+    for (size_t i = 0; i < sizeof(tab) / sizeof(tab[0]); ++i)
+    {
+        TEST_ASSERT_DOUBLE_WITHIN(1e-4 * tab[i].alpha, tab[i].alpha,
+                                  aenl_chi2_sf(tab[i].x, tab[i].k));
+    }
+}
+
+/* ---- records -----------------------------------------------------------------------------------
+ */
+
+/* The 2-DOF airfoil under first-order gusts below its flutter speed, with noise at SNR 5;
+ * law: the pitch law (linear unless given). y: n x 2 row-major (alpha, xi). */
+static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t *n_out)
+{
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    aenl_sim_set_velocity(&m, 4.0);
+    if (pitch != NULL)
+    {
+        m.law[AENL_SIM_DOF_PITCH] = *pitch;
+    }
+    run.duration = 4000.0;
+    run.dt = 0.5;
+    run.turbulence = 1;
+    run.turb_intensity = 0.004;
+    run.turb_length = 4.0;
+    run.turb_seed = seed;
+    run.snr = 5.0;
+    run.noise_seed = seed + 1000u;
+    aenl_sim_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &r, &err), err.msg);
+    double *y = malloc(r.n_samples * 2u * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    for (size_t k = 0; k < r.n_samples; ++k)
+    {
+        y[2u * k] = r.y[k];
+        y[2u * k + 1u] = r.y[r.n_samples + k];
+    }
+    *n_out = r.n_samples;
+    aenl_sim_result_free(&r);
+    return y;
+}
+
+/* Linear records: at level 0.01 the number of nonlinear verdicts among 20 is binomial(20, 0.01)
+ * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. */
+static void test_nlt_linear_records_hold_the_level(void)
+{
+    size_t rejected = 0;
+    for (uint64_t s = 1; s <= 20u; ++s)
+    {
+        size_t n = 0;
+        double *y = airfoil_record(NULL, 7000u + s, &n);
+        aenl_nlt_opts_t o;
+        aenl_nlt_opts_default(&o);
+        aenl_nlt_result_t r;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+        free(y);
+        TEST_ASSERT_EQUAL_size_t(2, r.n_channels);
+        rejected += r.verdict >= 0;
+        for (size_t j = 0; j < 2; ++j)
+        {
+            TEST_ASSERT_TRUE(r.ch[j].p >= 0.0 && r.ch[j].p <= 1.0);
+            TEST_ASSERT_EQUAL_DOUBLE(32.0, r.ch[j].dof); /* 4 shapes x 8 states */
+        }
+    }
+    printf("linear records called nonlinear: %zu of 20\n", rejected);
+    TEST_ASSERT_LESS_THAN_size_t(3, rejected);
+}
+
+/* A pitch freeplay of 1 deg starting at -0.3 deg under the same gusts: named, in alpha, its two
+ * switching points within 10 % of the gap's width, each inside its interval's neighbourhood. */
+static void test_nlt_freeplay_named_with_its_gap(void)
+{
+    aenl_sim_law_t law;
+    memset(&law, 0, sizeof(law));
+    law.kind = AENL_SIM_LAW_FREEPLAY;
+    law.delta = 1.0 * DEG;
+    law.x_f = -0.3 * DEG;
+    size_t n = 0;
+    double *y = airfoil_record(&law, 4242u, &n);
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    aenl_nlt_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+    free(y);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, r.verdict_class);
+    TEST_ASSERT_FALSE(r.undetermined);
+    TEST_ASSERT_TRUE(r.ch[0].p < 1e-6);
+    TEST_ASSERT_EQUAL_size_t(2, r.ch[0].n_points);
+    const double lo = law.x_f;
+    const double hi = law.x_f + law.delta;
+    printf("freeplay: %.5f %.5f rad (truth %.5f %.5f)\n", r.ch[0].points[0], r.ch[0].points[1], lo,
+           hi);
+    TEST_ASSERT_DOUBLE_WITHIN(0.1 * law.delta, lo, r.ch[0].points[0]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.1 * law.delta, hi, r.ch[0].points[1]);
+    for (size_t k = 0; k < 2; ++k)
+    {
+        TEST_ASSERT_TRUE(r.ch[0].point_lo[k] <= r.ch[0].points[k]);
+        TEST_ASSERT_TRUE(r.ch[0].point_hi[k] >= r.ch[0].points[k]);
+    }
+}
+
+static void test_nlt_bad_input(void)
+{
+    double y[400];
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    aenl_nlt_result_t r;
+    aenl_err_t err;
+    for (size_t i = 0; i < 400; ++i)
+    {
+        y[i] = sin(0.3 * (double)i);
+    }
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(y, 400, 1, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "too few"), err.msg);
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(NULL, 400, 1, &o, &r, &err));
+    o.level = 1.5;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(y, 400, 1, &o, &r, &err));
+    aenl_nlt_opts_default(&o);
+    double *c = calloc(20000u, sizeof(double));
+    TEST_ASSERT_NOT_NULL(c);
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(c, 20000u, 1, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "constant"), err.msg);
+    free(c);
+}
+
+/* ---- the command -------------------------------------------------------------------------- */
+
+/* A freeplay record as CSV in the test folder; its path. */
+static const char *freeplay_csv(void)
+{
+    static char path[600];
+    aenl_sim_law_t law;
+    memset(&law, 0, sizeof(law));
+    law.kind = AENL_SIM_LAW_FREEPLAY;
+    law.delta = 1.0 * DEG;
+    law.x_f = -0.3 * DEG;
+    size_t n = 0;
+    double *y = airfoil_record(&law, 4242u, &n);
+    (void)snprintf(path, sizeof(path), "%s/nlt_freeplay.csv", AENL_TEST_TMP_DIR);
+    FILE *f = fopen(path, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    (void)fprintf(f, "t,alpha,xi\n");
+    for (size_t k = 0; k < n; ++k)
+    {
+        (void)fprintf(f, "%.17g,%.17g,%.17g\n", 0.5 * (double)k, y[2u * k], y[2u * k + 1u]);
+    }
+    TEST_ASSERT_EQUAL_INT(0, fclose(f));
+    free(y);
+    return path;
+}
+
+static void test_cli_identify_method_test_json_and_table(void)
+{
+    const char *csv = freeplay_csv();
+    const char *json_args[] = {"identify", csv, "--method", "test", "--json", NULL};
+    const char *table_args[] = {"identify", csv, "--method", "test", NULL};
+    cli_result_t r;
+    cli_run(&r, json_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cJSON *root = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r.out);
+    TEST_ASSERT_EQUAL_STRING("test", cJSON_GetObjectItem(root, "method")->valuestring);
+    const cJSON *v = cJSON_GetObjectItem(root, "verdict");
+    TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItem(v, "class")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("alpha", cJSON_GetObjectItem(v, "channel")->valuestring);
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(cJSON_GetObjectItem(v, "switch_points")));
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(cJSON_GetObjectItem(v, "switch_point_lo")));
+    TEST_ASSERT_TRUE(cJSON_GetArraySize(cJSON_GetObjectItem(v, "candidates")) >= 1);
+    const cJSON *chs = cJSON_GetObjectItem(root, "channels");
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(chs));
+    const cJSON *c0 = cJSON_GetArrayItem(chs, 0);
+    TEST_ASSERT_TRUE(cJSON_GetObjectItem(c0, "p_value")->valuedouble < 1e-6);
+    TEST_ASSERT_TRUE(cJSON_IsTrue(cJSON_GetObjectItem(c0, "nonlinear")));
+    cJSON_Delete(root);
+    cli_run(&r, table_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "verdict: freeplay in alpha"), r.out);
+}
+
+static void test_cli_identify_method_test_bad_usage(void)
+{
+    const char *csv = cli_file("nlt_small.csv", "t,a\n0,1\n1,2\n2,1\n3,0\n");
+    const char *with_plot[] = {"identify", csv, "--method", "test", "--plot", "figs", NULL};
+    const char *bad_method[] = {"identify", csv, "--method", "magic", NULL};
+    const char *bad_level[] = {"identify", csv, "--method", "test", "--level", "2", NULL};
+    const char *too_short[] = {"identify", csv, "--method", "test", NULL};
+    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short};
+    const char *const words[] = {"belong to the moments", "not a method", "not a test level",
+                                 "too few"};
+    for (size_t i = 0; i < 4; ++i)
+    {
+        cli_result_t r;
+        cli_run(&r, cases[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+        TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+        TEST_ASSERT_EQUAL_INT(1, r.err_lines);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, words[i]), r.err);
+    }
+}
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_chi2_sf_closed_forms);
+    RUN_TEST(test_chi2_sf_critical_values);
+    RUN_TEST(test_nlt_bad_input);
+    RUN_TEST(test_nlt_freeplay_named_with_its_gap);
+    RUN_TEST(test_cli_identify_method_test_json_and_table);
+    RUN_TEST(test_cli_identify_method_test_bad_usage);
+    RUN_TEST(test_nlt_linear_records_hold_the_level);
+    return UNITY_END();
+}

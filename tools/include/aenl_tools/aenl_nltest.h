@@ -1,0 +1,136 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_nltest.h
+ * @brief Host-only: identification from the record alone as one likelihood-based test.
+ *
+ * The record's linear part is a linear Gaussian state-space model fitted by maximum likelihood
+ * (aenl_em, one mode): x_{t+1} = A x_t + b + w_t, y_t = C x_t + v_t, the measurement noise in
+ * the measurement equation. Its Kalman filter gives the innovations e_t, their covariances S_t
+ * and the filtered outputs u_t = C x_{t|t}. A structural law in the degree of freedom seen by
+ * channel j enters as a force: x_{t+1} = ... + B g(u_{j,t}, d_t), with B an unknown direction
+ * (one coefficient per state) and g a candidate shape; d_t = sign(u_{j,t} - u_{j,t-1}) is the
+ * direction of motion that a hysteresis loop needs. g is a function of the filtered past only,
+ * so under the linear model the innovations are independent of it.
+ *
+ * Test (stage 1, one per channel). The score test of B = 0 for the generic shapes u^2, u^3, d
+ * and d u, with the shapes 1 and u (an offset and a stiffness change, which the linear model
+ * already holds) as nuisance: the whitened innovations S_t^{-1/2} e_t are regressed on the
+ * derivatives of the innovations with respect to B; the reduction of the residual sum of
+ * squares, divided by the residual variance, is chi-square with 4 n_x degrees of freedom when
+ * the record is linear (a Gaussian record's conditional mean is linear in its past, and the
+ * generic shapes, taken beyond their linear part, are uncorrelated with any linear function of
+ * it). A channel is nonlinear when its p-value is below level / (number of channels)
+ * (Bonferroni).
+ *
+ * Law (stage 2, on the channels the test rejects). B is fixed to the direction that the generic
+ * fit estimates (the leading singular vector of its coefficients), and every candidate law is
+ * fitted on the same regression: polynomial (u^3, or u^3 and u^5), freeplay (a saturation
+ * between two switching points: a gap in which the stiffness differs) and hysteresis (the gap
+ * shifts with the direction of motion, mirrored about zero, plus a direction-dependent preload).
+ * Switching points are profiled over a grid of quantiles of u and refined on a finer grid
+ * around the best pair. Laws are compared by the Bayesian information criterion, the switching
+ * points counted as parameters; each law's weight is exp(-BIC/2) normalised over the laws. The
+ * class is named when its weight reaches opts.min_weight, else it is undetermined and the
+ * weights say which laws remain. Each switching point comes with its profile-likelihood 95 %
+ * interval (the grid values whose profile stays within chi2_1(0.95) = 3.84 of the best).
+ *
+ * Units: channels are scaled by their standard deviation inside; switching points are returned
+ * in the channel's own unit. Errors: a status and an aenl_err_t message; nothing prints.
+ */
+#ifndef AENL_TOOLS_NLTEST_H
+#define AENL_TOOLS_NLTEST_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "aenl/aenl_classifier.h"
+#include "aenl_tools/aenl_io.h"
+
+#define AENL_NLT_MAX_CH     8 /**< channels of a record */
+#define AENL_NLT_MAX_POINTS 4 /**< switching points of one law */
+
+/** Candidate laws, in the order of the weight arrays. */
+typedef enum
+{
+    AENL_NLT_POLYNOMIAL = 0,
+    AENL_NLT_FREEPLAY = 1,
+    AENL_NLT_HYSTERESIS = 2,
+    AENL_NLT_N_LAWS = 3
+} aenl_nlt_law_t;
+
+typedef struct aenl_nlt_opts
+{
+    double level;      /**< family-wise level of the test over the channels (default 0.01) */
+    double min_weight; /**< weight a law needs to be named (default 0.9) */
+    size_t n_states;   /**< states of the linear model (default 0: 4 per channel, at most 12) */
+    size_t em_iter;    /**< EM iterations of the linear fit (default 200) */
+} aenl_nlt_opts_t;
+
+/** One channel: the test and, when it rejects, the laws. */
+typedef struct aenl_nlt_channel
+{
+    double stat;                    /**< stage-1 chi-square statistic */
+    double dof;                     /**< its degrees of freedom */
+    double p;                       /**< its p-value */
+    int nonlinear;                  /**< 1 when p < level / n_channels */
+    aenl_class_t cls;               /**< LINEAR, POLYNOMIAL, FREEPLAY, HYSTERESIS, or INSUFFICIENT
+                                         when undetermined (see undetermined) */
+    int undetermined;               /**< 1: nonlinear, but no law reaches min_weight */
+    double gain[AENL_NLT_N_LAWS];   /**< best chi-square gain of each law (stage 2) */
+    double bic[AENL_NLT_N_LAWS];    /**< -gain + parameters ln(rows) */
+    double weight[AENL_NLT_N_LAWS]; /**< normalised exp(-bic/2) */
+    int hardening;                  /**< polynomial: 1 hardening, -1 softening, 0 unknown */
+    size_t n_points;                /**< switching points of the named (or best) law */
+    double points[AENL_NLT_MAX_POINTS];   /**< ascending, in the channel's unit */
+    double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
+    double point_hi[AENL_NLT_MAX_POINTS];
+} aenl_nlt_channel_t;
+
+typedef struct aenl_nlt_result
+{
+    size_t n_channels, n_samples, n_states;
+    double loglik; /**< of the linear model */
+    double level;  /**< the level used */
+    double rows;   /**< regression rows (samples x channels) */
+    aenl_nlt_channel_t ch[AENL_NLT_MAX_CH];
+    long verdict; /**< channel of the verdict (smallest p among the rejecting), or -1 */
+    aenl_class_t verdict_class; /**< LINEAR when nothing rejects; INSUFFICIENT when
+                                     undetermined or the record is too short */
+    int undetermined;           /**< the verdict channel is nonlinear but its law is undetermined */
+    double confidence;          /**< the verdict class's weight (1 - p for a linear verdict) */
+} aenl_nlt_result_t;
+
+void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
+
+/**
+ * @brief Test and identify a record: y is n x n_ch row-major (raw channel values, a NaN marks
+ *        a missing sample and drops its whole row from the filter's update).
+ * @return AENL_OK; AENL_E_ARG for bad options, too few samples for the model (the message says
+ *         how many it needs) or a constant channel; AENL_E_NUMERIC when the fit fails.
+ */
+aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
+                           aenl_nlt_result_t *res, aenl_err_t *err);
+
+/** Name of a law ("polynomial", "freeplay", "hysteresis"). */
+const char *aenl_nlt_law_name(aenl_nlt_law_t law);
+
+/** The class a result names: "linear", "polynomial", "freeplay", "hysteresis", "undetermined"
+ *  (nonlinear, no law named) or "insufficient". */
+const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
+
+/**
+ * @brief The result as one JSON object on `out`: file, method "test", level, model {states,
+ *        samples, loglik}, verdict {class, channel, switch_points, switch_point_lo,
+ *        switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name, class,
+ *        statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis},
+ *        hardening, switch_points, switch_point_lo, switch_point_hi}]. names: the channels.
+ * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
+ */
+aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
+                                  const char *path);
+
+/** The result as a table on `out` (what the JSON holds, for a reader). */
+void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
+                          const char *path);
+
+#endif /* AENL_TOOLS_NLTEST_H */

@@ -1,0 +1,1642 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_nltest.c
+ * @brief Identification from the record alone as a score test on Kalman innovations, then the
+ *        law by an information criterion (aenl_nltest.h has the method).
+ *
+ * Layout: the linear fit (aenl_em, one mode), one Kalman filter pass that keeps what the
+ * regressions need (whitened innovations, the whitened output matrix and the transition of the
+ * innovations' sensitivity at every step, shared once the filter reaches its steady state),
+ * then regressions whose columns are the sensitivities of the innovations to a force along B:
+ * D_{t+1} = A (I - K_t C) D_t + B g_t, row block -S_t^{-1/2} C D_t. A series is either "full"
+ * (B free: one column per state) or "directed" (B fixed to a direction: one column).
+ */
+#include "aenl_tools/aenl_nltest.h"
+
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_stats.h"
+
+#define NLT_MAX_X       12    /* states of the linear model */
+#define NLT_STEADY_TOL  1e-11 /* relative change of P at which the filter is taken as steady */
+#define NLT_RIDGE       1e-10 /* relative ridge on the scaled normal equations */
+#define NLT_N_QUANT     25    /* coarse switching-point grid: quantiles 2 %, 6 %, ..., 98 % */
+#define NLT_N_FINE      9     /* fine grid points per switching point */
+#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
+#define NLT_STAGE1_LAWS 4                 /* u^2, u^3, d, d u */
+
+/* ---- small dense helpers (row-major) --------------------------------------------------------- */
+
+/* c (n x m) = a (n x k) b (k x m). */
+static void mat_mul(const double *a, const double *b, double *c, size_t n, size_t k, size_t m)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            c[i * m + j] = 0.0;
+        }
+        for (size_t l = 0; l < k; ++l)
+        {
+            const double ail = a[i * k + l];
+            for (size_t j = 0; j < m; ++j)
+            {
+                c[i * m + j] += ail * b[l * m + j];
+            }
+        }
+    }
+}
+
+/* Solve L x = b in place for lower-triangular L (n x n). */
+static void lower_solve(const double *l, double *x, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        double s = x[i];
+        for (size_t k = 0; k < i; ++k)
+        {
+            s -= l[i * n + k] * x[k];
+        }
+        x[i] = s / l[i * n + i];
+    }
+}
+
+/* ---- the filter pass ------------------------------------------------------------------------- */
+
+typedef struct
+{
+    size_t n, nz, nx;
+    double *eps;         /* n x nz whitened innovations (0 on a missing row) */
+    unsigned char *used; /* 1: the row entered the update */
+    double *u;           /* n x nz filtered outputs C x_{t|t} */
+    double *xs;          /* nx x n filtered states, state-major (one series per state) */
+    size_t *slot;        /* n: index into F and WC */
+    double *F;           /* slots x nx x nx: A (I - K C) */
+    double *WC;          /* slots x nz x nx: S^{-1/2} C */
+    size_t n_slots, cap_slots;
+    double ee;   /* sum of squared whitened innovations */
+    size_t rows; /* innovations used (samples x channels) */
+} kf_t;
+
+static void kf_free(kf_t *k)
+{
+    free(k->eps);
+    free(k->used);
+    free(k->u);
+    free(k->xs);
+    free(k->slot);
+    free(k->F);
+    free(k->WC);
+    memset(k, 0, sizeof(*k));
+}
+
+static int kf_new_slot(kf_t *k)
+{
+    if (k->n_slots == k->cap_slots)
+    {
+        const size_t cap = k->cap_slots == 0 ? 64 : 2 * k->cap_slots;
+        double *f = (double *)realloc(k->F, cap * k->nx * k->nx * sizeof(double));
+        if (f == NULL)
+        {
+            return -1;
+        }
+        k->F = f;
+        double *w = (double *)realloc(k->WC, cap * k->nz * k->nx * sizeof(double));
+        if (w == NULL)
+        {
+            return -1;
+        }
+        k->WC = w;
+        k->cap_slots = cap;
+    }
+    k->n_slots++;
+    return 0;
+}
+
+static int rel_close(const double *a, const double *b, size_t n, double tol)
+{
+    double num = 0.0;
+    double den = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        num = fmax(num, fabs(a[i] - b[i]));
+        den = fmax(den, fabs(b[i]));
+    }
+    return num <= tol * den;
+}
+
+/* One covariance step at a used row: gain pieces into a new slot, P advanced. */
+typedef struct
+{
+    double K[NLT_MAX_X * AENL_NLT_MAX_CH];
+    double L[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
+} kf_gain_t;
+
+static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, kf_gain_t *g,
+                                 size_t slot, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    double PCt[NLT_MAX_X * AENL_NLT_MAX_CH];
+    double IKC[NLT_MAX_X * NLT_MAX_X];
+    double T1[NLT_MAX_X * NLT_MAX_X];
+    double T2[NLT_MAX_X * NLT_MAX_X];
+    /* S = C P C' + R, PCt = P C' */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += P[i * nx + l] * m->C[j * nx + l];
+            }
+            PCt[i * nz + j] = s;
+        }
+    }
+    for (size_t i = 0; i < nz; ++i)
+    {
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = m->R[i * nz + j];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->C[i * nx + l] * PCt[l * nz + j];
+            }
+            g->L[i * nz + j] = s;
+        }
+    }
+    for (size_t i = 0; i < nz; ++i)
+    {
+        for (size_t j = i + 1; j < nz; ++j)
+        {
+            g->L[i * nz + j] = 0.0; /* lower factor only */
+        }
+    }
+    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nz, g->L, (lapack_int)nz) != 0)
+    {
+        aenl_err_set(err, "innovation covariance not positive definite");
+        return AENL_E_NUMERIC;
+    }
+    /* K' = S^-1 (P C')': solve with the factor, column by column of K' */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double v[AENL_NLT_MAX_CH];
+        for (size_t j = 0; j < nz; ++j)
+        {
+            v[j] = PCt[i * nz + j];
+        }
+        lower_solve(g->L, v, nz);
+        for (size_t jj = nz; jj-- > 0;)
+        {
+            double s = v[jj];
+            for (size_t l = jj + 1; l < nz; ++l)
+            {
+                s -= g->L[l * nz + jj] * v[l];
+            }
+            v[jj] = s / g->L[jj * nz + jj];
+        }
+        for (size_t j = 0; j < nz; ++j)
+        {
+            g->K[i * nz + j] = v[j];
+        }
+    }
+    /* IKC = I - K C; Pf = IKC P IKC' + K R K' (Joseph form) */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = (i == j) ? 1.0 : 0.0;
+            for (size_t l = 0; l < nz; ++l)
+            {
+                s -= g->K[i * nz + l] * m->C[l * nx + j];
+            }
+            IKC[i * nx + j] = s;
+        }
+    }
+    mat_mul(IKC, P, T1, nx, nx, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += T1[i * nx + l] * IKC[j * nx + l];
+            }
+            double kr = 0.0;
+            for (size_t a = 0; a < nz; ++a)
+            {
+                for (size_t b = 0; b < nz; ++b)
+                {
+                    kr += g->K[i * nz + a] * m->R[a * nz + b] * g->K[j * nz + b];
+                }
+            }
+            T2[i * nx + j] = s + kr;
+        }
+    }
+    /* the slot: F = A IKC, WC = L^-1 C */
+    mat_mul(m->A, IKC, k->F + slot * nx * nx, nx, nx, nx);
+    for (size_t j = 0; j < nx; ++j)
+    {
+        double v[AENL_NLT_MAX_CH];
+        for (size_t i = 0; i < nz; ++i)
+        {
+            v[i] = m->C[i * nx + j];
+        }
+        lower_solve(g->L, v, nz);
+        for (size_t i = 0; i < nz; ++i)
+        {
+            k->WC[slot * nz * nx + i * nx + j] = v[i];
+        }
+    }
+    /* P_next = A Pf A' + Q */
+    mat_mul(m->A, T2, T1, nx, nx, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = m->Q[i * nx + j];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += T1[i * nx + l] * m->A[j * nx + l];
+            }
+            T2[i * nx + j] = s;
+        }
+    }
+    for (size_t i = 0; i < nx; ++i) /* symmetric by construction; keep it so */
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            P[i * nx + j] = 0.5 * (T2[i * nx + j] + T2[j * nx + i]);
+        }
+    }
+    return AENL_OK;
+}
+
+/* The filter over y (n x nz, standardised), keeping what the regressions need. */
+static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t n = k->n;
+    double x[NLT_MAX_X];
+    double xf[NLT_MAX_X];
+    double P[NLT_MAX_X * NLT_MAX_X];
+    double Pprev[NLT_MAX_X * NLT_MAX_X];
+    kf_gain_t g;
+    int steady = 0;
+    size_t cur = 0;
+    size_t miss_slot = (size_t)-1;
+    k->eps = (double *)calloc(n * nz, sizeof(double));
+    k->u = (double *)calloc(n * nz, sizeof(double));
+    k->used = (unsigned char *)calloc(n, 1);
+    k->slot = (size_t *)calloc(n, sizeof(size_t));
+    k->xs = (double *)calloc(n * nx, sizeof(double));
+    if (k->eps == NULL || k->u == NULL || k->used == NULL || k->slot == NULL || k->xs == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    memcpy(x, m->x0, nx * sizeof(double));
+    memcpy(P, m->P0, nx * nx * sizeof(double));
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double *yt = y + t * nz;
+        int ok = 1;
+        for (size_t j = 0; j < nz; ++j)
+        {
+            ok &= isfinite(yt[j]) ? 1 : 0;
+        }
+        if (!ok)
+        {
+            /* No update: the innovations' sensitivity moves with A alone. */
+            if (miss_slot == (size_t)-1)
+            {
+                if (kf_new_slot(k) != 0)
+                {
+                    aenl_err_set(err, "out of memory");
+                    return AENL_E_DIM;
+                }
+                miss_slot = k->n_slots - 1;
+                memcpy(k->F + miss_slot * nx * nx, m->A, nx * nx * sizeof(double));
+                memset(k->WC + miss_slot * nz * nx, 0, nz * nx * sizeof(double));
+            }
+            k->slot[t] = miss_slot;
+            memcpy(xf, x, nx * sizeof(double));
+            double T1[NLT_MAX_X * NLT_MAX_X];
+            double T2[NLT_MAX_X * NLT_MAX_X];
+            mat_mul(m->A, P, T1, nx, nx, nx);
+            for (size_t i = 0; i < nx; ++i)
+            {
+                for (size_t j = 0; j < nx; ++j)
+                {
+                    double s = m->Q[i * nx + j];
+                    for (size_t l = 0; l < nx; ++l)
+                    {
+                        s += T1[i * nx + l] * m->A[j * nx + l];
+                    }
+                    T2[i * nx + j] = s;
+                }
+            }
+            memcpy(P, T2, sizeof(T2));
+            steady = 0;
+        }
+        else
+        {
+            if (!steady)
+            {
+                memcpy(Pprev, P, nx * nx * sizeof(double));
+                if (kf_new_slot(k) != 0)
+                {
+                    aenl_err_set(err, "out of memory");
+                    return AENL_E_DIM;
+                }
+                cur = k->n_slots - 1;
+                const aenl_status_t st = kf_cov_step(k, m, P, &g, cur, err);
+                if (st != AENL_OK)
+                {
+                    return st;
+                }
+                steady = rel_close(P, Pprev, nx * nx, NLT_STEADY_TOL);
+            }
+            k->slot[t] = cur;
+            k->used[t] = 1;
+            double e[AENL_NLT_MAX_CH];
+            for (size_t j = 0; j < nz; ++j)
+            {
+                double s = yt[j];
+                for (size_t l = 0; l < nx; ++l)
+                {
+                    s -= m->C[j * nx + l] * x[l];
+                }
+                e[j] = s;
+            }
+            for (size_t i = 0; i < nx; ++i)
+            {
+                double s = x[i];
+                for (size_t j = 0; j < nz; ++j)
+                {
+                    s += g.K[i * nz + j] * e[j];
+                }
+                xf[i] = s;
+            }
+            lower_solve(g.L, e, nz);
+            for (size_t j = 0; j < nz; ++j)
+            {
+                k->eps[t * nz + j] = e[j];
+                k->ee += e[j] * e[j];
+            }
+            k->rows += nz;
+        }
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->C[j * nx + l] * xf[l];
+            }
+            k->u[t * nz + j] = s;
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            k->xs[i * n + t] = xf[i];
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            double s = m->b[i];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->A[i * nx + l] * xf[l];
+            }
+            x[i] = s;
+        }
+    }
+    return AENL_OK;
+}
+
+/* ---- regressions on the innovations' sensitivities ------------------------------------------- */
+
+/* A design: series (n values each) that are full (nx columns) or directed along dir (1 column). */
+typedef struct
+{
+    size_t n_series;
+    const double **g;  /* n_series pointers to n values */
+    const int *full;   /* per series */
+    const double *dir; /* nx: the direction of the directed series */
+    size_t ncols;
+    double *G; /* ncols x ncols */
+    double *r; /* ncols */
+} design_t;
+
+static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    size_t nc = 0;
+    for (size_t s = 0; s < d->n_series; ++s)
+    {
+        nc += d->full[s] ? nx : 1u;
+    }
+    d->ncols = nc;
+    double *D = (double *)calloc(nx * nc, sizeof(double));
+    double *Dn = (double *)malloc(nx * nc * sizeof(double));
+    double *R = (double *)malloc(nz * nc * sizeof(double));
+    d->G = (double *)calloc(nc * nc, sizeof(double));
+    d->r = (double *)calloc(nc, sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL || d->G == NULL || d->r == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            const double *WC = k->WC + k->slot[t] * nz * nx;
+            const double *e = k->eps + t * nz;
+            mat_mul(WC, D, R, nz, nx, nc);
+            /* rows are -R; G += R'R and r += -R'e */
+            for (size_t a = 0; a < nz; ++a)
+            {
+                const double *ra = R + a * nc;
+                for (size_t i = 0; i < nc; ++i)
+                {
+                    const double ri = ra[i];
+                    if (!(fabs(ri) > 0.0))
+                    {
+                        continue;
+                    }
+                    double *Gi = d->G + i * nc;
+                    for (size_t j = i; j < nc; ++j)
+                    {
+                        Gi[j] += ri * ra[j];
+                    }
+                    d->r[i] -= ri * e[a];
+                }
+            }
+        }
+        mat_mul(F, D, Dn, nx, nx, nc);
+        size_t c = 0;
+        for (size_t s = 0; s < d->n_series; ++s)
+        {
+            const double gt = d->g[s][t];
+            if (d->full[s])
+            {
+                for (size_t i = 0; i < nx; ++i)
+                {
+                    Dn[i * nc + c + i] += gt;
+                }
+                c += nx;
+            }
+            else
+            {
+                for (size_t i = 0; i < nx; ++i)
+                {
+                    Dn[i * nc + c] += gt * d->dir[i];
+                }
+                c += 1;
+            }
+        }
+        double *sw = D;
+        D = Dn;
+        Dn = sw;
+    }
+    for (size_t i = 0; i < nc; ++i)
+    {
+        for (size_t j = 0; j < i; ++j)
+        {
+            d->G[i * nc + j] = d->G[j * nc + i];
+        }
+    }
+    free(D);
+    free(Dn);
+    free(R);
+    return AENL_OK;
+}
+
+static void design_free(design_t *d)
+{
+    free(d->G);
+    free(d->r);
+    d->G = NULL;
+    d->r = NULL;
+}
+
+/* The least-squares fit on columns idx[0..m-1] of the design: returns r' G^-1 r (the reduction of
+ * the residual sum of squares) and, when beta is not NULL, the coefficients. Columns are scaled
+ * to unit diagonal and a small ridge keeps near-collinear sets solvable. */
+static double fit_subset(const design_t *d, const size_t *idx, size_t m, double *beta)
+{
+    double *A = (double *)malloc(m * m * sizeof(double));
+    double *b = (double *)malloc(m * sizeof(double));
+    double *sc = (double *)malloc(m * sizeof(double));
+    double red = 0.0;
+    if (A == NULL || b == NULL || sc == NULL)
+    {
+        free(A);
+        free(b);
+        free(sc);
+        return NAN;
+    }
+    for (size_t i = 0; i < m; ++i)
+    {
+        const double gii = d->G[idx[i] * d->ncols + idx[i]];
+        sc[i] = gii > 0.0 ? 1.0 / sqrt(gii) : 0.0;
+    }
+    for (size_t i = 0; i < m; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            A[i * m + j] = d->G[idx[i] * d->ncols + idx[j]] * sc[i] * sc[j];
+        }
+        A[i * m + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
+        b[i] = d->r[idx[i]] * sc[i];
+    }
+    double *x = (double *)malloc(m * sizeof(double));
+    if (x != NULL)
+    {
+        memcpy(x, b, m * sizeof(double));
+        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, 1, A, (lapack_int)m, x, 1) == 0)
+        {
+            for (size_t i = 0; i < m; ++i)
+            {
+                red += b[i] * x[i];
+                if (beta != NULL)
+                {
+                    beta[i] = x[i] * sc[i];
+                }
+            }
+        }
+        else
+        {
+            red = NAN;
+        }
+    }
+    else
+    {
+        red = NAN;
+    }
+    free(x);
+    free(A);
+    free(b);
+    free(sc);
+    return red;
+}
+
+/* ---- stage 2: the laws along a fixed direction ----------------------------------------------- */
+
+/* Columns of the directed series, residualised on the nuisance columns 0..nn-1: Gt (ns x ns),
+ * rt (ns). */
+typedef struct
+{
+    size_t ns;
+    double *Gt;
+    double *rt;
+} resid_t;
+
+static aenl_status_t residualise(const design_t *d, size_t nn, resid_t *out, aenl_err_t *err)
+{
+    const size_t nc = d->ncols;
+    const size_t ns = nc - nn;
+    double *L = (double *)malloc(nn * nn * sizeof(double));
+    double *W = (double *)malloc(nn * ns * sizeof(double));
+    double *w = (double *)malloc(nn * sizeof(double));
+    out->ns = ns;
+    out->Gt = (double *)malloc(ns * ns * sizeof(double));
+    out->rt = (double *)malloc(ns * sizeof(double));
+    if (L == NULL || W == NULL || w == NULL || out->Gt == NULL || out->rt == NULL)
+    {
+        free(L);
+        free(W);
+        free(w);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    /* factor of the scaled nuisance block with a ridge, as in fit_subset */
+    double sc[(1 + NLT_MAX_X) * NLT_MAX_X];
+    for (size_t i = 0; i < nn; ++i)
+    {
+        const double gii = d->G[i * nc + i];
+        sc[i] = gii > 0.0 ? 1.0 / sqrt(gii) : 0.0;
+    }
+    for (size_t i = 0; i < nn; ++i)
+    {
+        for (size_t j = 0; j < nn; ++j)
+        {
+            L[i * nn + j] = d->G[i * nc + j] * sc[i] * sc[j];
+        }
+        L[i * nn + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
+    }
+    aenl_status_t st = AENL_OK;
+    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, L, (lapack_int)nn) != 0)
+    {
+        aenl_err_set(err, "nuisance regression singular");
+        st = AENL_E_NUMERIC;
+    }
+    else
+    {
+        for (size_t s = 0; s < ns; ++s) /* W[:, s] = L^-1 (scaled G_NS[:, s]) */
+        {
+            for (size_t i = 0; i < nn; ++i)
+            {
+                w[i] = d->G[i * nc + nn + s] * sc[i];
+            }
+            lower_solve(L, w, nn);
+            for (size_t i = 0; i < nn; ++i)
+            {
+                W[i * ns + s] = w[i];
+            }
+        }
+        for (size_t i = 0; i < nn; ++i)
+        {
+            w[i] = d->r[i] * sc[i];
+        }
+        lower_solve(L, w, nn);
+        for (size_t a = 0; a < ns; ++a)
+        {
+            double ra = d->r[nn + a];
+            for (size_t i = 0; i < nn; ++i)
+            {
+                ra -= W[i * ns + a] * w[i];
+            }
+            out->rt[a] = ra;
+            for (size_t b = a; b < ns; ++b)
+            {
+                double g = d->G[(nn + a) * nc + nn + b];
+                for (size_t i = 0; i < nn; ++i)
+                {
+                    g -= W[i * ns + a] * W[i * ns + b];
+                }
+                out->Gt[a * ns + b] = g;
+                out->Gt[b * ns + a] = g;
+            }
+        }
+    }
+    free(L);
+    free(W);
+    free(w);
+    return st;
+}
+
+static void resid_free(resid_t *r)
+{
+    free(r->Gt);
+    free(r->rt);
+    r->Gt = NULL;
+    r->rt = NULL;
+}
+
+/* Gain of one column x = sum_i c_i s_i (nc entries of idx/coef). */
+static double gain1(const resid_t *r, const size_t *idx, const double *c, size_t n)
+{
+    double num = 0.0;
+    double den = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        num += c[i] * r->rt[idx[i]];
+        for (size_t j = 0; j < n; ++j)
+        {
+            den += c[i] * c[j] * r->Gt[idx[i] * r->ns + idx[j]];
+        }
+    }
+    return den > 0.0 ? num * num / den : 0.0;
+}
+
+/* Gain of two columns: x1 as in gain1, x2 the single series j2. */
+static double gain2(const resid_t *r, const size_t *idx, const double *c, size_t n, size_t j2)
+{
+    double r1 = 0.0;
+    double g11 = 0.0;
+    double g12 = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        r1 += c[i] * r->rt[idx[i]];
+        g12 += c[i] * r->Gt[idx[i] * r->ns + j2];
+        for (size_t j = 0; j < n; ++j)
+        {
+            g11 += c[i] * c[j] * r->Gt[idx[i] * r->ns + idx[j]];
+        }
+    }
+    const double r2 = r->rt[j2];
+    const double g22 = r->Gt[j2 * r->ns + j2];
+    const double det = g11 * g22 - g12 * g12;
+    if (!(det > 1e-14 * g11 * g22) || g11 <= 0.0)
+    {
+        return fmax(g11 > 0.0 ? r1 * r1 / g11 : 0.0, g22 > 0.0 ? r2 * r2 / g22 : 0.0);
+    }
+    return (g22 * r1 * r1 - 2.0 * g12 * r1 * r2 + g11 * r2 * r2) / det;
+}
+
+/* Series of stage 2 for one channel: fixed shapes, then rising and falling hinges at knots. */
+enum
+{
+    S2_U3 = 0,
+    S2_U5 = 1,
+    S2_D = 2,
+    S2_FIXED = 3
+};
+
+typedef struct
+{
+    size_t nk;
+    const double *knots; /* ascending */
+    double *buf;         /* (S2_FIXED + 2 nk) x n */
+    const double **g;
+    int *full;
+} s2_series_t;
+
+static int s2_build(s2_series_t *s, const double *u, const double *dsg, size_t n,
+                    const double *const *nuis, size_t n_nuis, const double *knots, size_t nk)
+{
+    const size_t ns = n_nuis + S2_FIXED + 2u * nk;
+    s->nk = nk;
+    s->knots = knots;
+    s->buf = (double *)malloc((S2_FIXED + 2u * nk) * n * sizeof(double));
+    s->g = (const double **)malloc(ns * sizeof(double *));
+    s->full = (int *)malloc(ns * sizeof(int));
+    if (s->buf == NULL || s->g == NULL || s->full == NULL)
+    {
+        return -1;
+    }
+    for (size_t i = 0; i < n_nuis; ++i)
+    {
+        s->g[i] = nuis[i];
+        s->full[i] = 1;
+    }
+    for (size_t i = n_nuis; i < ns; ++i)
+    {
+        s->g[i] = s->buf + (i - n_nuis) * n;
+        s->full[i] = 0;
+    }
+    double *u3 = s->buf + S2_U3 * n;
+    double *u5 = s->buf + S2_U5 * n;
+    double *dd = s->buf + S2_D * n;
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double v = u[t];
+        u3[t] = v * v * v;
+        u5[t] = u3[t] * v * v;
+        dd[t] = dsg[t];
+    }
+    for (size_t k = 0; k < nk; ++k)
+    {
+        double *up = s->buf + (S2_FIXED + k) * n;
+        double *dn = s->buf + (S2_FIXED + nk + k) * n;
+        for (size_t t = 0; t < n; ++t)
+        {
+            const double h = fmax(u[t] - knots[k], 0.0);
+            up[t] = dsg[t] > 0.0 ? h : 0.0;
+            dn[t] = dsg[t] < 0.0 ? h : 0.0;
+        }
+    }
+    return 0;
+}
+
+static void s2_free(s2_series_t *s)
+{
+    free(s->buf);
+    free((void *)s->g);
+    free(s->full);
+    memset(s, 0, sizeof(*s));
+}
+
+static size_t knot_index(const double *knots, size_t nk, double v)
+{
+    size_t best = 0;
+    for (size_t k = 1; k < nk; ++k)
+    {
+        if (fabs(knots[k] - v) < fabs(knots[best] - v))
+        {
+            best = k;
+        }
+    }
+    return best;
+}
+
+/* Freeplay gap [k1, k2] (knot indices): h(k1) - h(k2), h = rising + falling hinge. */
+static double freeplay_gain(const resid_t *r, size_t nk, size_t k1, size_t k2)
+{
+    const size_t idx[4] = {S2_FIXED + k1, S2_FIXED + nk + k1, S2_FIXED + k2, S2_FIXED + nk + k2};
+    const double c[4] = {1.0, 1.0, -1.0, -1.0};
+    return gain1(r, idx, c, 4);
+}
+
+/* Hysteresis with rising gap [a1, a2] and falling gap [-a2, -a1] (knot indices; the knot set is
+ * symmetric, so -a is knot nk-1-a), with the direction-dependent preload. */
+static double hysteresis_gain(const resid_t *r, size_t nk, size_t a1, size_t a2)
+{
+    const size_t m1 = nk - 1u - a1;
+    const size_t m2 = nk - 1u - a2;
+    const size_t idx[4] = {S2_FIXED + a1, S2_FIXED + a2, S2_FIXED + nk + m2, S2_FIXED + nk + m1};
+    const double c[4] = {1.0, -1.0, 1.0, -1.0};
+    return gain2(r, idx, c, 4, S2_D);
+}
+
+/* Profile of a two-point law over a knot grid: best pair and, per point, the 95 % range. */
+typedef struct
+{
+    double best;
+    size_t k1, k2;
+    double lo1, hi1, lo2, hi2; /* knot values */
+} profile_t;
+
+typedef double (*pair_gain_fn)(const resid_t *r, size_t nk, size_t a, size_t b);
+
+static void profile_pairs(const resid_t *r, const double *knots, size_t nk, const size_t *c1,
+                          size_t n1, const size_t *c2, size_t n2, pair_gain_fn fn, double s2,
+                          profile_t *p)
+{
+    double *tab = (double *)malloc(n1 * n2 * sizeof(double));
+    p->best = -1.0;
+    p->k1 = c1[0];
+    p->k2 = c2[0];
+    if (tab == NULL)
+    {
+        return;
+    }
+    for (size_t i = 0; i < n1; ++i)
+    {
+        for (size_t j = 0; j < n2; ++j)
+        {
+            double v = -1.0;
+            if (knots[c1[i]] < knots[c2[j]])
+            {
+                v = fn(r, nk, c1[i], c2[j]);
+            }
+            tab[i * n2 + j] = v;
+            if (v > p->best)
+            {
+                p->best = v;
+                p->k1 = c1[i];
+                p->k2 = c2[j];
+            }
+        }
+    }
+    const double cut = p->best - NLT_CHI2_1_95 * s2;
+    p->lo1 = p->hi1 = knots[p->k1];
+    p->lo2 = p->hi2 = knots[p->k2];
+    for (size_t i = 0; i < n1; ++i)
+    {
+        for (size_t j = 0; j < n2; ++j)
+        {
+            if (tab[i * n2 + j] >= cut)
+            {
+                p->lo1 = fmin(p->lo1, knots[c1[i]]);
+                p->hi1 = fmax(p->hi1, knots[c1[i]]);
+                p->lo2 = fmin(p->lo2, knots[c2[j]]);
+                p->hi2 = fmax(p->hi2, knots[c2[j]]);
+            }
+        }
+    }
+    free(tab);
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a;
+    const double y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The symmetric knot set: the coarse quantiles of u and their negatives, sorted, duplicates
+ * (closer than 1e-9 of the range) merged; knots[i] = -knots[nk-1-i]. */
+static size_t symmetric_knots(const double *q, size_t nq, double *knots)
+{
+    size_t n = 0;
+    double span = 0.0;
+    for (size_t i = 0; i < nq; ++i)
+    {
+        span = fmax(span, fabs(q[i]));
+    }
+    for (size_t i = 0; i < nq; ++i)
+    {
+        knots[n++] = fabs(q[i]);
+    }
+    qsort(knots, n, sizeof(double), cmp_double);
+    size_t m = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (knots[i] <= 1e-9 * span)
+        {
+            continue; /* zero is added once below */
+        }
+        if (m == 0 || knots[i] - knots[m - 1] > 1e-9 * span)
+        {
+            knots[m++] = knots[i];
+        }
+    }
+    /* mirror: negatives (descending magnitude), zero, positives */
+    double tmp[4 * NLT_N_QUANT + 8];
+    size_t k = 0;
+    for (size_t i = m; i-- > 0;)
+    {
+        tmp[k++] = -knots[i];
+    }
+    tmp[k++] = 0.0;
+    for (size_t i = 0; i < m; ++i)
+    {
+        tmp[k++] = knots[i];
+    }
+    memcpy(knots, tmp, k * sizeof(double));
+    return k;
+}
+
+/* ---- the whole run --------------------------------------------------------------------------- */
+
+void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
+{
+    memset(opts, 0, sizeof(*opts));
+    opts->level = 0.01;
+    opts->min_weight = 0.9;
+    opts->n_states = 0;
+    opts->em_iter = 200;
+}
+
+const char *aenl_nlt_law_name(aenl_nlt_law_t law)
+{
+    switch (law)
+    {
+        case AENL_NLT_POLYNOMIAL:
+            return "polynomial";
+        case AENL_NLT_FREEPLAY:
+            return "freeplay";
+        case AENL_NLT_HYSTERESIS:
+            return "hysteresis";
+        case AENL_NLT_N_LAWS:
+        default:
+            return "?";
+    }
+}
+
+typedef struct
+{
+    const aenl_nlt_opts_t *opts;
+    const kf_t *kf;
+    const aenl_em_model_t *m;
+    size_t n, nz, nx;
+    double scale[AENL_NLT_MAX_CH];
+    double *one, *lin, *dsg, *work; /* n each; work: 4 n for stage 1 */
+    double lnrows;
+} run_t;
+
+/* The direction of motion of u: +1 rising, -1 falling, 0 at rest. */
+static void direction(const double *u, size_t nz, size_t j, size_t n, double *d)
+{
+    d[0] = 0.0;
+    for (size_t t = 1; t < n; ++t)
+    {
+        const double du = u[t * nz + j] - u[(t - 1u) * nz + j];
+        d[t] = (du > 0.0) - (du < 0.0);
+    }
+}
+
+/* Stage 1 for channel j: the generic score test; dir receives the force direction. */
+static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *dir, double *s2,
+                            aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    const size_t nx = rn->nx;
+    double *u2 = rn->work;
+    double *u3 = rn->work + n;
+    double *du = rn->work + 2u * n;
+    double *dd = rn->work + 3u * n;
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double v = rn->lin[t];
+        u2[t] = v * v;
+        u3[t] = v * v * v;
+        dd[t] = rn->dsg[t];
+        du[t] = rn->dsg[t] * v;
+    }
+    /* Nuisance: an offset and a perturbation of A along every filtered state (the first-order
+     * change of the fitted linear model, so its estimation error is not taken for a law). */
+    const double *g[1 + NLT_MAX_X + NLT_STAGE1_LAWS];
+    int full[1 + NLT_MAX_X + NLT_STAGE1_LAWS];
+    size_t ns = 0;
+    g[ns++] = rn->one;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        g[ns++] = rn->kf->xs + i * n;
+    }
+    const size_t n_nuis = ns;
+    g[ns++] = u2;
+    g[ns++] = u3;
+    g[ns++] = dd;
+    g[ns++] = du;
+    for (size_t i = 0; i < ns; ++i)
+    {
+        full[i] = 1;
+    }
+    design_t d = {ns, g, full, NULL, 0, NULL, NULL};
+    aenl_status_t st = design_accumulate(&d, rn->kf, err);
+    if (st != AENL_OK)
+    {
+        design_free(&d);
+        return st;
+    }
+    size_t idx[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
+    for (size_t i = 0; i < d.ncols; ++i)
+    {
+        idx[i] = i;
+    }
+    double beta[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
+    const double red_n = fit_subset(&d, idx, n_nuis * nx, NULL);
+    const double red_f = fit_subset(&d, idx, d.ncols, beta);
+    const size_t ncols = d.ncols;
+    design_free(&d);
+    if (!isfinite(red_n) || !isfinite(red_f))
+    {
+        aenl_err_set(err, "channel %lu: the test regression is singular", (unsigned long)j);
+        return AENL_E_NUMERIC;
+    }
+    const double dof_res = (double)rn->kf->rows - (double)ncols;
+    *s2 = fmax((rn->kf->ee - red_f) / dof_res, 1e-300);
+    c->dof = (double)(NLT_STAGE1_LAWS * nx);
+    c->stat = fmax(red_f - red_n, 0.0) / *s2;
+    c->p = aenl_chi2_sf(c->stat, c->dof);
+    /* direction: leading left singular vector of the law coefficients (nx x 4), each column
+     * weighted by its regressor's spread, by power iteration on M M'. */
+    double M[NLT_MAX_X * NLT_STAGE1_LAWS];
+    const double *gl[NLT_STAGE1_LAWS] = {u2, u3, dd, du};
+    for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
+    {
+        double mean = 0.0;
+        double var = 0.0;
+        for (size_t t = 0; t < n; ++t)
+        {
+            mean += gl[l][t];
+        }
+        mean /= (double)n;
+        for (size_t t = 0; t < n; ++t)
+        {
+            var += (gl[l][t] - mean) * (gl[l][t] - mean);
+        }
+        const double sd = sqrt(var / (double)n);
+        for (size_t i = 0; i < nx; ++i)
+        {
+            M[i * NLT_STAGE1_LAWS + l] = beta[(n_nuis + l) * nx + i] * sd;
+        }
+    }
+    double v[NLT_MAX_X];
+    for (size_t i = 0; i < nx; ++i)
+    {
+        v[i] = 1.0 / sqrt((double)nx);
+    }
+    for (int it = 0; it < 200; ++it)
+    {
+        double w[NLT_STAGE1_LAWS] = {0};
+        double v2[NLT_MAX_X] = {0};
+        for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                w[l] += M[i * NLT_STAGE1_LAWS + l] * v[i];
+            }
+        }
+        double nrm = 0.0;
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
+            {
+                v2[i] += M[i * NLT_STAGE1_LAWS + l] * w[l];
+            }
+            nrm += v2[i] * v2[i];
+        }
+        nrm = sqrt(nrm);
+        if (!(nrm > 0.0))
+        {
+            break;
+        }
+        double change = 0.0;
+        for (size_t i = 0; i < nx; ++i)
+        {
+            change = fmax(change, fabs(v2[i] / nrm - v[i]));
+            v[i] = v2[i] / nrm;
+        }
+        if (change < 1e-12)
+        {
+            break;
+        }
+    }
+    memcpy(dir, v, nx * sizeof(double));
+    return AENL_OK;
+}
+
+/* Sign of the change of the most sensitive oscillatory frequency of A + eps dir c_j' with eps. */
+static int frequency_sensitivity(const aenl_em_model_t *m, const double *dir, size_t j)
+{
+    const size_t nx = m->n_x;
+    double best = 0.0;
+    double fr[2][NLT_MAX_X];
+    double fi[2][NLT_MAX_X];
+    const double h = 1e-4;
+    for (int s = 0; s < 2; ++s)
+    {
+        double A[NLT_MAX_X * NLT_MAX_X];
+        const double eps = s == 0 ? -h : h;
+        for (size_t a = 0; a < nx; ++a)
+        {
+            for (size_t b = 0; b < nx; ++b)
+            {
+                A[a * nx + b] = m->A[a * nx + b] + eps * dir[a] * m->C[j * nx + b];
+            }
+        }
+        if (LAPACKE_dgeev(LAPACK_ROW_MAJOR, 'N', 'N', (lapack_int)nx, A, (lapack_int)nx, fr[s],
+                          fi[s], NULL, 1, NULL, 1) != 0)
+        {
+            return 0;
+        }
+    }
+    int sign = 0;
+    for (size_t a = 0; a < nx; ++a)
+    {
+        if (fi[0][a] <= 0.0)
+        {
+            continue;
+        }
+        /* the same eigenvalue after the perturbation: the nearest with Im > 0 */
+        size_t b = 0;
+        double dist = INFINITY;
+        for (size_t c = 0; c < nx; ++c)
+        {
+            const double dd = hypot(fr[1][c] - fr[0][a], fi[1][c] - fi[0][a]);
+            if (fi[1][c] > 0.0 && dd < dist)
+            {
+                dist = dd;
+                b = c;
+            }
+        }
+        const double w0 = atan2(fi[0][a], fr[0][a]);
+        const double w1 = atan2(fi[1][b], fr[1][b]);
+        if (fabs(w1 - w0) > best)
+        {
+            best = fabs(w1 - w0);
+            sign = (w1 > w0) - (w1 < w0);
+        }
+    }
+    return sign;
+}
+
+/* Stage 2 for channel j along dir. */
+static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
+                            aenl_nlt_channel_t *c, aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    const size_t nx = rn->nx;
+    double q[NLT_N_QUANT];
+    double knots[4 * NLT_N_QUANT + 8];
+    double *sorted = (double *)malloc(n * sizeof(double));
+    if (sorted == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    memcpy(sorted, rn->lin, n * sizeof(double));
+    qsort(sorted, n, sizeof(double), cmp_double);
+    size_t qidx[NLT_N_QUANT];
+    for (size_t i = 0; i < NLT_N_QUANT; ++i)
+    {
+        const double p = (0.02 + 0.04 * (double)i);
+        q[i] = sorted[(size_t)(p * (double)(n - 1u))];
+    }
+    free(sorted);
+    const size_t nk = symmetric_knots(q, NLT_N_QUANT, knots);
+    for (size_t i = 0; i < NLT_N_QUANT; ++i)
+    {
+        qidx[i] = knot_index(knots, nk, q[i]);
+    }
+    s2_series_t ser;
+    memset(&ser, 0, sizeof(ser));
+    /* the same nuisance as the test: an offset and A perturbed along every filtered state */
+    const double *nuis[1 + NLT_MAX_X];
+    nuis[0] = rn->one;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        nuis[1u + i] = rn->kf->xs + i * n;
+    }
+    const size_t n_nuis = 1u + nx;
+    if (s2_build(&ser, rn->lin, rn->dsg, n, nuis, n_nuis, knots, nk) != 0)
+    {
+        s2_free(&ser);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    design_t d = {n_nuis + S2_FIXED + 2u * nk, ser.g, ser.full, dir, 0, NULL, NULL};
+    aenl_status_t st = design_accumulate(&d, rn->kf, err);
+    resid_t r = {0, NULL, NULL};
+    if (st == AENL_OK)
+    {
+        st = residualise(&d, n_nuis * nx, &r, err);
+    }
+    design_free(&d);
+    if (st != AENL_OK)
+    {
+        resid_free(&r);
+        s2_free(&ser);
+        return st;
+    }
+    /* polynomial: cubic, or cubic and quintic */
+    const size_t i3 = S2_U3;
+    const double one = 1.0;
+    const double g3 = gain1(&r, &i3, &one, 1);
+    const double g35 = gain2(&r, &i3, &one, 1, S2_U5);
+    const double bic3 = -g3 / s2 + 1.0 * rn->lnrows;
+    const double bic35 = -g35 / s2 + 2.0 * rn->lnrows;
+    c->gain[AENL_NLT_POLYNOMIAL] = (bic3 <= bic35 ? g3 : g35) / s2;
+    c->bic[AENL_NLT_POLYNOMIAL] = fmin(bic3, bic35);
+    const double beta3 = r.Gt[i3 * r.ns + i3] > 0.0 ? r.rt[i3] / r.Gt[i3 * r.ns + i3] : 0.0;
+    /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
+    size_t all[4 * NLT_N_QUANT + 8];
+    for (size_t i = 0; i < nk; ++i)
+    {
+        all[i] = i;
+    }
+    profile_t pf;
+    profile_t ph;
+    profile_pairs(&r, knots, nk, qidx, NLT_N_QUANT, qidx, NLT_N_QUANT, freeplay_gain, s2, &pf);
+    profile_pairs(&r, knots, nk, all, nk, all, nk, hysteresis_gain, s2, &ph);
+    resid_free(&r);
+    s2_free(&ser);
+
+    /* refine both on a fine grid around their best pairs (spacing: a quarter of the local
+     * coarse spacing), with the four points of each law and their mirrors as knots */
+    double fine[8 * NLT_N_FINE + 8];
+    size_t nf = 0;
+    const double centres[4] = {knots[pf.k1], knots[pf.k2], knots[ph.k1], knots[ph.k2]};
+    const size_t cidx[4] = {pf.k1, pf.k2, ph.k1, ph.k2};
+    for (size_t a = 0; a < 4; ++a)
+    {
+        const size_t kk = cidx[a];
+        const double lo = kk > 0 ? knots[kk - 1u] : knots[kk] - (knots[1] - knots[0]);
+        const double hi =
+            kk + 1u < nk ? knots[kk + 1u] : knots[kk] + (knots[nk - 1u] - knots[nk - 2u]);
+        for (size_t f = 0; f < NLT_N_FINE; ++f)
+        {
+            const double v =
+                centres[a] + ((double)f - 4.0) * 0.25 * (f < 4 ? centres[a] - lo : hi - centres[a]);
+            fine[nf++] = v;
+            fine[nf++] = -v;
+        }
+    }
+    qsort(fine, nf, sizeof(double), cmp_double);
+    size_t nfu = 0;
+    for (size_t i = 0; i < nf; ++i)
+    {
+        if (nfu == 0 || fine[i] - fine[nfu - 1u] > 1e-12 * (fabs(fine[i]) + 1e-300))
+        {
+            fine[nfu++] = fine[i];
+        }
+    }
+    /* keep the set symmetric: fine[i] = -fine[nfu-1-i] holds by construction of the pairs */
+    memset(&ser, 0, sizeof(ser));
+    if (s2_build(&ser, rn->lin, rn->dsg, n, nuis, n_nuis, fine, nfu) != 0)
+    {
+        s2_free(&ser);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    design_t d2 = {n_nuis + S2_FIXED + 2u * nfu, ser.g, ser.full, dir, 0, NULL, NULL};
+    st = design_accumulate(&d2, rn->kf, err);
+    if (st == AENL_OK)
+    {
+        st = residualise(&d2, n_nuis * nx, &r, err);
+    }
+    design_free(&d2);
+    if (st == AENL_OK)
+    {
+        size_t f1[NLT_N_FINE];
+        size_t f2[NLT_N_FINE];
+        size_t h1[NLT_N_FINE];
+        size_t h2[NLT_N_FINE];
+        /* the fine indices of each law's points: the nine fine knots nearest each centre */
+        for (size_t a = 0; a < 4; ++a)
+        {
+            size_t *dst = a == 0 ? f1 : (a == 1 ? f2 : (a == 2 ? h1 : h2));
+            const size_t kc = knot_index(fine, nfu, centres[a]);
+            size_t lo = kc >= NLT_N_FINE / 2 ? kc - NLT_N_FINE / 2 : 0;
+            if (lo + NLT_N_FINE > nfu)
+            {
+                lo = nfu >= NLT_N_FINE ? nfu - NLT_N_FINE : 0;
+            }
+            for (size_t f = 0; f < NLT_N_FINE; ++f)
+            {
+                dst[f] = lo + f < nfu ? lo + f : nfu - 1u;
+            }
+        }
+        profile_t pf2;
+        profile_t ph2;
+        profile_pairs(&r, fine, nfu, f1, NLT_N_FINE, f2, NLT_N_FINE, freeplay_gain, s2, &pf2);
+        profile_pairs(&r, fine, nfu, h1, NLT_N_FINE, h2, NLT_N_FINE, hysteresis_gain, s2, &ph2);
+        if (pf2.best > pf.best)
+        {
+            pf2.lo1 = fmin(pf2.lo1, pf.lo1);
+            pf2.hi1 = fmax(pf2.hi1, pf.hi1);
+            pf2.lo2 = fmin(pf2.lo2, pf.lo2);
+            pf2.hi2 = fmax(pf2.hi2, pf.hi2);
+            pf = pf2;
+            pf.k1 = (size_t)-1; /* values below come from the fine grid */
+        }
+        if (ph2.best > ph.best)
+        {
+            ph2.lo1 = fmin(ph2.lo1, ph.lo1);
+            ph2.hi1 = fmax(ph2.hi1, ph.hi1);
+            ph2.lo2 = fmin(ph2.lo2, ph.lo2);
+            ph2.hi2 = fmax(ph2.hi2, ph.hi2);
+            ph = ph2;
+            ph.k1 = (size_t)-1;
+        }
+        /* the points themselves */
+        const double fp1 = pf.k1 == (size_t)-1 ? fine[pf2.k1] : knots[pf.k1];
+        const double fp2 = pf.k1 == (size_t)-1 ? fine[pf2.k2] : knots[pf.k2];
+        const double hp1 = ph.k1 == (size_t)-1 ? fine[ph2.k1] : knots[ph.k1];
+        const double hp2 = ph.k1 == (size_t)-1 ? fine[ph2.k2] : knots[ph.k2];
+        c->gain[AENL_NLT_FREEPLAY] = fmax(pf.best, 0.0) / s2;
+        c->gain[AENL_NLT_HYSTERESIS] = fmax(ph.best, 0.0) / s2;
+        c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
+        c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
+        /* weights */
+        double bmin = INFINITY;
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            bmin = fmin(bmin, c->bic[l]);
+        }
+        double tot = 0.0;
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            c->weight[l] = exp(-0.5 * (c->bic[l] - bmin));
+            tot += c->weight[l];
+        }
+        size_t lbest = 0;
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            c->weight[l] /= tot;
+            if (c->weight[l] > c->weight[lbest])
+            {
+                lbest = l;
+            }
+        }
+        const double sc = rn->scale[j];
+        c->n_points = 0;
+        if (lbest == AENL_NLT_FREEPLAY)
+        {
+            c->n_points = 2;
+            c->points[0] = fp1 * sc;
+            c->points[1] = fp2 * sc;
+            c->point_lo[0] = pf.lo1 * sc;
+            c->point_hi[0] = pf.hi1 * sc;
+            c->point_lo[1] = pf.lo2 * sc;
+            c->point_hi[1] = pf.hi2 * sc;
+        }
+        else if (lbest == AENL_NLT_HYSTERESIS)
+        {
+            /* kinks of both branches: a1, a2 rising; -a2, -a1 falling */
+            double pts[4] = {hp1, hp2, -hp2, -hp1};
+            double lo[4] = {ph.lo1, ph.lo2, -ph.hi2, -ph.hi1};
+            double hi[4] = {ph.hi1, ph.hi2, -ph.lo2, -ph.lo1};
+            for (size_t a = 0; a < 4; ++a) /* ascending by point, intervals along */
+            {
+                for (size_t b = a + 1u; b < 4; ++b)
+                {
+                    if (pts[b] < pts[a])
+                    {
+                        double tp = pts[a];
+                        pts[a] = pts[b];
+                        pts[b] = tp;
+                        tp = lo[a];
+                        lo[a] = lo[b];
+                        lo[b] = tp;
+                        tp = hi[a];
+                        hi[a] = hi[b];
+                        hi[b] = tp;
+                    }
+                }
+            }
+            for (size_t a = 0; a < 4; ++a)
+            {
+                c->points[a] = pts[a] * sc;
+                c->point_lo[a] = lo[a] * sc;
+                c->point_hi[a] = hi[a] * sc;
+            }
+            c->n_points = 4;
+        }
+        c->hardening = 0;
+        if (lbest == AENL_NLT_POLYNOMIAL)
+        {
+            const int fs = frequency_sensitivity(rn->m, dir, j);
+            const int bs = (beta3 > 0.0) - (beta3 < 0.0);
+            c->hardening = fs * bs;
+        }
+        c->undetermined = c->weight[lbest] < rn->opts->min_weight;
+        c->cls = c->undetermined ? AENL_CLASS_INSUFFICIENT
+                                 : (lbest == AENL_NLT_POLYNOMIAL
+                                        ? AENL_CLASS_POLYNOMIAL
+                                        : (lbest == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY
+                                                                      : AENL_CLASS_HYSTERESIS));
+    }
+    resid_free(&r);
+    s2_free(&ser);
+    return st;
+}
+
+static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
+                                aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    if (y == NULL || opts == NULL || res == NULL)
+    {
+        aenl_err_set(err, "aenl_nlt_run: NULL argument");
+        return AENL_E_ARG;
+    }
+    if (n == 0 || n_ch == 0 || n_ch > AENL_NLT_MAX_CH)
+    {
+        aenl_err_set(err, "the test takes 1 to %d channels (got %lu)", AENL_NLT_MAX_CH,
+                     (unsigned long)n_ch);
+        return AENL_E_ARG;
+    }
+    if (!(opts->level > 0.0 && opts->level < 1.0) ||
+        !(opts->min_weight > 0.0 && opts->min_weight <= 1.0) || opts->n_states > NLT_MAX_X ||
+        opts->em_iter == 0)
+    {
+        aenl_err_set(err, "aenl_nlt_run: options out of range");
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
+                           aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    aenl_status_t st = check_args(y, n, n_ch, opts, res, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    memset(res, 0, sizeof(*res));
+    size_t nx = opts->n_states != 0 ? opts->n_states : 4u * n_ch;
+    nx = nx > NLT_MAX_X ? NLT_MAX_X : nx;
+    nx = nx < n_ch ? n_ch : nx;
+    const size_t need = 20u * (6u * nx + 4u * (nx + 2u));
+    if (n * n_ch < need || n < 4u * (nx + 2u))
+    {
+        aenl_err_set(err,
+                     "%lu samples of %lu channels are too few for the test (it needs %lu "
+                     "values)",
+                     (unsigned long)n, (unsigned long)n_ch, (unsigned long)need);
+        return AENL_E_ARG;
+    }
+    run_t rn;
+    memset(&rn, 0, sizeof(rn));
+    rn.opts = opts;
+    rn.n = n;
+    rn.nz = n_ch;
+    rn.nx = nx;
+    /* scale each channel by its standard deviation (the zero stays where it is: laws are
+     * defined about the channel's own zero) */
+    double *ys = (double *)malloc(n * n_ch * sizeof(double));
+    if (ys == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t j = 0; j < n_ch; ++j)
+    {
+        double s = 0.0;
+        double ss = 0.0;
+        size_t cnt = 0;
+        for (size_t t = 0; t < n; ++t)
+        {
+            const double v = y[t * n_ch + j];
+            if (isfinite(v))
+            {
+                s += v;
+                ss += v * v;
+                cnt++;
+            }
+        }
+        const double mean = cnt > 0 ? s / (double)cnt : 0.0;
+        const double var = cnt > 1 ? (ss - (double)cnt * mean * mean) / (double)(cnt - 1u) : 0.0;
+        if (!(var > 0.0))
+        {
+            free(ys);
+            aenl_err_set(err, "channel %lu is constant", (unsigned long)j + 1u);
+            return AENL_E_ARG;
+        }
+        rn.scale[j] = sqrt(var);
+        for (size_t t = 0; t < n; ++t)
+        {
+            ys[t * n_ch + j] = y[t * n_ch + j] / rn.scale[j];
+        }
+    }
+    aenl_em_opts_t eo;
+    aenl_em_opts_default(&eo);
+    eo.n_states = nx;
+    eo.n_thresholds = 0;
+    eo.max_iter = opts->em_iter;
+    eo.tol = 1e-9;
+    eo.dt = 1.0;
+    aenl_em_result_t em;
+    memset(&em, 0, sizeof(em));
+    st = aenl_em_fit(ys, n, n_ch, &eo, &em, err);
+    /* A likelihood whose maximum lies on the boundary (a noise-free record drives R to a
+     * singular matrix) fails EM part way: the fit then stops earlier, at a valid iterate. */
+    while (st == AENL_E_NOT_PD && eo.max_iter > 4u)
+    {
+        eo.max_iter /= 2u;
+        aenl_em_result_free(&em);
+        aenl_err_clear(err);
+        st = aenl_em_fit(ys, n, n_ch, &eo, &em, err);
+    }
+    kf_t kf;
+    memset(&kf, 0, sizeof(kf));
+    kf.n = n;
+    kf.nz = n_ch;
+    kf.nx = nx;
+    if (st == AENL_OK)
+    {
+        st = kf_run(&kf, &em.model, ys, err);
+    }
+    free(ys);
+    rn.kf = &kf;
+    rn.m = &em.model;
+    rn.one = (double *)malloc(n * sizeof(double));
+    rn.lin = (double *)malloc(n * sizeof(double));
+    rn.dsg = (double *)malloc(n * sizeof(double));
+    rn.work = (double *)malloc(4u * n * sizeof(double));
+    if (st == AENL_OK && (rn.one == NULL || rn.lin == NULL || rn.dsg == NULL || rn.work == NULL))
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    res->n_channels = n_ch;
+    res->n_samples = n;
+    res->n_states = nx;
+    res->level = opts->level;
+    res->loglik = em.loglik_final;
+    res->rows = (double)kf.rows;
+    rn.lnrows = log(fmax((double)kf.rows, 2.0));
+    res->verdict = -1;
+    res->verdict_class = AENL_CLASS_LINEAR;
+    double pmin = 1.0;
+    for (size_t j = 0; j < n_ch && st == AENL_OK; ++j)
+    {
+        aenl_nlt_channel_t *c = &res->ch[j];
+        double dir[NLT_MAX_X];
+        double s2 = 1.0;
+        for (size_t t = 0; t < n; ++t)
+        {
+            rn.one[t] = 1.0;
+            rn.lin[t] = kf.u[t * n_ch + j];
+        }
+        direction(kf.u, n_ch, j, n, rn.dsg);
+        c->cls = AENL_CLASS_LINEAR;
+        st = stage1(&rn, j, c, dir, &s2, err);
+        if (st != AENL_OK)
+        {
+            break;
+        }
+        c->nonlinear = c->p < opts->level / (double)n_ch;
+        pmin = fmin(pmin, c->p);
+        if (c->nonlinear)
+        {
+            st = stage2(&rn, j, dir, s2, c, err);
+            if (st == AENL_OK && (res->verdict < 0 || c->p < res->ch[res->verdict].p))
+            {
+                res->verdict = (long)j;
+            }
+        }
+    }
+    if (st == AENL_OK)
+    {
+        if (res->verdict >= 0)
+        {
+            const aenl_nlt_channel_t *c = &res->ch[res->verdict];
+            res->verdict_class = c->cls;
+            res->undetermined = c->undetermined;
+            double wmax = 0.0;
+            for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+            {
+                wmax = fmax(wmax, c->weight[l]);
+            }
+            res->confidence = wmax;
+        }
+        else
+        {
+            res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
+        }
+    }
+    free(rn.one);
+    free(rn.lin);
+    free(rn.dsg);
+    free(rn.work);
+    kf_free(&kf);
+    aenl_em_result_free(&em);
+    return st;
+}

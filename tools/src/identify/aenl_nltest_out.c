@@ -1,0 +1,268 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_nltest_out.c
+ * @brief The record-alone test's result as JSON and as a table.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#include <cjson/cJSON.h>
+
+#include "aenl_tools/aenl_nltest.h"
+
+const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined)
+{
+    if (undetermined)
+    {
+        return "undetermined";
+    }
+    switch (cls)
+    {
+        case AENL_CLASS_LINEAR:
+            return "linear";
+        case AENL_CLASS_POLYNOMIAL:
+            return "polynomial";
+        case AENL_CLASS_FREEPLAY:
+            return "freeplay";
+        case AENL_CLASS_HYSTERESIS:
+            return "hysteresis";
+        case AENL_CLASS_INSUFFICIENT:
+        default:
+            return "insufficient";
+    }
+}
+
+/* A weight below this is not listed as a candidate law. */
+#define OUT_MIN_CANDIDATE 0.05
+
+static cJSON *num(double v)
+{
+    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
+}
+
+static int add(cJSON *obj, const char *key, cJSON *item)
+{
+    if (item == NULL)
+    {
+        return -1;
+    }
+    cJSON_AddItemToObject(obj, key, item);
+    return 0;
+}
+
+static cJSON *num_array(const double *v, size_t n)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (size_t i = 0; a != NULL && i < n; ++i)
+    {
+        cJSON *x = num(v[i]);
+        if (x == NULL)
+        {
+            cJSON_Delete(a);
+            return NULL;
+        }
+        cJSON_AddItemToArray(a, x);
+    }
+    return a;
+}
+
+static int add_points(cJSON *o, const aenl_nlt_channel_t *c)
+{
+    const size_t np = c->nonlinear ? c->n_points : 0u;
+    int bad = add(o, "switch_points", num_array(c->points, np));
+    bad |= add(o, "switch_point_lo", num_array(c->point_lo, np));
+    bad |= add(o, "switch_point_hi", num_array(c->point_hi, np));
+    return bad;
+}
+
+static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name)
+{
+    cJSON *o = cJSON_CreateObject();
+    if (o == NULL)
+    {
+        return NULL;
+    }
+    cJSON *w = cJSON_CreateObject();
+    int bad = add(o, "name", cJSON_CreateString(name));
+    bad |= add(o, "class",
+               cJSON_CreateString(aenl_nlt_class_name(c->nonlinear ? c->cls : AENL_CLASS_LINEAR,
+                                                      c->nonlinear && c->undetermined)));
+    bad |= add(o, "statistic", num(c->stat));
+    bad |= add(o, "dof", num(c->dof));
+    bad |= add(o, "p_value", num(c->p));
+    bad |= add(o, "nonlinear", cJSON_CreateBool(c->nonlinear));
+    for (size_t l = 0; w != NULL && l < AENL_NLT_N_LAWS; ++l)
+    {
+        bad |= add(w, aenl_nlt_law_name((aenl_nlt_law_t)l),
+                   num(c->nonlinear ? c->weight[l] : (double)NAN));
+    }
+    bad |= add(o, "weights", w);
+    bad |= add(o, "hardening",
+               c->hardening != 0 && c->nonlinear ? cJSON_CreateBool(c->hardening > 0)
+                                                 : cJSON_CreateNull());
+    bad |= add_points(o, c);
+    if (bad)
+    {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
+{
+    cJSON *v = cJSON_CreateObject();
+    if (v == NULL)
+    {
+        return NULL;
+    }
+    const aenl_nlt_channel_t *c = r->verdict >= 0 ? &r->ch[r->verdict] : NULL;
+    int bad =
+        add(v, "class", cJSON_CreateString(aenl_nlt_class_name(r->verdict_class, r->undetermined)));
+    bad |=
+        add(v, "channel", c != NULL ? cJSON_CreateString(names[r->verdict]) : cJSON_CreateNull());
+    if (c != NULL)
+    {
+        bad |= add_points(v, c);
+    }
+    else
+    {
+        bad |= add(v, "switch_points", cJSON_CreateArray());
+    }
+    bad |= add(v, "confidence", num(r->confidence));
+    cJSON *cand = cJSON_CreateArray();
+    for (size_t l = 0; c != NULL && cand != NULL && l < AENL_NLT_N_LAWS; ++l)
+    {
+        if (c->weight[l] >= OUT_MIN_CANDIDATE)
+        {
+            cJSON *e = cJSON_CreateObject();
+            if (e == NULL ||
+                add(e, "class", cJSON_CreateString(aenl_nlt_law_name((aenl_nlt_law_t)l))) != 0 ||
+                add(e, "weight", num(c->weight[l])) != 0)
+            {
+                cJSON_Delete(e);
+                bad = 1;
+                break;
+            }
+            cJSON_AddItemToArray(cand, e);
+        }
+    }
+    bad |= add(v, "candidates", cand);
+    if (bad)
+    {
+        cJSON_Delete(v);
+        return NULL;
+    }
+    return v;
+}
+
+aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
+                                  const char *path)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *model = cJSON_CreateObject();
+    cJSON *chs = cJSON_CreateArray();
+    int bad = root == NULL || model == NULL || chs == NULL;
+    if (!bad)
+    {
+        bad |= add(root, "file", cJSON_CreateString(path));
+        bad |= add(root, "method", cJSON_CreateString("test"));
+        bad |= add(root, "level", num(r->level));
+        bad |= add(model, "states", cJSON_CreateNumber((double)r->n_states));
+        bad |= add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
+        bad |= add(model, "loglik", num(r->loglik));
+        bad |= add(root, "model", model);
+        model = NULL;
+        bad |= add(root, "verdict", json_verdict(r, names));
+        for (size_t j = 0; j < r->n_channels && !bad; ++j)
+        {
+            cJSON *c = json_channel(&r->ch[j], names[j]);
+            bad |= c == NULL;
+            if (c != NULL)
+            {
+                cJSON_AddItemToArray(chs, c);
+            }
+        }
+        bad |= add(root, "channels", chs);
+        chs = NULL;
+    }
+    char *text = bad ? NULL : cJSON_Print(root);
+    cJSON_Delete(root);
+    cJSON_Delete(model);
+    cJSON_Delete(chs);
+    if (text == NULL)
+    {
+        return AENL_E_DIM;
+    }
+    (void)fprintf(out, "%s\n", text);
+    cJSON_free(text);
+    return AENL_OK;
+}
+
+static void print_points(FILE *out, const aenl_nlt_channel_t *c)
+{
+    for (size_t k = 0; k < c->n_points; ++k)
+    {
+        (void)fprintf(out, "%s%.6g [%.6g, %.6g]", k ? ", " : "", c->points[k], c->point_lo[k],
+                      c->point_hi[k]);
+    }
+}
+
+void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
+                          const char *path)
+{
+    (void)fprintf(out,
+                  "%s: %lu samples, %lu channels; linear state-space model with %lu states\n"
+                  "test of a structural law against the linear model at level %.3g (each "
+                  "channel at %.3g)\n\n",
+                  path, (unsigned long)r->n_samples, (unsigned long)r->n_channels,
+                  (unsigned long)r->n_states, r->level, r->level / (double)r->n_channels);
+    (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s\n", "channel", "chi-square", "dof", "p-value",
+                  "class", "weights poly/freeplay/hyst");
+    for (size_t j = 0; j < r->n_channels; ++j)
+    {
+        const aenl_nlt_channel_t *c = &r->ch[j];
+        (void)fprintf(out, "%-12s %12.1f %5.0f %10.3g  %-12s", names[j], c->stat, c->dof, c->p,
+                      aenl_nlt_class_name(c->nonlinear ? c->cls : AENL_CLASS_LINEAR,
+                                          c->nonlinear && c->undetermined));
+        if (c->nonlinear)
+        {
+            (void)fprintf(out, " %.3f/%.3f/%.3f", c->weight[0], c->weight[1], c->weight[2]);
+        }
+        (void)fprintf(out, "\n");
+    }
+    (void)fprintf(out, "\nverdict: %s", aenl_nlt_class_name(r->verdict_class, r->undetermined));
+    if (r->verdict >= 0)
+    {
+        const aenl_nlt_channel_t *c = &r->ch[r->verdict];
+        (void)fprintf(out, " in %s (confidence %.3f)", names[r->verdict], r->confidence);
+        if (r->verdict_class == AENL_CLASS_POLYNOMIAL && c->hardening != 0)
+        {
+            (void)fprintf(out, ", %s", c->hardening > 0 ? "hardening" : "softening");
+        }
+        if (c->n_points > 0 && !r->undetermined)
+        {
+            (void)fprintf(out, "\nswitching points (95 %% interval): ");
+            print_points(out, c);
+        }
+        if (r->undetermined)
+        {
+            (void)fprintf(out, "\nthe record cannot tell the laws apart; candidates:");
+            for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+            {
+                if (c->weight[l] >= OUT_MIN_CANDIDATE)
+                {
+                    (void)fprintf(out, " %s %.3f", aenl_nlt_law_name((aenl_nlt_law_t)l),
+                                  c->weight[l]);
+                }
+            }
+        }
+    }
+    else
+    {
+        (void)fprintf(out, " (no channel rejects the linear model; confidence %.3f)",
+                      r->confidence);
+    }
+    (void)fprintf(out, "\n");
+}
