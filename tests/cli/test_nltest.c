@@ -108,6 +108,17 @@ static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t
     return y;
 }
 
+/* A pitch freeplay of 1 deg starting at -0.3 deg (no preload, no stiffness inside). */
+static aenl_sim_law_t pitch_freeplay(void)
+{
+    aenl_sim_law_t law;
+    memset(&law, 0, sizeof(law));
+    law.kind = AENL_SIM_LAW_FREEPLAY;
+    law.delta = 1.0 * DEG;
+    law.x_f = -0.3 * DEG;
+    return law;
+}
+
 /* Linear records: at level 0.01 the number of nonlinear verdicts among 20 is binomial(20, 0.01)
  * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. */
 static void test_nlt_linear_records_hold_the_level(void)
@@ -140,11 +151,7 @@ static void test_nlt_linear_records_hold_the_level(void)
  * switching points within 10 % of the gap's width, each inside its interval's neighbourhood. */
 static void test_nlt_freeplay_named_with_its_gap(void)
 {
-    aenl_sim_law_t law;
-    memset(&law, 0, sizeof(law));
-    law.kind = AENL_SIM_LAW_FREEPLAY;
-    law.delta = 1.0 * DEG;
-    law.x_f = -0.3 * DEG;
+    const aenl_sim_law_t law = pitch_freeplay();
     size_t n = 0;
     double *y = airfoil_record(&law, 4242u, &n);
     aenl_nlt_opts_t o;
@@ -206,11 +213,7 @@ static void test_nlt_bad_input(void)
 static const char *freeplay_csv(void)
 {
     static char path[600];
-    aenl_sim_law_t law;
-    memset(&law, 0, sizeof(law));
-    law.kind = AENL_SIM_LAW_FREEPLAY;
-    law.delta = 1.0 * DEG;
-    law.x_f = -0.3 * DEG;
+    const aenl_sim_law_t law = pitch_freeplay();
     size_t n = 0;
     double *y = airfoil_record(&law, 4242u, &n);
     (void)snprintf(path, sizeof(path), "%s/nlt_freeplay.csv", AENL_TEST_TMP_DIR);

@@ -328,8 +328,8 @@ static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y, 
             }
             k->slot[t] = miss_slot;
             memcpy(xf, x, nx * sizeof(double));
-            double T1[NLT_MAX_X * NLT_MAX_X];
-            double T2[NLT_MAX_X * NLT_MAX_X];
+            double T1[NLT_MAX_X * NLT_MAX_X] = {0};
+            double T2[NLT_MAX_X * NLT_MAX_X] = {0};
             mat_mul(m->A, P, T1, nx, nx, nx);
             for (size_t i = 0; i < nx; ++i)
             {
@@ -343,7 +343,7 @@ static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y, 
                     T2[i * nx + j] = s;
                 }
             }
-            memcpy(P, T2, sizeof(T2));
+            memcpy(P, T2, nx * nx * sizeof(double));
             steady = 0;
         }
         else
@@ -443,6 +443,11 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
         nc += d->full[s] ? nx : 1u;
     }
     d->ncols = nc;
+    if (nc == 0 || nx == 0 || nz == 0)
+    {
+        aenl_err_set(err, "aenl_nltest: an empty design");
+        return AENL_E_ARG;
+    }
     double *D = (double *)calloc(nx * nc, sizeof(double));
     double *Dn = (double *)malloc(nx * nc * sizeof(double));
     double *R = (double *)malloc(nz * nc * sizeof(double));
@@ -531,22 +536,12 @@ static void design_free(design_t *d)
     d->r = NULL;
 }
 
-/* The least-squares fit on columns idx[0..m-1] of the design: returns r' G^-1 r (the reduction of
- * the residual sum of squares) and, when beta is not NULL, the coefficients. Columns are scaled
- * to unit diagonal and a small ridge keeps near-collinear sets solvable. */
-static double fit_subset(const design_t *d, const size_t *idx, size_t m, double *beta)
+/* The normal equations of columns idx[0..m-1] scaled to unit diagonal (sc: the scales; a zero
+ * column gets scale 0 and a unit diagonal), with a small ridge that keeps near-collinear sets
+ * solvable: A (m x m) and, when r_out is not NULL, the scaled right-hand side. */
+static void scaled_normal(const design_t *d, const size_t *idx, size_t m, double *A, double *sc,
+                          double *r_out)
 {
-    double *A = (double *)malloc(m * m * sizeof(double));
-    double *b = (double *)malloc(m * sizeof(double));
-    double *sc = (double *)malloc(m * sizeof(double));
-    double red = 0.0;
-    if (A == NULL || b == NULL || sc == NULL)
-    {
-        free(A);
-        free(b);
-        free(sc);
-        return NAN;
-    }
     for (size_t i = 0; i < m; ++i)
     {
         const double gii = d->G[idx[i] * d->ncols + idx[i]];
@@ -559,14 +554,29 @@ static double fit_subset(const design_t *d, const size_t *idx, size_t m, double 
             A[i * m + j] = d->G[idx[i] * d->ncols + idx[j]] * sc[i] * sc[j];
         }
         A[i * m + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
-        b[i] = d->r[idx[i]] * sc[i];
+        if (r_out != NULL)
+        {
+            r_out[i] = d->r[idx[i]] * sc[i];
+        }
     }
+}
+
+/* The least-squares fit on columns idx[0..m-1] of the design: returns r' G^-1 r (the reduction of
+ * the residual sum of squares), NaN when singular, and, when beta is not NULL, the coefficients. */
+static double fit_subset(const design_t *d, const size_t *idx, size_t m, double *beta)
+{
+    double *A = (double *)malloc(m * m * sizeof(double));
+    double *b = (double *)malloc(m * sizeof(double));
+    double *sc = (double *)malloc(m * sizeof(double));
     double *x = (double *)malloc(m * sizeof(double));
-    if (x != NULL)
+    double red = NAN;
+    if (A != NULL && b != NULL && sc != NULL && x != NULL)
     {
+        scaled_normal(d, idx, m, A, sc, b);
         memcpy(x, b, m * sizeof(double));
         if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, 1, A, (lapack_int)m, x, 1) == 0)
         {
+            red = 0.0;
             for (size_t i = 0; i < m; ++i)
             {
                 red += b[i] * x[i];
@@ -576,14 +586,6 @@ static double fit_subset(const design_t *d, const size_t *idx, size_t m, double 
                 }
             }
         }
-        else
-        {
-            red = NAN;
-        }
-    }
-    else
-    {
-        red = NAN;
     }
     free(x);
     free(A);
@@ -623,19 +625,12 @@ static aenl_status_t residualise(const design_t *d, size_t nn, resid_t *out, aen
     }
     /* factor of the scaled nuisance block with a ridge, as in fit_subset */
     double sc[(1 + NLT_MAX_X) * NLT_MAX_X];
+    size_t nidx[(1 + NLT_MAX_X) * NLT_MAX_X];
     for (size_t i = 0; i < nn; ++i)
     {
-        const double gii = d->G[i * nc + i];
-        sc[i] = gii > 0.0 ? 1.0 / sqrt(gii) : 0.0;
+        nidx[i] = i;
     }
-    for (size_t i = 0; i < nn; ++i)
-    {
-        for (size_t j = 0; j < nn; ++j)
-        {
-            L[i * nn + j] = d->G[i * nc + j] * sc[i] * sc[j];
-        }
-        L[i * nn + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
-    }
+    scaled_normal(d, nidx, nn, L, sc, NULL);
     aenl_status_t st = AENL_OK;
     if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, L, (lapack_int)nn) != 0)
     {
@@ -1202,7 +1197,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     }
     memcpy(sorted, rn->lin, n * sizeof(double));
     qsort(sorted, n, sizeof(double), cmp_double);
-    size_t qidx[NLT_N_QUANT];
+    size_t qidx[NLT_N_QUANT] = {0};
     for (size_t i = 0; i < NLT_N_QUANT; ++i)
     {
         const double p = (0.02 + 0.04 * (double)i);
@@ -1255,7 +1250,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     c->bic[AENL_NLT_POLYNOMIAL] = fmin(bic3, bic35);
     const double beta3 = r.Gt[i3 * r.ns + i3] > 0.0 ? r.rt[i3] / r.Gt[i3 * r.ns + i3] : 0.0;
     /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
-    size_t all[4 * NLT_N_QUANT + 8];
+    size_t all[4 * NLT_N_QUANT + 8] = {0};
     for (size_t i = 0; i < nk; ++i)
     {
         all[i] = i;
@@ -1313,10 +1308,10 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     design_free(&d2);
     if (st == AENL_OK)
     {
-        size_t f1[NLT_N_FINE];
-        size_t f2[NLT_N_FINE];
-        size_t h1[NLT_N_FINE];
-        size_t h2[NLT_N_FINE];
+        size_t f1[NLT_N_FINE] = {0};
+        size_t f2[NLT_N_FINE] = {0};
+        size_t h1[NLT_N_FINE] = {0};
+        size_t h2[NLT_N_FINE] = {0};
         /* the fine indices of each law's points: the nine fine knots nearest each centre */
         for (size_t a = 0; a < 4; ++a)
         {

@@ -13,24 +13,7 @@
 
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined)
 {
-    if (undetermined)
-    {
-        return "undetermined";
-    }
-    switch (cls)
-    {
-        case AENL_CLASS_LINEAR:
-            return "linear";
-        case AENL_CLASS_POLYNOMIAL:
-            return "polynomial";
-        case AENL_CLASS_FREEPLAY:
-            return "freeplay";
-        case AENL_CLASS_HYSTERESIS:
-            return "hysteresis";
-        case AENL_CLASS_INSUFFICIENT:
-        default:
-            return "insufficient";
-    }
+    return undetermined ? "undetermined" : aenl_class_name(cls);
 }
 
 /* A weight below this is not listed as a candidate law. */
