@@ -8,8 +8,17 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build/m4f}
 cmake -S "$root" -B "$build" -DCMAKE_TOOLCHAIN_FILE="$root/tools/cmake/arm-none-eabi.cmake" \
-      -DCMAKE_BUILD_TYPE=Release -DAENL_BUILD_TESTS=OFF -DAENL_BUILD_TOOLS=OFF >/dev/null
+      -DCMAKE_BUILD_TYPE=Release -DAENL_BUILD_TESTS=OFF -DAENL_BUILD_TOOLS=OFF \
+      -DCMAKE_EXPORT_COMPILE_COMMANDS=ON >/dev/null
 cmake --build "$build" --target aenl_core_f32 -j2 >/dev/null
+# The sizes below are those of -Os: every compile of the core must say so, and nothing later on
+# its command line may override it.
+cc_lines=$(grep -E '"command": .*aenl_core_f32' "$build/compile_commands.json" || true)
+if [[ -z $cc_lines ]] || echo "$cc_lines" | grep -vqE -- '-Os( -DNDEBUG)?( |")' ||
+   echo "$cc_lines" | grep -qE -- '-O[0-3g]( |")'; then
+  echo "m4f: FAIL: the core is not compiled with -Os alone:"; echo "$cc_lines" | head -n 2; exit 1
+fi
+echo "m4f: every compile of the core uses -Os"
 lib=$(find "$build" -name 'libaenl_core_f32.a' | head -n 1)
 
 allowed='^(expf|sqrtf|logf|fabsf|floorf|ceilf|cosf|tanf|memset|memcpy|memmove|__aeabi_mem(set|clr|cpy|move)[48]?|__aeabi_u?idiv(mod)?|__aeabi_u?ldivmod|__aeabi_l(asr|lsl|lsr|mul|cmp)|__aeabi_ulcmp)$'
