@@ -79,6 +79,23 @@ static void test_cli_simulate_writes_to_stdout_and_devices(void)
     TEST_ASSERT_EQUAL_UINT64((uint64_t)before.st_ino, (uint64_t)after.st_ino);
 }
 
+/* `aenl --version`: one line "aenl MAJOR.MINOR.PATCH" on stdout, exit 0. */
+static void test_cli_version(void)
+{
+    const char *args[] = {"--version", NULL};
+    cli_result_t r;
+    unsigned a = 0;
+    unsigned b = 0;
+    unsigned c = 0;
+    char nl = 0;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(4, sscanf(r.out, "aenl %u.%u.%u%c", &a, &b, &c, &nl), r.out);
+    TEST_ASSERT_EQUAL_INT('\n', nl);
+    TEST_ASSERT_EQUAL_size_t(strlen(r.out), r.n_out);
+    TEST_ASSERT_EQUAL_size_t(0, strlen(r.err));
+}
+
 static void test_cli_simulate_same_seed_same_file(void)
 {
     const char *a1[] = {"simulate", EXAMPLES "paper_hysteresis_pitch.ini", "-o", "seed_a.csv",
@@ -182,6 +199,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_simulate_writes_the_csv_contract);
     RUN_TEST(test_cli_simulate_writes_to_stdout_and_devices);
+    RUN_TEST(test_cli_version);
     RUN_TEST(test_cli_simulate_same_seed_same_file);
     RUN_TEST(test_cli_simulate_bad_ini);
     RUN_TEST(test_cli_flutter_json);

@@ -240,6 +240,7 @@ static void test_cli_identify_method_test_json_and_table(void)
     cJSON *root = cJSON_Parse(r.out);
     TEST_ASSERT_NOT_NULL_MESSAGE(root, r.out);
     TEST_ASSERT_EQUAL_STRING("test", cJSON_GetObjectItem(root, "method")->valuestring);
+    TEST_ASSERT_TRUE(cJSON_IsString(cJSON_GetObjectItem(root, "aenl_version")));
     const cJSON *v = cJSON_GetObjectItem(root, "verdict");
     TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItem(v, "class")->valuestring);
     TEST_ASSERT_EQUAL_STRING("alpha", cJSON_GetObjectItem(v, "channel")->valuestring);

@@ -36,8 +36,8 @@ static const subcommand_t k_subcommands[] = {
 
 static void usage(FILE *fp)
 {
-    fprintf(fp,
-            "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n\n");
+    fprintf(fp, "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n"
+                "       aenl --version\n\n");
     for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
     {
         fprintf(fp, "  %-10s %s\n", k_subcommands[i].name, k_subcommands[i].summary);
@@ -142,6 +142,11 @@ int main(int argc, char **argv)
         strcmp(argv[1], "help") == 0)
     {
         usage(stdout);
+        return AENL_EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0)
+    {
+        printf("aenl %s\n", AENL_VERSION);
         return AENL_EXIT_OK;
     }
     (void)signal(SIGINT, on_signal); /* best effort: temporaries are also removed at exit */

@@ -24,7 +24,7 @@
 #define NLT_MAX_X       12    /* states of the linear model */
 #define NLT_STEADY_TOL  1e-11 /* relative change of P at which the filter is taken as steady */
 #define NLT_RIDGE       1e-10 /* relative ridge on the scaled normal equations */
-#define NLT_N_QUANT     25    /* coarse switching-point grid: quantiles 2 %, 6 %, ..., 98 % */
+#define NLT_N_QUANT     25    /* coarse switching-point grid: points evenly over the motion */
 #define NLT_N_FINE      9     /* fine grid points per switching point */
 #define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
 #define NLT_STAGE1_LAWS 4                 /* u^2, u^3, d, d u */
@@ -1198,10 +1198,13 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     memcpy(sorted, rn->lin, n * sizeof(double));
     qsort(sorted, n, sizeof(double), cmp_double);
     size_t qidx[NLT_N_QUANT] = {0};
+    /* Evenly over the range of motion (its 0.5 % and 99.5 % quantiles): a switching point may be
+     * anywhere the motion goes, and a free decay spends most of its samples near rest. */
+    const double q_lo = sorted[(size_t)(0.005 * (double)(n - 1u))];
+    const double q_hi = sorted[(size_t)(0.995 * (double)(n - 1u))];
     for (size_t i = 0; i < NLT_N_QUANT; ++i)
     {
-        const double p = (0.02 + 0.04 * (double)i);
-        q[i] = sorted[(size_t)(p * (double)(n - 1u))];
+        q[i] = q_lo + (q_hi - q_lo) * (double)i / (double)(NLT_N_QUANT - 1u);
     }
     free(sorted);
     const size_t nk = symmetric_knots(q, NLT_N_QUANT, knots);
