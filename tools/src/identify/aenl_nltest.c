@@ -433,6 +433,38 @@ typedef struct
     double *r; /* ncols */
 } design_t;
 
+/* One step of the sensitivities: Dn = F D + the inputs of sample t, then D and Dn swap. */
+static void design_step(const design_t *d, const double *F, size_t t, size_t nx, double **D,
+                        double **Dn)
+{
+    const size_t nc = d->ncols;
+    double *out = *Dn;
+    mat_mul(F, *D, out, nx, nx, nc);
+    size_t c = 0;
+    for (size_t s = 0; s < d->n_series; ++s)
+    {
+        const double gt = d->g[s][t];
+        if (d->full[s])
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                out[i * nc + c + i] += gt;
+            }
+            c += nx;
+        }
+        else
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                out[i * nc + c] += gt * d->dir[i];
+            }
+            c += 1;
+        }
+    }
+    *Dn = *D;
+    *D = out;
+}
+
 static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
 {
     const size_t nx = k->nx;
@@ -449,8 +481,8 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
         return AENL_E_ARG;
     }
     double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)malloc(nx * nc * sizeof(double));
-    double *R = (double *)malloc(nz * nc * sizeof(double));
+    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    double *R = (double *)calloc(nz * nc, sizeof(double));
     d->G = (double *)calloc(nc * nc, sizeof(double));
     d->r = (double *)calloc(nc, sizeof(double));
     if (D == NULL || Dn == NULL || R == NULL || d->G == NULL || d->r == NULL)
@@ -489,31 +521,7 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
                 }
             }
         }
-        mat_mul(F, D, Dn, nx, nx, nc);
-        size_t c = 0;
-        for (size_t s = 0; s < d->n_series; ++s)
-        {
-            const double gt = d->g[s][t];
-            if (d->full[s])
-            {
-                for (size_t i = 0; i < nx; ++i)
-                {
-                    Dn[i * nc + c + i] += gt;
-                }
-                c += nx;
-            }
-            else
-            {
-                for (size_t i = 0; i < nx; ++i)
-                {
-                    Dn[i * nc + c] += gt * d->dir[i];
-                }
-                c += 1;
-            }
-        }
-        double *sw = D;
-        D = Dn;
-        Dn = sw;
+        design_step(d, F, t, nx, &D, &Dn);
     }
     for (size_t i = 0; i < nc; ++i)
     {
@@ -592,6 +600,176 @@ static double fit_subset(const design_t *d, const size_t *idx, size_t m, double 
     free(b);
     free(sc);
     return red;
+}
+
+/* The heteroskedasticity-robust score of the columns nn.. of a design given its first nn
+ * (Wooldridge's robust LM): the test columns are partialled on the nuisance ones with Pi
+ * (nn x nl, the least-squares coefficients of G), and the per-sample score contributions
+ * s_t = sum over channels of (partialled row) x (whitened innovation) give
+ * score = sum s_t and meat = sum s_t s_t'. score' meat^-1 score is chi-square with nl degrees of
+ * freedom when the innovations are uncorrelated with the past, whatever their distribution and
+ * however their spread changes over the record (an impulse, a decay's fading amplitude). */
+static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, const double *Pi,
+                                   double *score, double *meat, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t nc = d->ncols;
+    const size_t nl = nc - nn;
+    double *D = (double *)calloc(nx * nc, sizeof(double));
+    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    double *R = (double *)calloc(nz * nc, sizeof(double));
+    double *st = (double *)malloc(nl * sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL || st == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        free(st);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    memset(score, 0, nl * sizeof(double));
+    memset(meat, 0, nl * nl * sizeof(double));
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            const double *WC = k->WC + k->slot[t] * nz * nx;
+            const double *e = k->eps + t * nz;
+            mat_mul(WC, D, R, nz, nx, nc);
+            memset(st, 0, nl * sizeof(double));
+            for (size_t a = 0; a < nz; ++a)
+            {
+                const double *ra = R + a * nc;
+                for (size_t l = 0; l < nl; ++l)
+                {
+                    double x = ra[nn + l];
+                    for (size_t i = 0; i < nn; ++i)
+                    {
+                        x -= Pi[i * nl + l] * ra[i];
+                    }
+                    st[l] -= x * e[a]; /* rows are -R */
+                }
+            }
+            for (size_t l = 0; l < nl; ++l)
+            {
+                score[l] += st[l];
+                for (size_t m = l; m < nl; ++m)
+                {
+                    meat[l * nl + m] += st[l] * st[m];
+                }
+            }
+        }
+        design_step(d, F, t, nx, &D, &Dn);
+    }
+    for (size_t l = 0; l < nl; ++l)
+    {
+        for (size_t m = 0; m < l; ++m)
+        {
+            meat[l * nl + m] = meat[m * nl + l];
+        }
+    }
+    free(D);
+    free(Dn);
+    free(R);
+    free(st);
+    return AENL_OK;
+}
+
+/* Pi (nn x nl): the coefficients of the columns nn.. of the design regressed on its first nn,
+ * from the scaled normal equations. */
+static aenl_status_t partial_coefficients(const design_t *d, size_t nn, double *Pi, aenl_err_t *err)
+{
+    const size_t nc = d->ncols;
+    const size_t nl = nc - nn;
+    double *A = (double *)malloc(nn * nn * sizeof(double));
+    double *sc = (double *)malloc(nn * sizeof(double));
+    size_t *idx = (size_t *)malloc(nn * sizeof(size_t));
+    aenl_status_t st = AENL_OK;
+    if (A == NULL || sc == NULL || idx == NULL)
+    {
+        st = AENL_E_DIM;
+        aenl_err_set(err, "out of memory");
+    }
+    else
+    {
+        for (size_t i = 0; i < nn; ++i)
+        {
+            idx[i] = i;
+        }
+        scaled_normal(d, idx, nn, A, sc, NULL);
+        for (size_t i = 0; i < nn; ++i)
+        {
+            for (size_t l = 0; l < nl; ++l)
+            {
+                Pi[i * nl + l] = d->G[i * nc + nn + l] * sc[i];
+            }
+        }
+        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, (lapack_int)nl, A, (lapack_int)nn,
+                          Pi, (lapack_int)nl) != 0)
+        {
+            st = AENL_E_NUMERIC;
+            aenl_err_set(err, "the nuisance regression is singular");
+        }
+        for (size_t i = 0; i < nn && st == AENL_OK; ++i)
+        {
+            for (size_t l = 0; l < nl; ++l)
+            {
+                Pi[i * nl + l] *= sc[i];
+            }
+        }
+    }
+    free(A);
+    free(sc);
+    free(idx);
+    return st;
+}
+
+/* x' A^-1 x for a symmetric positive semi-definite A (n x n), scaled to unit diagonal with a
+ * small ridge; NaN when it cannot be solved. */
+static double quad_inverse(const double *A, const double *x, size_t n)
+{
+    double *M = (double *)malloc(n * n * sizeof(double));
+    double *v = (double *)malloc(n * sizeof(double));
+    double *w = (double *)malloc(n * sizeof(double));
+    double q = NAN;
+    if (M != NULL && v != NULL && w != NULL)
+    {
+        for (size_t i = 0; i < n; ++i)
+        {
+            const double di = A[i * n + i];
+            w[i] = di > 0.0 ? 1.0 / sqrt(di) : 0.0;
+        }
+        for (size_t i = 0; i < n; ++i)
+        {
+            for (size_t j = 0; j < n; ++j)
+            {
+                M[i * n + j] = A[i * n + j] * w[i] * w[j];
+            }
+            M[i * n + i] += NLT_RIDGE + (w[i] > 0.0 ? 0.0 : 1.0);
+            v[i] = x[i] * w[i];
+        }
+        double *b = (double *)malloc(n * sizeof(double));
+        if (b != NULL)
+        {
+            memcpy(b, v, n * sizeof(double));
+            if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, 1, M, (lapack_int)n, b, 1) == 0)
+            {
+                q = 0.0;
+                for (size_t i = 0; i < n; ++i)
+                {
+                    q += v[i] * b[i];
+                }
+            }
+            free(b);
+        }
+    }
+    free(M);
+    free(v);
+    free(w);
+    return q;
 }
 
 /* ---- stage 2: the laws along a fixed direction ----------------------------------------------- */
@@ -1047,8 +1225,34 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     const double red_n = fit_subset(&d, idx, n_nuis * nx, NULL);
     const double red_f = fit_subset(&d, idx, d.ncols, beta);
     const size_t ncols = d.ncols;
+    const size_t nn = n_nuis * nx;
+    const size_t nl = ncols - nn;
+    double *Pi = (double *)malloc(nn * nl * sizeof(double));
+    double *score = (double *)malloc(nl * sizeof(double));
+    double *meat = (double *)malloc(nl * nl * sizeof(double));
+    if (Pi == NULL || score == NULL || meat == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    if (st == AENL_OK)
+    {
+        st = partial_coefficients(&d, nn, Pi, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = design_robust(&d, rn->kf, nn, Pi, score, meat, err);
+    }
+    const double q = st == AENL_OK ? quad_inverse(meat, score, nl) : (double)NAN;
+    free(Pi);
+    free(score);
+    free(meat);
     design_free(&d);
-    if (!isfinite(red_n) || !isfinite(red_f))
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    if (!isfinite(red_n) || !isfinite(red_f) || !isfinite(q))
     {
         aenl_err_set(err, "channel %lu: the test regression is singular", (unsigned long)j);
         return AENL_E_NUMERIC;
@@ -1056,7 +1260,13 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     const double dof_res = (double)rn->kf->rows - (double)ncols;
     *s2 = fmax((rn->kf->ee - red_f) / dof_res, 1e-300);
     c->dof = (double)(NLT_STAGE1_LAWS * nx);
-    c->stat = fmax(red_f - red_n, 0.0) / *s2;
+    c->stat = fmax(q, 0.0);
+    /* The laws are compared with the classical (homoskedastic) gains; where the robust score
+     * says the innovations' spread makes those gains overstate the evidence, they are scaled
+     * down by that ratio (a quasi-likelihood dispersion, as in QAIC). */
+    const double classic = fmax(red_f - red_n, 0.0) / *s2;
+    const double disp = c->stat > 0.0 ? classic / c->stat : 1.0;
+    *s2 *= fmax(disp, 1.0);
     c->p = aenl_chi2_sf(c->stat, c->dof);
     /* direction: leading left singular vector of the law coefficients (nx x 4), each column
      * weighted by its regressor's spread, by power iteration on M M'. */
