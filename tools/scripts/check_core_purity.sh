@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Core purity gate (STYLE.md section 11): the embeddable core (include/aenl, src) must not use the
-# heap, stdio, stdlib or LAPACK, and includes only the C library headers STYLE.md allows.
+# Core purity gate: the embeddable core (include/aenl, src) must not use the heap, stdio, stdlib
+# or LAPACK, and includes only <stdint.h> <stddef.h> <string.h> <math.h> <assert.h>.
 set -u
 root=${1:-$(cd "$(dirname "$0")/../.." && pwd)}
 cd "$root" || exit 2

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# Cortex-M4F gate (STYLE.md sections 7 and 11): cross-build aenl_core_f32 with arm-none-eabi-gcc,
+# Cortex-M4F gate: cross-build aenl_core_f32 with arm-none-eabi-gcc,
 # then (1) every undefined symbol must be on the allow-list (float libm, mem*, integer EABI helpers:
 # no heap, no stdio, no double-precision helper), (2) print arm-none-eabi-size of the core,
 # (3) print the state sizes and (4) the largest stack frames from -fstack-usage.

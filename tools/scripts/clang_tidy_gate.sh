@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# CMAKE_C_CLANG_TIDY launcher for -DAENL_STATIC_ANALYSIS=ON (STYLE.md section 11).
+# CMAKE_C_CLANG_TIDY launcher for -DAENL_STATIC_ANALYSIS=ON.
 # Usage (set up by the root CMakeLists.txt, CMake appends "SOURCE -- COMPILE COMMAND"):
 #   clang_tidy_gate.sh PENDING CLANG_TIDY [ARGS...] SOURCE -- COMPILE...
 # PENDING is a ':'-separated list of glob patterns (absolute paths) of sources whose findings are

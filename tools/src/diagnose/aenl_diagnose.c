@@ -616,13 +616,11 @@ static size_t spec_grid(const spec_t *sp, double g[][AENL_DIAGNOSE_MAX_PAR])
         case AENL_DIAGNOSE_HYSTERESIS:
         {
             /* alpha_f / delta and M0 / delta: gaps away from the origin, and the paper's loop
-             * (alpha_f 0, M0 half way to the closed loop's delta / 2). Without the last every
-             * start had alpha_f > 0: on the suite's gust record 115 (plunge, alpha_f 0, other
-             * turbulence) the hysteresis' best gap stayed above 0.15 and a cubic (0.111) was
-             * named; from the paper's loop it reaches 0.039, inside the floor (0.06). No start
-             * at the centred freeplay the law holds (alpha_f -delta / 2, M0 0; test_sim_lco):
-             * from there it beat true freeplays by a loop 1 to 3 % of their width (session
-             * 28; the README's results). */
+             * (alpha_f 0, M0 half way to the closed loop's delta / 2). With every start at
+             * alpha_f > 0, a loop with alpha_f 0 under turbulence the model does not share stays
+             * far from its best gap, and a cubic is named instead. No start at the centred
+             * freeplay the law holds (alpha_f -delta / 2, M0 0; test_sim_lco): from there a loop
+             * of 1 to 3 % of a true freeplay's width beats the freeplay. */
             const double d[] = {0.15, 0.4, 1.0};
             const double ab[][2] = {{0.5, 0.5}, {0.25, 1.0}, {1.0, 0.25}, {0.0, 0.25}};
             for (size_t i = 0; i < 3u; ++i)
@@ -1239,10 +1237,9 @@ static size_t rivals_of(const aenl_diagnose_result_t *r, size_t best, double pen
  * cannot run, or every fit is rejected, the gap's choice stands. Only where the gap accepts the
  * best law (gap_accepts): efficient weights are right only for a model that can match the
  * record, and where even the best law misses it beyond chance, every rival does too, and their
- * chi2 compare two misfits, not two laws. On the suite's gust case 13 (plunge freeplay, SNR 10,
- * the noise estimated 0 against a baseline far from the record) the best gap was 3 times its
- * floor; the freeplay's summaries were rejected (chi2 79 for 22) and a thin-loop hysteresis's
- * were just not (46.3 for 21), and it was named. sf[k] is the fit of cand con[k], con[0] the
+ * chi2 compare two misfits, not two laws: with the noise estimated 0 against a baseline far from
+ * the record, a true freeplay's summaries can be rejected while a thin loop's are just not, and
+ * the loop would be named. sf[k] is the fit of cand con[k], con[0] the
  * best. The index into con of the law named. */
 static size_t summaries_choose(const aenl_diagnose_result_t *r, const size_t *con,
                                const sumfit_t *sf, size_t n_con, double penalty)
@@ -1382,9 +1379,9 @@ static double d3_mean_square(const double *y, size_t n)
 /* The measurement noise the simulations get. The record's high-frequency scale (third
  * differences, noise_record) is its noise only where the response is smooth from sample to
  * sample; sampled a few times a period it holds the response's own share, and simulations given
- * all of it as noise carry that share twice. On a noise-free gust record of the suite (case 107:
- * pitch at 6 samples a period) the true model's gap was 5 times its floor, nearly all of it in
- * the pitch spectrum above the resonance. The third differences' mean square adds over response
+ * all of it as noise carry that share twice: on a noise-free gust record with the pitch sampled 6
+ * times a period, the true model's gap is several times its floor, nearly all of it in the pitch
+ * spectrum above the resonance. The third differences' mean square adds over response
  * and noise (a robust scale does not: a sampled sinusoid's is bimodal), so the record's beyond
  * the baseline's clean response, over 20, is a second estimate of the noise variance. Each is
  * high for its own reason: the robust scale by the response's sample-to-sample change, the

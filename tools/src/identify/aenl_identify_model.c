@@ -285,10 +285,10 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
          * If that law leaves nothing at all (the baseline with it agrees within the noise, by
          * the gap and the summaries), it alone explains the record, which the first effect as
          * found alone did not (the second was named on top of it): it is the verdict. Else the
-         * first is as it was found alone. Found on a gust record of the suite (case 235, plunge
-         * hysteresis, other turbulence): alone a cubic in plunge, then a cubic in pitch on top;
-         * refitted with that, the plunge law became the hysteresis, and the baseline with the
-         * hysteresis alone agreed (gap 1.6 times its floor). */
+         * first is as it was found alone. A plunge hysteresis under turbulence the model does
+         * not share can be found alone as a cubic in plunge, then a cubic in pitch on top;
+         * refitted with that, the plunge law becomes the hysteresis, and the baseline with the
+         * hysteresis alone agrees. */
         const aenl_diagnose_result_t *const dk = &d[k + 1u];
         other = st == AENL_OK && names_law(dk) && dk->dof == d[1].dof ? dk : NULL;
         explains = st == AENL_OK && other == NULL && first != &d[0] && dk->explained &&
