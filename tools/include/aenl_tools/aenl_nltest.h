@@ -5,7 +5,9 @@
  *
  * The record's linear part is a linear Gaussian state-space model fitted by maximum likelihood
  * (aenl_em, one mode): x_{t+1} = A x_t + b + w_t, y_t = C x_t + v_t, the measurement noise in
- * the measurement equation. Its Kalman filter gives the innovations e_t, their covariances S_t
+ * the measurement equation, its order chosen by BIC. Samples whose innovation is beyond what the
+ * model's Gaussian noise allows (impulses: taps, kicks) restart the filter from a widened state
+ * covariance. Its Kalman filter gives the innovations e_t, their covariances S_t
  * and the filtered outputs u_t = C x_{t|t}. A structural law in the degree of freedom seen by
  * channel j enters as a force: x_{t+1} = ... + B g(u_{j,t}, d_t), with B an unknown direction
  * (one coefficient per state) and g a candidate shape; d_t = sign(u_{j,t} - u_{j,t-1}) is the
@@ -62,7 +64,8 @@ typedef struct aenl_nlt_opts
 {
     double level;      /**< family-wise level of the test over the channels (default 0.01) */
     double min_weight; /**< weight a law needs to be named (default 0.9) */
-    size_t n_states;   /**< states of the linear model (default 0: 4 per channel, at most 12) */
+    size_t n_states;   /**< states of the linear model (default 0: chosen by BIC among 4 and 6
+                            per channel and 12, at most 12) */
     size_t em_iter;    /**< EM iterations of the linear fit (default 200) */
 } aenl_nlt_opts_t;
 
@@ -89,9 +92,10 @@ typedef struct aenl_nlt_channel
 typedef struct aenl_nlt_result
 {
     size_t n_channels, n_samples, n_states;
-    double loglik; /**< of the linear model */
-    double level;  /**< the level used */
-    double rows;   /**< regression rows (samples x channels) */
+    size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
+    double loglik;     /**< of the linear model */
+    double level;      /**< the level used */
+    double rows;       /**< regression rows (samples x channels) */
     aenl_nlt_channel_t ch[AENL_NLT_MAX_CH];
     long verdict; /**< channel of the verdict (smallest p among the rejecting), or -1 */
     aenl_class_t verdict_class; /**< LINEAR when nothing rejects; INSUFFICIENT when
@@ -119,11 +123,11 @@ const char *aenl_nlt_law_name(aenl_nlt_law_t law);
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
 
 /**
- * @brief The result as one JSON object on `out`: file, method "test", level, model {states,
- *        samples, loglik}, verdict {class, channel, switch_points, switch_point_lo,
- *        switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name, class,
- *        statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis},
- *        hardening, switch_points, switch_point_lo, switch_point_hi}]. names: the channels.
+ * @brief The result as one JSON object on `out`: file, aenl_version, method "test", level, model
+ *        {states, samples, loglik, impulses}, verdict {class, channel, switch_points,
+ * switch_point_lo, switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name,
+ * class, statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis}, hardening,
+ * switch_points, switch_point_lo, switch_point_hi}]. names: the channels.
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,

@@ -21,13 +21,14 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_stats.h"
 
-#define NLT_MAX_X       12    /* states of the linear model */
-#define NLT_STEADY_TOL  1e-11 /* relative change of P at which the filter is taken as steady */
-#define NLT_RIDGE       1e-10 /* relative ridge on the scaled normal equations */
-#define NLT_N_QUANT     25    /* coarse switching-point grid: points evenly over the motion */
-#define NLT_N_FINE      9     /* fine grid points per switching point */
-#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
-#define NLT_STAGE1_LAWS 4                 /* u^2, u^3, d, d u */
+#define NLT_MAX_X         12    /* states of the linear model */
+#define NLT_STEADY_TOL    1e-11 /* relative change of P at which the filter is taken as steady */
+#define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
+#define NLT_N_QUANT       25    /* coarse switching-point grid: points evenly over the motion */
+#define NLT_N_FINE        9     /* fine grid points per switching point */
+#define NLT_CHI2_1_95     3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
+#define NLT_STAGE1_LAWS   4                 /* u^2, u^3, d, d u */
+#define NLT_IMPULSE_LEVEL 1e-4 /* upper tail of a whitened innovation taken for an impulse */
 
 /* ---- small dense helpers (row-major) --------------------------------------------------------- */
 
@@ -279,7 +280,8 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
 }
 
 /* The filter over y (n x nz, standardised), keeping what the regressions need. */
-static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y, aenl_err_t *err)
+static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
+                            const unsigned char *reset, const double *P_reset, aenl_err_t *err)
 {
     const size_t nx = k->nx;
     const size_t nz = k->nz;
@@ -348,6 +350,16 @@ static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y, 
         }
         else
         {
+            if (reset != NULL && reset[t])
+            {
+                /* An impulse the model's Gaussian noise does not explain: the state may have
+                 * moved anywhere in its usual range, and the filter starts afresh from there. */
+                for (size_t i = 0; i < nx * nx; ++i)
+                {
+                    P[i] += P_reset[i];
+                }
+                steady = 0;
+            }
             if (!steady)
             {
                 memcpy(Pprev, P, nx * nx * sizeof(double));
@@ -1679,6 +1691,197 @@ static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const ae
     return AENL_OK;
 }
 
+/* Values (samples x channels) the regressions need for a model of nx states. */
+static size_t values_needed(size_t nx)
+{
+    return 20u * (6u * nx + 4u * (nx + 2u));
+}
+
+/* The model orders to choose among: opts->n_states alone, or 4 and 6 states per channel and 12
+ * (at most 12 in all), as far as the record is long enough for them; ascending. */
+static size_t state_candidates(const aenl_nlt_opts_t *opts, size_t n, size_t m, size_t *cand)
+{
+    size_t want[3] = {4u * m, 6u * m, NLT_MAX_X};
+    size_t nw = 3;
+    if (opts->n_states != 0)
+    {
+        want[0] = opts->n_states;
+        nw = 1;
+    }
+    size_t nc = 0;
+    for (size_t i = 0; i < nw; ++i)
+    {
+        size_t nx = want[i] > NLT_MAX_X ? NLT_MAX_X : want[i];
+        nx = nx < m ? m : nx;
+        if (n * m < values_needed(nx) || n < 4u * (nx + 2u) || (nc > 0 && cand[nc - 1u] >= nx))
+        {
+            continue;
+        }
+        cand[nc++] = nx;
+    }
+    return nc;
+}
+
+/* The linear model of nx states by EM. A likelihood whose maximum lies on the boundary (a
+ * noise-free record drives R to a singular matrix) fails EM part way: the fit then stops
+ * earlier, at a valid iterate. */
+static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx, size_t iters,
+                                aenl_em_result_t *em, aenl_err_t *err)
+{
+    aenl_em_opts_t eo;
+    aenl_em_opts_default(&eo);
+    eo.n_states = nx;
+    eo.n_thresholds = 0;
+    eo.max_iter = iters;
+    eo.tol = 1e-9;
+    eo.dt = 1.0;
+    memset(em, 0, sizeof(*em));
+    aenl_status_t st = aenl_em_fit(ys, n, m, &eo, em, err);
+    while (st == AENL_E_NOT_PD && eo.max_iter > 4u)
+    {
+        eo.max_iter /= 2u;
+        aenl_em_result_free(em);
+        aenl_err_clear(err);
+        st = aenl_em_fit(ys, n, m, &eo, em, err);
+    }
+    return st;
+}
+
+/* The order by the Bayesian information criterion over the candidates: -2 log-likelihood plus
+ * ln(samples) per parameter the data can tell apart. A state-space model is known only up to a
+ * change of state basis, so its identifiable parameters are those of the innovations form in a
+ * canonical basis: 2 nx m (the dynamics and the gain), m (m + 1) / 2 (the innovation covariance)
+ * and m (the offset). An order too small for the record's dynamics (aerodynamic lags, start-up
+ * transients) leaves a misfit that the test would take for a law. */
+static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, const size_t *cand,
+                                      size_t n_cand, size_t iters, aenl_em_result_t *best,
+                                      aenl_err_t *err)
+{
+    double bic_best = INFINITY;
+    aenl_status_t st_last = AENL_E_NUMERIC;
+    memset(best, 0, sizeof(*best));
+    for (size_t c = 0; c < n_cand; ++c)
+    {
+        aenl_em_result_t em;
+        aenl_err_t e2;
+        aenl_err_clear(&e2);
+        st_last = fit_linear(ys, n, m, cand[c], iters, &em, &e2);
+        if (st_last != AENL_OK)
+        {
+            aenl_err_set(err, "%s", e2.msg);
+            continue;
+        }
+        const double nx = (double)cand[c];
+        const double dm = (double)m;
+        const double k = 2.0 * nx * dm + 0.5 * dm * (dm + 1.0) + dm;
+        const double bic = -2.0 * em.loglik_final + k * log((double)n);
+        if (bic < bic_best)
+        {
+            aenl_em_result_free(best);
+            *best = em;
+            bic_best = bic;
+        }
+        else
+        {
+            aenl_em_result_free(&em);
+        }
+    }
+    if (isfinite(bic_best))
+    {
+        aenl_err_clear(err);
+        return AENL_OK;
+    }
+    return st_last;
+}
+
+/* The chi-square quantile with k degrees of freedom whose upper tail is alpha (bisection). */
+static double chi2_quantile_upper(double alpha, double k)
+{
+    double lo = 0.0;
+    double hi = k + 10.0 * sqrt(2.0 * k) + 100.0;
+    for (int it = 0; it < 200; ++it)
+    {
+        const double mid = 0.5 * (lo + hi);
+        if (aenl_chi2_sf(mid, k) > alpha)
+        {
+            lo = mid;
+        }
+        else
+        {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Impulses: samples whose whitened innovation lies beyond the chi-square quantile at
+ * NLT_IMPULSE_LEVEL (a linear Gaussian record has about n times that many). A tap, a kick or a
+ * gust front moves the state by more than the model's Gaussian noise allows, and a filter that
+ * believes its state goes on mispredicting for many samples after it, in a way that depends on
+ * where the motion is: the test would read that as a law. The filter is run again with its
+ * covariance widened at each impulse by the filtered states' own covariance (the state may have
+ * moved anywhere in its usual range). *n_imp receives the count. */
+static aenl_status_t kf_rerun_with_resets(kf_t *k, const aenl_em_model_t *m, const double *ys,
+                                          size_t *n_imp, aenl_err_t *err)
+{
+    const size_t n = k->n;
+    const size_t nz = k->nz;
+    const size_t nx = k->nx;
+    const double thr = chi2_quantile_upper(NLT_IMPULSE_LEVEL, (double)nz);
+    unsigned char *flag = (unsigned char *)calloc(n, 1);
+    if (flag == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    size_t cnt = 0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        double q = 0.0;
+        for (size_t j = 0; j < nz; ++j)
+        {
+            q += k->eps[t * nz + j] * k->eps[t * nz + j];
+        }
+        flag[t] = k->used[t] && q > thr;
+        cnt += flag[t];
+    }
+    *n_imp = cnt;
+    aenl_status_t st = AENL_OK;
+    if (cnt > 0)
+    {
+        double mean[NLT_MAX_X] = {0};
+        double P_reset[NLT_MAX_X * NLT_MAX_X] = {0};
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t t = 0; t < n; ++t)
+            {
+                mean[i] += k->xs[i * n + t];
+            }
+            mean[i] /= (double)n;
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t j = 0; j <= i; ++j)
+            {
+                double c = 0.0;
+                for (size_t t = 0; t < n; ++t)
+                {
+                    c += (k->xs[i * n + t] - mean[i]) * (k->xs[j * n + t] - mean[j]);
+                }
+                P_reset[i * nx + j] = c / (double)n;
+                P_reset[j * nx + i] = c / (double)n;
+            }
+        }
+        kf_free(k);
+        k->n = n;
+        k->nz = nz;
+        k->nx = nx;
+        st = kf_run(k, m, ys, flag, P_reset, err);
+    }
+    free(flag);
+    return st;
+}
+
 aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
                            aenl_nlt_result_t *res, aenl_err_t *err)
 {
@@ -1688,16 +1891,15 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
         return st;
     }
     memset(res, 0, sizeof(*res));
-    size_t nx = opts->n_states != 0 ? opts->n_states : 4u * n_ch;
-    nx = nx > NLT_MAX_X ? NLT_MAX_X : nx;
-    nx = nx < n_ch ? n_ch : nx;
-    const size_t need = 20u * (6u * nx + 4u * (nx + 2u));
-    if (n * n_ch < need || n < 4u * (nx + 2u))
+    size_t cand[3];
+    const size_t n_cand = state_candidates(opts, n, n_ch, cand);
+    if (n_cand == 0)
     {
+        const size_t nx_min = n_ch > 2u ? n_ch : 2u;
         aenl_err_set(err,
                      "%lu samples of %lu channels are too few for the test (it needs %lu "
                      "values)",
-                     (unsigned long)n, (unsigned long)n_ch, (unsigned long)need);
+                     (unsigned long)n, (unsigned long)n_ch, (unsigned long)values_needed(nx_min));
         return AENL_E_ARG;
     }
     run_t rn;
@@ -1705,7 +1907,6 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     rn.opts = opts;
     rn.n = n;
     rn.nz = n_ch;
-    rn.nx = nx;
     /* scale each channel by its standard deviation (the zero stays where it is: laws are
      * defined about the channel's own zero) */
     double *ys = (double *)malloc(n * n_ch * sizeof(double));
@@ -1743,25 +1944,11 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
             ys[t * n_ch + j] = y[t * n_ch + j] / rn.scale[j];
         }
     }
-    aenl_em_opts_t eo;
-    aenl_em_opts_default(&eo);
-    eo.n_states = nx;
-    eo.n_thresholds = 0;
-    eo.max_iter = opts->em_iter;
-    eo.tol = 1e-9;
-    eo.dt = 1.0;
     aenl_em_result_t em;
     memset(&em, 0, sizeof(em));
-    st = aenl_em_fit(ys, n, n_ch, &eo, &em, err);
-    /* A likelihood whose maximum lies on the boundary (a noise-free record drives R to a
-     * singular matrix) fails EM part way: the fit then stops earlier, at a valid iterate. */
-    while (st == AENL_E_NOT_PD && eo.max_iter > 4u)
-    {
-        eo.max_iter /= 2u;
-        aenl_em_result_free(&em);
-        aenl_err_clear(err);
-        st = aenl_em_fit(ys, n, n_ch, &eo, &em, err);
-    }
+    st = fit_linear_order(ys, n, n_ch, cand, n_cand, opts->em_iter, &em, err);
+    const size_t nx = em.model.n_x;
+    rn.nx = nx;
     kf_t kf;
     memset(&kf, 0, sizeof(kf));
     kf.n = n;
@@ -1769,7 +1956,11 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     kf.nx = nx;
     if (st == AENL_OK)
     {
-        st = kf_run(&kf, &em.model, ys, err);
+        st = kf_run(&kf, &em.model, ys, NULL, NULL, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = kf_rerun_with_resets(&kf, &em.model, ys, &res->n_impulses, err);
     }
     free(ys);
     rn.kf = &kf;

@@ -156,6 +156,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         bad |= add(model, "states", cJSON_CreateNumber((double)r->n_states));
         bad |= add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
         bad |= add(model, "loglik", num(r->loglik));
+        bad |= add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
         bad |= add(root, "model", model);
         model = NULL;
         bad |= add(root, "verdict", json_verdict(r, names));
@@ -197,11 +198,13 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                           const char *path)
 {
     (void)fprintf(out,
-                  "%s: %lu samples, %lu channels; linear state-space model with %lu states\n"
+                  "%s: %lu samples, %lu channels; linear state-space model with %lu states "
+                  "(%lu impulses)\n"
                   "test of a structural law against the linear model at level %.3g (each "
                   "channel at %.3g)\n\n",
                   path, (unsigned long)r->n_samples, (unsigned long)r->n_channels,
-                  (unsigned long)r->n_states, r->level, r->level / (double)r->n_channels);
+                  (unsigned long)r->n_states, (unsigned long)r->n_impulses, r->level,
+                  r->level / (double)r->n_channels);
     (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s\n", "channel", "chi-square", "dof", "p-value",
                   "class", "weights poly/freeplay/hyst");
     for (size_t j = 0; j < r->n_channels; ++j)
