@@ -294,6 +294,11 @@ static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
     int steady = 0;
     size_t cur = 0;
     size_t miss_slot = (size_t)-1;
+    if (n == 0 || nz == 0 || nx == 0 || nx > NLT_MAX_X)
+    {
+        aenl_err_set(err, "aenl_nltest: an empty record or model");
+        return AENL_E_ARG;
+    }
     k->eps = (double *)calloc(n * nz, sizeof(double));
     k->u = (double *)calloc(n * nz, sizeof(double));
     k->used = (unsigned char *)calloc(n, 1);
