@@ -751,7 +751,6 @@ static void test_outfile_unwritable_fails_cleanly(void)
 {
     aenl_outfile_t of;
     char ro[1024];
-    char line[64];
     TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_open(&of, "/proc/aenl_out.csv", &g_err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "/proc/aenl_out.csv: cannot"), g_err.msg);
     TEST_ASSERT_NULL(of.fp);
@@ -761,6 +760,7 @@ static void test_outfile_unwritable_fails_cleanly(void)
     TEST_ASSERT_EQUAL_INT(0, chmod(ro, 0444));
     if (geteuid() != 0)
     {
+        char line[64];
         aenl_err_clear(&g_err);
         TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_outfile_open(&of, ro, &g_err));
         TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "read_only.txt: cannot write"), g_err.msg);

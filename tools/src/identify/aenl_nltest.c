@@ -1673,7 +1673,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
 }
 
 static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
-                                aenl_nlt_result_t *res, aenl_err_t *err)
+                                const aenl_nlt_result_t *res, aenl_err_t *err)
 {
     if (y == NULL || opts == NULL || res == NULL)
     {
