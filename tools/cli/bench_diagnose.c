@@ -46,8 +46,8 @@ static void help(void)
         "--bound also prints each case's information floor: the standard deviation of its\n"
         "parameters that an efficient estimator on record summaries (mean, std, kurtosis,\n"
         "peak frequency, 2nd and 3rd harmonics of every channel) could reach on records of\n"
-        "the truth's test (%u of them, sensitivities over %u seeds; README \"Hidden-effect\n"
-        "results\").\n"
+        "the truth's test (%u of them, sensitivities over %u seeds; docs/diagnose.md,\n"
+        "\"Hidden-effect results\").\n"
         "--summary-records N: records of the diagnosis's summary fit (default 64; 0: off).\n",
         (unsigned)AENL_EVAL_RK4_STEPS, BOUND_RECORDS, BOUND_JAC);
 }

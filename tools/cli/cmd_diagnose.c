@@ -3,7 +3,7 @@
  * @file cmd_diagnose.c
  * @brief `aenl diagnose --measured DATA.csv --model BASE.ini [--out DIR] [--json]`: where the
  *        baseline model and the measurement disagree, the missing effect, the updated model and
- *        the gap before and after (issue 6; README "Diagnose").
+ *        the gap before and after (docs/diagnose.md).
  */
 #define _POSIX_C_SOURCE 200809L
 

@@ -446,7 +446,7 @@ int aenl_cmd_moments(int argc, char **argv)
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
-        return AENL_EXIT_USAGE; /* README: 2 on bad input, I/O errors included */
+        return AENL_EXIT_USAGE; /* 2 on bad input, I/O errors included */
     }
     return AENL_EXIT_OK;
 }

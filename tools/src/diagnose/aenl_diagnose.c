@@ -4,7 +4,7 @@
  * @brief The diagnosis workflow: simulate the baseline under the measured conditions, measure the
  *        gap and its noise floor, calibrate every candidate effect by simulation (coarse grid,
  *        then Nelder-Mead on the gap, common random numbers), choose with a parameter penalty,
- *        and build the updated model (README "Diagnose").
+ *        and build the updated model (docs/diagnose.md).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -512,7 +512,7 @@ typedef struct
     unsigned n_evals;
 } spec_t;
 
-/* Parameters theta (scaled, unconstrained) to the DOF's law; the README lists the maps. */
+/* Parameters theta (scaled, unconstrained) to the DOF's law; docs/diagnose.md lists the maps. */
 static void spec_law(const spec_t *sp, const double *th, aenl_sim_law_t *law)
 {
     memset(law, 0, sizeof(*law));
@@ -1154,10 +1154,10 @@ static aenl_status_t sumfit_of(ctx_t *x, const aenl_diagnose_opts_t *opts,
  * summaries (amplitude, frequency, kurtosis, harmonics of every channel) with their efficient
  * weighting, and their standard errors. The gap weighs its many curve and spectrum elements by
  * fixed scales, so a clear misfit of one precise summary can hide in their spread: on the
- * README's worked example (3-DOF flap freeplay, an irregular limit cycle) the gap's estimate of
- * the gap width was 16 % short and its flap amplitude 18 % (40 standard deviations) too small;
- * refitted, the width is 0.1 % off. A fit that cannot run keeps the gap's estimate and reports
- * the errors as not determined; a rejected one keeps it without errors. */
+ * docs/diagnose.md's worked example (3-DOF flap freeplay, an irregular limit cycle) the gap's
+ * estimate of the gap width was 16 % short and its flap amplitude 18 % (40 standard deviations) too
+ * small; refitted, the width is 0.1 % off. A fit that cannot run keeps the gap's estimate and
+ * reports the errors as not determined; a rejected one keeps it without errors. */
 static void apply_sumfit(aenl_diagnose_result_t *r, const sumfit_t *s, int *moved)
 {
     *moved = 0;
@@ -1229,9 +1229,9 @@ static size_t rivals_of(const aenl_diagnose_result_t *r, size_t best, double pen
 /* Within one parameter's penalty the gap's scores do not tell laws apart (Akaike's rule of
  * thumb: within 2 of the least, both are supported), and on the suite's gust records with other
  * turbulence a freeplay and a hysteresis, or a freeplay and a polynomial, are often that close
- * (README). The summaries are few and precise: each such law refitted to them, the one with the
- * least chi2 + penalty x parameters is named, the moment-selection criterion of the method of
- * moments (Andrews & Lu 2001: J less a penalty per over-identifying restriction, each model's J
+ * (docs/diagnose.md). The summaries are few and precise: each such law refitted to them, the one
+ * with the least chi2 + penalty x parameters is named, the moment-selection criterion of the method
+ * of moments (Andrews & Lu 2001: J less a penalty per over-identifying restriction, each model's J
  * with its own efficient weighting; over the same summaries, the same as J plus a penalty per
  * parameter). A rejected fit, or one that cannot run, takes no part; when the best's own fit
  * cannot run, or every fit is rejected, the gap's choice stands. Only where the gap accepts the
@@ -1666,7 +1666,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
      * dispersion, the best's (gap / F)^2 when above 1. Where every run is alike (F the least
      * floor) that leaves M (gap / best gap)^2 + penalty, M measured at the nominal noise: with M
      * 1 there, the suite's noise-free decay 158 named a preload 1.7 times the freeplay's gap (by
-     * 0.13); with the measured 48 the freeplay wins by 88 (README). */
+     * 0.13); with the measured 48 the freeplay wins by 88 (docs/diagnose.md). */
     r->dispersion = fmax(1.0, (g_min / common) * (g_min / common));
     r->m_eff = m_rep / r->dispersion;
     /* The gap's own test of the best law, at the summaries' level (0.1 %): M (gap / F)^2 within

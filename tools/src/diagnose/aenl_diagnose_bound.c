@@ -4,7 +4,8 @@
  * @brief How well a hidden-effect case's records determine its parameters: the Cramér–Rao bound
  *        of an estimator that uses a fixed set of record summaries efficiently, from simulated
  *        replicates of the truth (covariance) and common-random-number finite differences
- *        (sensitivities). README "Hidden-effect results" gives the summaries and the numbers.
+ *        (sensitivities). docs/diagnose.md ("Hidden-effect results") gives the summaries and the
+ * numbers.
  */
 #include <lapacke.h>
 #include <math.h>

@@ -54,7 +54,7 @@ aenl_status_t aenl_diagnose_write_ini(const aenl_diagnose_result_t *r, const cha
                 aenl_diagnose_effect_name(r->effect), aenl_diagnose_dof_name(r->dof));
     }
     fprintf(fp,
-            "; Gap (README 'Diagnose: the gap metric'): before %.4g, after %.4g, noise floor "
+            "; Gap (docs/diagnose.md, 'The gap metric'): before %.4g, after %.4g, noise floor "
             "%.4g.\n",
             r->gap_before[r->n_channels], r->gap_after[r->n_channels],
             r->floor_after[r->n_channels]);

@@ -3,7 +3,7 @@
  * @file aenl_diagnose_sig.c
  * @brief Signatures of one channel for the diagnosis: settings fixed from the measured record,
  *        amplitude quantiles and envelope, conditional mean/std curves, Welch spectrum, and the
- *        normalised family distances (README "Diagnose: the gap metric").
+ *        normalised family distances (docs/diagnose.md, "The gap metric").
  */
 #include <math.h>
 #include <stdlib.h>

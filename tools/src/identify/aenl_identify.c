@@ -1279,7 +1279,7 @@ static double evidence_share(const aenl_identify_result_t *out, int by_rfs)
  * even one of it, so the coupling's harmonics match each law as well as the law itself does and
  * the criterion gains between the nonlinear laws measure the orbit's shape, not the law. (A gap's
  * kink in time of the acceleration is the one trace the smooth coupling cannot copy; at practical
- * noise it is tens of dB below the noise even over the folded cycles: README, `aenl identify`.)
+ * noise it is tens of dB below the noise even over the folded cycles: docs/identify.md.)
  * The record says only that the structure is nonlinear: each of the nonlinear classes is as
  * likely. */
 static double verdict_confidence(const aenl_identify_result_t *out)
