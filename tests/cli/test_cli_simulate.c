@@ -54,7 +54,8 @@ static void test_cli_simulate_writes_the_csv_contract(void)
 }
 
 /* Output targets that are not regular files are written, never replaced: "-" and /dev/stdout
- * give the CSV on standard output, /dev/null stays the device it is. */
+ * give the CSV on standard output, /dev/stderr on standard error (through the process's own
+ * stream, so an appending redirection keeps appending), /dev/null stays the device it is. */
 static void test_cli_simulate_writes_to_stdout_and_devices(void)
 {
     const char *dash[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "-", NULL};
@@ -71,6 +72,12 @@ static void test_cli_simulate_writes_to_stdout_and_devices(void)
     cli_run(&r, named);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,alpha,xi\n0,0.017453292519943", 30));
+    const char *to_err[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "/dev/stderr",
+                            NULL};
+    cli_run(&r, to_err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.err, "t,alpha,xi\n0,0.017453292519943", 30));
     TEST_ASSERT_EQUAL_INT(0, stat("/dev/null", &before));
     cli_run(&r, null_dev);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);

@@ -230,6 +230,30 @@ static void test_nlt_kicks_are_impulses(void)
     TEST_ASSERT_TRUE(r.n_impulses >= 5u);
 }
 
+/* A hardening cubic in pitch (R = a + 3e5 a^3, a in rad) under the same gusts: polynomial in
+ * alpha, and hardening: the frequency rises with amplitude. */
+static void test_nlt_hardening_cubic(void)
+{
+    aenl_sim_law_t law;
+    memset(&law, 0, sizeof(law));
+    law.kind = AENL_SIM_LAW_POLYNOMIAL;
+    law.n_coeffs = 3;
+    law.coeffs[0] = 1.0;
+    law.coeffs[2] = 3e5;
+    size_t n = 0;
+    double *y = airfoil_record(&law, 5151u, &n);
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    aenl_nlt_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+    free(y);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
+    TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
+    TEST_ASSERT_EQUAL_INT(1, r.ch[0].hardening);
+}
+
 static void test_nlt_bad_input(void)
 {
     double y[400];
@@ -255,6 +279,11 @@ static void test_nlt_bad_input(void)
     aenl_err_clear(&err);
     TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(c, 20000u, 1, &o, &r, &err));
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "constant"), err.msg);
+    c[7] = 1.0;
+    c[100] = NAN;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_nlt_run(c, 20000u, 1, &o, &r, &err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "sample 101 of channel 1 is missing"), err.msg);
     free(c);
 }
 
@@ -316,10 +345,11 @@ static void test_cli_identify_method_test_bad_usage(void)
     const char *bad_method[] = {"identify", csv, "--method", "magic", NULL};
     const char *bad_level[] = {"identify", csv, "--method", "test", "--level", "2", NULL};
     const char *too_short[] = {"identify", csv, "--method", "test", NULL};
-    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short};
+    const char *level_alone[] = {"identify", csv, "--level", "0.05", NULL};
+    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short, level_alone};
     const char *const words[] = {"belong to the moments", "not a method", "not a test level",
-                                 "too few"};
-    for (size_t i = 0; i < 4; ++i)
+                                 "too few", "goes with --method test"};
+    for (size_t i = 0; i < 5; ++i)
     {
         cli_result_t r;
         cli_run(&r, cases[i]);
@@ -337,6 +367,7 @@ int main(void)
     RUN_TEST(test_chi2_sf_critical_values);
     RUN_TEST(test_nlt_bad_input);
     RUN_TEST(test_nlt_kicks_are_impulses);
+    RUN_TEST(test_nlt_hardening_cubic);
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);

@@ -268,6 +268,7 @@ typedef struct
     int by_test;      /* --method test */
     int moments_only; /* an option that only the moments method takes was given */
     double level;     /* --level */
+    int level_given;
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -323,6 +324,7 @@ static int parse_args(int argc, char **argv, args_t *a)
             {
                 return -1;
             }
+            a->level_given = 1;
             if (!(a->level > 0.0 && a->level < 0.5))
             {
                 aenl_cli_error(k_cmd, "--level: %s is not a test level (0 < level < 0.5)", v);
@@ -386,12 +388,17 @@ static int parse_args(int argc, char **argv, args_t *a)
     if (a->data == NULL)
     {
         aenl_cli_error(k_cmd, "no data file (usage: aenl identify DATA.csv [--channel C] [--json] "
-                              "[--plot DIR])");
+                              "[--plot DIR] [--method moments|test])");
         return -1;
     }
-    if (strcmp(a->data, "-") == 0)
+    if (strcmp(a->data, "-") == 0 && !a->by_test)
     {
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
+        return -1;
+    }
+    if (!a->by_test && a->level_given)
+    {
+        aenl_cli_error(k_cmd, "--level is the test's level: it goes with --method test");
         return -1;
     }
     if (a->by_test && a->moments_only)

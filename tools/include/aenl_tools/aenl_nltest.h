@@ -14,15 +14,14 @@
  * direction of motion that a hysteresis loop needs. g is a function of the filtered past only,
  * so under the linear model the innovations are independent of it.
  *
- * Test (stage 1, one per channel). The score test of B = 0 for the generic shapes u^2, u^3, d
- * and d u, with the shapes 1 and u (an offset and a stiffness change, which the linear model
- * already holds) as nuisance: the whitened innovations S_t^{-1/2} e_t are regressed on the
- * derivatives of the innovations with respect to B; the reduction of the residual sum of
- * squares, divided by the residual variance, is chi-square with 4 n_x degrees of freedom when
- * the record is linear (a Gaussian record's conditional mean is linear in its past, and the
- * generic shapes, taken beyond their linear part, are uncorrelated with any linear function of
- * it). A channel is nonlinear when its p-value is below level / (number of channels)
- * (Bonferroni).
+ * Test (stage 1, one per channel). The heteroskedasticity-robust score test of B = 0 for the
+ * generic shapes u^2, u^3, d and d u, with an offset and a perturbation of A along every filtered
+ * state as nuisance (the first-order change of the fitted linear model): the shapes' columns
+ * (the derivatives of the whitened innovations with respect to B) are partialled on the
+ * nuisance columns, and the per-sample score contributions give a statistic that is chi-square
+ * with 4 n_x degrees of freedom when the innovations are uncorrelated with the filtered past.
+ * A channel is nonlinear when its p-value is below level / (number of channels) (Bonferroni);
+ * the verdict's channel has the largest statistic among them.
  *
  * Law (stage 2, on the channels the test rejects). B is fixed to the direction that the generic
  * fit estimates (the leading singular vector of its coefficients), and every candidate law is
@@ -107,10 +106,11 @@ typedef struct aenl_nlt_result
 void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
 
 /**
- * @brief Test and identify a record: y is n x n_ch row-major (raw channel values, a NaN marks
- *        a missing sample and drops its whole row from the filter's update).
- * @return AENL_OK; AENL_E_ARG for bad options, too few samples for the model (the message says
- *         how many it needs) or a constant channel; AENL_E_NUMERIC when the fit fails.
+ * @brief Test and identify a record: y is n x n_ch row-major, raw channel values, every one
+ *        finite (the test takes complete rows only).
+ * @return AENL_OK; AENL_E_ARG for bad options, a missing sample, too few samples for the model
+ *         (the message says how many it needs), a constant channel or one that barely moves;
+ *         AENL_E_NUMERIC when the linear model cannot be fitted; AENL_E_DIM out of memory.
  */
 aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
                            aenl_nlt_result_t *res, aenl_err_t *err);

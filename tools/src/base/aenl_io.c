@@ -247,24 +247,30 @@ static char *resolve_target(const char *path, struct stat *st, int *exists, int 
     return NULL;
 }
 
-/* "-" and the usual names of standard output are written through the process's own stream, so a
- * redirection's offset and append mode are kept. */
+/* "-" and the usual names of standard output (and of standard error) are written through the
+ * process's own stream, so a redirection's offset and append mode are kept. */
 static int names_stdout(const char *path)
 {
     return strcmp(path, "-") == 0 || strcmp(path, "/dev/stdout") == 0 ||
            strcmp(path, "/dev/fd/1") == 0 || strcmp(path, "/proc/self/fd/1") == 0;
 }
 
-/* Standard output: flushed at commit, never closed. */
-static aenl_status_t open_stdout(aenl_outfile_t *of, aenl_err_t *err)
+static int names_stderr(const char *path)
 {
-    of->path = dup_str("/dev/stdout");
+    return strcmp(path, "/dev/stderr") == 0 || strcmp(path, "/dev/fd/2") == 0 ||
+           strcmp(path, "/proc/self/fd/2") == 0;
+}
+
+/* Standard output or standard error: flushed at commit, never closed. */
+static aenl_status_t open_stdout(aenl_outfile_t *of, FILE *stream, aenl_err_t *err)
+{
+    of->path = dup_str(stream == stderr ? "/dev/stderr" : "/dev/stdout");
     if (of->path == NULL)
     {
         aenl_err_set(err, "standard output: out of memory");
         return AENL_E_IO;
     }
-    of->fp = stdout;
+    of->fp = stream;
     of->direct = 2;
     return AENL_OK;
 }
@@ -322,9 +328,9 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
         aenl_err_set(err, "output file: empty path");
         return AENL_E_ARG;
     }
-    if (names_stdout(path))
+    if (names_stdout(path) || names_stderr(path))
     {
-        return open_stdout(of, err);
+        return open_stdout(of, names_stdout(path) ? stdout : stderr, err);
     }
     len = strlen(path);
     if (path[len - 1] == '/')

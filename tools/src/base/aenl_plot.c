@@ -126,6 +126,12 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     }
     const char *gp_out = aenl_outfile_write_path(&of);
     const int to_stdout = (of.direct == 2);
+    if (to_stdout && of.fp == stderr)
+    {
+        aenl_outfile_abort(&of);
+        aenl_err_set(err, "%s: a figure cannot go to standard error", out_path);
+        return AENL_E_ARG;
+    }
     if (strchr(gp_out, '\'') != NULL)
     {
         aenl_outfile_abort(&of);

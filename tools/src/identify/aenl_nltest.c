@@ -518,7 +518,7 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
             const double *WC = k->WC + k->slot[t] * nz * nx;
             const double *e = k->eps + t * nz;
             mat_mul(WC, D, R, nz, nx, nc);
-            /* rows are -R; G += R'R and r += -R'e */
+            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force */
             for (size_t a = 0; a < nz; ++a)
             {
                 const double *ra = R + a * nc;
@@ -534,7 +534,7 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
                     {
                         Gi[j] += ri * ra[j];
                     }
-                    d->r[i] -= ri * e[a];
+                    d->r[i] += ri * e[a];
                 }
             }
         }
@@ -667,7 +667,7 @@ static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, 
                     {
                         x -= Pi[i * nl + l] * ra[i];
                     }
-                    st[l] -= x * e[a]; /* rows are -R */
+                    st[l] += x * e[a];
                 }
             }
             for (size_t l = 0; l < nl; ++l)
@@ -1049,9 +1049,11 @@ static void profile_pairs(const resid_t *r, const double *knots, size_t nk, cons
     p->best = -1.0;
     p->k1 = c1[0];
     p->k2 = c2[0];
+    p->lo1 = p->hi1 = knots[p->k1];
+    p->lo2 = p->hi2 = knots[p->k2];
     if (tab == NULL)
     {
-        return;
+        return; /* no pair evaluated: best stays -1, the law's gain 0 */
     }
     for (size_t i = 0; i < n1; ++i)
     {
@@ -1435,6 +1437,12 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     }
     free(sorted);
     const size_t nk = symmetric_knots(q, NLT_N_QUANT, knots);
+    if (nk < 3u)
+    {
+        aenl_err_set(err, "channel %lu barely moves: no switching point can be placed",
+                     (unsigned long)j + 1u);
+        return AENL_E_ARG;
+    }
     for (size_t i = 0; i < NLT_N_QUANT; ++i)
     {
         qidx[i] = knot_index(knots, nk, q[i]);
@@ -1796,6 +1804,7 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
         aenl_err_clear(err);
         return AENL_OK;
     }
+    aenl_err_set(err, "the linear model cannot be fitted (%s)", aenl_status_str(st_last));
     return st_last;
 }
 
@@ -1900,11 +1909,13 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     const size_t n_cand = state_candidates(opts, n, n_ch, cand);
     if (n_cand == 0)
     {
-        const size_t nx_min = n_ch > 2u ? n_ch : 2u;
-        aenl_err_set(err,
-                     "%lu samples of %lu channels are too few for the test (it needs %lu "
-                     "values)",
-                     (unsigned long)n, (unsigned long)n_ch, (unsigned long)values_needed(nx_min));
+        size_t nx_min = opts->n_states != 0 ? opts->n_states : 4u * n_ch;
+        nx_min = nx_min > NLT_MAX_X ? NLT_MAX_X : (nx_min < n_ch ? n_ch : nx_min);
+        const size_t need = values_needed(nx_min);
+        const size_t need_n = (need + n_ch - 1u) / n_ch;
+        aenl_err_set(err, "%lu samples are too few for the test of %lu channel%s (it needs %lu)",
+                     (unsigned long)n, (unsigned long)n_ch, n_ch == 1u ? "" : "s",
+                     (unsigned long)(need_n > 4u * (nx_min + 2u) ? need_n : 4u * (nx_min + 2u)));
         return AENL_E_ARG;
     }
     run_t rn;
@@ -1919,6 +1930,18 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     {
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
+    }
+    for (size_t t = 0; t < n * n_ch; ++t)
+    {
+        if (!isfinite(y[t]))
+        {
+            free(ys);
+            aenl_err_set(err,
+                         "sample %lu of channel %lu is missing: the test takes complete rows "
+                         "only (cut the record or fill the gap)",
+                         (unsigned long)(t / n_ch) + 1u, (unsigned long)(t % n_ch) + 1u);
+            return AENL_E_ARG;
+        }
     }
     for (size_t j = 0; j < n_ch; ++j)
     {
@@ -2011,7 +2034,9 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
         if (c->nonlinear)
         {
             st = stage2(&rn, j, dir, s2, c, err);
-            if (st == AENL_OK && (res->verdict < 0 || c->p < res->ch[res->verdict].p))
+            /* every channel's statistic has the same degrees of freedom: the largest is the
+             * smallest p-value, and stays comparable where the p-values underflow to 0 */
+            if (st == AENL_OK && (res->verdict < 0 || c->stat > res->ch[res->verdict].stat))
             {
                 res->verdict = (long)j;
             }

@@ -52,7 +52,8 @@ static cJSON *num_array(const double *v, size_t n)
 
 static int add_points(cJSON *o, const aenl_nlt_channel_t *c)
 {
-    const size_t np = c->nonlinear ? c->n_points : 0u;
+    /* the points of a named law only: an undetermined class has none to stand by */
+    const size_t np = c->nonlinear && !c->undetermined ? c->n_points : 0u;
     int bad = add(o, "switch_points", num_array(c->points, np));
     bad |= add(o, "switch_point_lo", num_array(c->point_lo, np));
     bad |= add(o, "switch_point_hi", num_array(c->point_hi, np));
@@ -81,9 +82,9 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name)
                    num(c->nonlinear ? c->weight[l] : (double)NAN));
     }
     bad |= add(o, "weights", w);
+    const int poly = c->nonlinear && !c->undetermined && c->cls == AENL_CLASS_POLYNOMIAL;
     bad |= add(o, "hardening",
-               c->hardening != 0 && c->nonlinear ? cJSON_CreateBool(c->hardening > 0)
-                                                 : cJSON_CreateNull());
+               poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
     bad |= add_points(o, c);
     if (bad)
     {
@@ -112,6 +113,8 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
     else
     {
         bad |= add(v, "switch_points", cJSON_CreateArray());
+        bad |= add(v, "switch_point_lo", cJSON_CreateArray());
+        bad |= add(v, "switch_point_hi", cJSON_CreateArray());
     }
     bad |= add(v, "confidence", num(r->confidence));
     cJSON *cand = cJSON_CreateArray();
@@ -230,7 +233,7 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
         }
         if (c->n_points > 0 && !r->undetermined)
         {
-            (void)fprintf(out, "\nswitching points (95 %% interval): ");
+            (void)fprintf(out, "\nswitching points [95 %% profile interval, not calibrated]: ");
             print_points(out, c);
         }
         if (r->undetermined)
