@@ -433,8 +433,8 @@ static void test_null_section3dof(void)
 
 /* The information floor tells a determined parameter from a ridge: the 2-DOF hysteresis loop
  * in a limit cycle much larger than the loop fixes delta, while alpha_f and M0 moving together
- * leave amplitude and waveform almost unchanged (README "Hidden-effect results"); the freeplay
- * gap and offset are both fixed. */
+ * leave amplitude and waveform almost unchanged (docs/diagnose.md, "Hidden-effect results"); the
+ * freeplay gap and offset are both fixed. */
 /* A softening spring that stiffens again, R = x - s x^3 + q x^5: the evaluation suite's case 152
  * (seed 1; 2-DOF pitch limit cycle at 1.03 of the flutter speed, SNR 3), its first 12 000 rows,
  * against the suite's own model with the pitch law made linear. A cubic alone cannot follow such

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
-# The whole test command (README "Quick start", second line; .ci/run calls exactly this):
+# The whole test command (the README's Quick start, second line; .ci/run calls exactly this):
 #   1. install missing Debian packages;
 #   2. strict build (warnings as errors, header self-check) and the full ctest suite
 #      (Unity suites f32/f64, host tools, core purity);

@@ -4,9 +4,9 @@
  * @brief Host-only: model-vs-measurement diagnosis. Given a measured record and a baseline model
  *        of the same test (velocity, initial condition or excitation, sampling), find where they
  *        disagree, name the structural effect the model lacks, add it with fitted parameters and
- *        show the gap shrink (DESIGN.md section 3, README "Diagnose").
+ *        show the gap shrink (docs/diagnose.md).
  *
- * Method (README "Diagnose" has the full definitions):
+ * Method (docs/diagnose.md has the full definitions):
  *  1. Signature settings are fixed once from the measured record, per channel: scale (std),
  *     measurement-noise std (robust, from third differences), dominant period (Welch peak),
  *     low-pass pre-filter (4 / period), lags (period / 16, / 8, / 4), a 32-node grid over the
@@ -36,7 +36,7 @@
  *     the summaries do not reject is named (moment selection, Andrews & Lu 2001).
  *
  * Memory: the result owns heap arrays released by aenl_diagnose_result_free(). No global state;
- * re-entrant. Cost: a few hundred simulations of the record (see the README for timings).
+ * re-entrant. Cost: a few hundred simulations of the record (docs/diagnose.md gives timings).
  */
 #ifndef AENL_TOOLS_DIAGNOSE_H
 #define AENL_TOOLS_DIAGNOSE_H
