@@ -120,13 +120,21 @@ static aenl_sim_law_t pitch_freeplay(void)
 }
 
 /* Linear records: at level 0.01 the number of nonlinear verdicts among 20 is binomial(20, 0.01)
- * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. */
+ * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. The sanitizer build
+ * runs 5 of them (minutes otherwise), where P(X >= 2) = 0.001. */
+#ifdef AENL_TEST_SANITIZED
+#define NULL_RECORDS      5u
+#define NULL_MAX_REJECTED 1u
+#else
+#define NULL_RECORDS      20u
+#define NULL_MAX_REJECTED 2u
+#endif
 static void test_nlt_linear_records_hold_the_level(void)
 {
     size_t rejected = 0;
     size_t impulses = 0;
     size_t samples = 0;
-    for (uint64_t s = 1; s <= 20u; ++s)
+    for (uint64_t s = 1; s <= NULL_RECORDS; ++s)
     {
         size_t n = 0;
         double *y = airfoil_record(NULL, 7000u + s, &n);
@@ -149,9 +157,9 @@ static void test_nlt_linear_records_hold_the_level(void)
             TEST_ASSERT_EQUAL_DOUBLE(4.0 * (double)r.n_states, r.ch[j].dof); /* 4 shapes */
         }
     }
-    printf("linear records called nonlinear: %zu of 20; impulses %zu in %zu samples\n", rejected,
-           impulses, samples);
-    TEST_ASSERT_LESS_THAN_size_t(3, rejected);
+    printf("linear records called nonlinear: %zu of %u; impulses %zu in %zu samples\n", rejected,
+           NULL_RECORDS, impulses, samples);
+    TEST_ASSERT_LESS_OR_EQUAL_size_t(NULL_MAX_REJECTED, rejected);
     /* Gaussian gusts: about samples x 1e-4 innovations beyond the impulse quantile (16 here)
      * with exact innovations; a fitted model's are a little heavier-tailed. Three times that
      * count says impulses stay rare where there are none. */
