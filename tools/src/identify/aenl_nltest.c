@@ -619,13 +619,22 @@ static double fit_subset(const design_t *d, const size_t *idx, size_t m, double 
     return red;
 }
 
+/* The Bartlett lag of the long-run variance of the score contributions: Newey and West's rule
+ * floor(4 (n / 100)^(2/9)). */
+static size_t hac_lag(size_t n)
+{
+    return (size_t)floor(4.0 * pow((double)n / 100.0, 2.0 / 9.0));
+}
+
 /* The heteroskedasticity-robust score of the columns nn.. of a design given its first nn
  * (Wooldridge's robust LM): the test columns are partialled on the nuisance ones with Pi
  * (nn x nl, the least-squares coefficients of G), and the per-sample score contributions
  * s_t = sum over channels of (partialled row) x (whitened innovation) give
- * score = sum s_t and meat = sum s_t s_t'. score' meat^-1 score is chi-square with nl degrees of
- * freedom when the innovations are uncorrelated with the past, whatever their distribution and
- * however their spread changes over the record (an impulse, a decay's fading amplitude). */
+ * score = sum s_t and meat = their long-run variance (sum s_t s_t' plus the Bartlett-weighted
+ * autocovariances up to hac_lag). score' meat^-1 score is chi-square with nl degrees of freedom
+ * when the innovations are uncorrelated with the past, whatever their distribution and however
+ * their spread changes over the record (an impulse, a decay's fading amplitude); the lags keep
+ * it so when an approximate linear model leaves the innovations a little serially correlated. */
 static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, const double *Pi,
                                    double *score, double *meat, aenl_err_t *err)
 {
@@ -648,6 +657,18 @@ static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, 
     }
     memset(score, 0, nl * sizeof(double));
     memset(meat, 0, nl * nl * sizeof(double));
+    const size_t hac = hac_lag(k->n);
+    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
+    if (ring == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        free(st);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    size_t ti = 0;
     for (size_t t = 0; t < k->n; ++t)
     {
         const double *F = k->F + k->slot[t] * nx * nx;
@@ -678,6 +699,23 @@ static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, 
                     meat[l * nl + m] += st[l] * st[m];
                 }
             }
+            for (size_t h = 1; h <= hac && h <= ti; ++h)
+            {
+                const double w = 1.0 - (double)h / (double)(hac + 1);
+                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
+                for (size_t l = 0; l < nl; ++l)
+                {
+                    for (size_t m = l; m < nl; ++m)
+                    {
+                        meat[l * nl + m] += w * (st[l] * sp[m] + sp[l] * st[m]);
+                    }
+                }
+            }
+            if (hac > 0)
+            {
+                memcpy(ring + (ti % (hac + 1)) * nl, st, nl * sizeof(double));
+            }
+            ti++;
         }
         design_step(d, F, t, nx, &D, &Dn);
     }
@@ -692,6 +730,7 @@ static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, 
     free(Dn);
     free(R);
     free(st);
+    free(ring);
     return AENL_OK;
 }
 
