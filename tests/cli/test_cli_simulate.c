@@ -53,6 +53,25 @@ static void test_cli_simulate_writes_the_csv_contract(void)
     TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,h,alpha,beta\n0,0,0.017453292519943", 36));
 }
 
+/* A forced excitation adds its force as the last column, noise-free and the same on stdout. */
+static void test_cli_simulate_writes_the_force_column(void)
+{
+    const char *args[] = {"simulate", EXAMPLES "section3dof_multisine.ini", "-o", "sim_ms.csv",
+                          NULL};
+    const char *args_out[] = {"simulate", EXAMPLES "section3dof_multisine.ini", NULL};
+    static char text[1 << 20];
+    char path[600];
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    (void)snprintf(path, sizeof(path), "%s/sim_ms.csv", AENL_TEST_TMP_DIR);
+    cli_slurp(path, text, sizeof(text));
+    TEST_ASSERT_EQUAL_INT(0, strncmp(text, "t,h,alpha,beta,f_pitch\n", 23));
+    cli_run(&r, args_out);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, text, 4000));
+}
+
 /* Output targets that are not regular files are written, never replaced: "-" and /dev/stdout
  * give the CSV on standard output, /dev/stderr on standard error (through the process's own
  * stream, so an appending redirection keeps appending), /dev/null stays the device it is. */
@@ -212,6 +231,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_simulate_writes_the_csv_contract);
     RUN_TEST(test_cli_simulate_writes_to_stdout_and_devices);
+    RUN_TEST(test_cli_simulate_writes_the_force_column);
     RUN_TEST(test_cli_version);
     RUN_TEST(test_cli_simulate_same_seed_same_file);
     RUN_TEST(test_cli_simulate_bad_ini);

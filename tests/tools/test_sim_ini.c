@@ -63,7 +63,8 @@ static void test_ini_examples_load_and_run(void)
         "validate_freeplay_u55.ini",  "validate_cubic_u7.ini",
         "validate_hysteresis_u5.ini", "validate_conner_flap_u15.ini",
         "section3dof_turbulence.ini", "section3dof_two_freeplays.ini",
-        "section3dof_raps.ini",       "section3dof_raps_base.ini"};
+        "section3dof_raps.ini",       "section3dof_raps_base.ini",
+        "section3dof_multisine.ini"};
     size_t i;
     for (i = 0; i < sizeof(names) / sizeof(names[0]); ++i)
     {
@@ -237,6 +238,91 @@ static void test_ini_kick_train(void)
         char buf[512], where[64];
         (void)snprintf(buf, sizeof(buf),
                        GOOD_MODEL "[excitation]\n%s[run]\nduration = 6\ndt = 0.5\n",
+                       bad[i].excitation);
+        (void)snprintf(where, sizeof(where), "%s%s", bad[i].name, bad[i].where);
+        expect_error(bad[i].name, buf, where, bad[i].what);
+    }
+}
+
+static void test_ini_forced_excitation(void)
+{
+    /* Values and units of a sweep and a multisine, then the writer's round trip. */
+    const char *path = write_tmp("sweep.ini", "[model]\ntype = section3dof\nvelocity = 12\n"
+                                              "[excitation]\ntype = sweep\ndof = flap\n"
+                                              "amplitude_deg = 0.5\nf_start = 1\nf_end = 20\n"
+                                              "law = log\n[run]\nduration = 6\ndt = 0.005\n");
+    aenl_sim_model_t m, back;
+    aenl_sim_run_t r, rback;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &m, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_FORCE_SWEEP, r.force);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_DOF_FLAP, r.force_dof);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, 0.5 * DEG, r.force_amp);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, r.force_f0);
+    TEST_ASSERT_EQUAL_DOUBLE(20.0, r.force_f1);
+    TEST_ASSERT_EQUAL_INT(1, r.force_log);
+    write_and_load("sweep_written.ini", &m, &r, &back, &rback);
+    TEST_ASSERT_EQUAL_MEMORY(&r, &rback, sizeof(r));
+
+    path = write_tmp("multisine.ini", GOOD_MODEL "[excitation]\ntype = multisine\ndof = plunge\n"
+                                                 "rms = 0.01\nf_min = 0.01\nf_max = 0.2\n"
+                                                 "period = 200\nseed = 7\n"
+                                                 "[run]\nduration = 400\ndt = 0.5\n");
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_load_ini(path, &m, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_FORCE_MULTISINE, r.force);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_DOF_PLUNGE, r.force_dof);
+    TEST_ASSERT_EQUAL_DOUBLE(0.01, r.force_amp);
+    TEST_ASSERT_EQUAL_DOUBLE(200.0, r.force_period);
+    TEST_ASSERT_EQUAL_UINT64(7u, r.force_seed);
+    write_and_load("multisine_written.ini", &m, &r, &back, &rback);
+    TEST_ASSERT_EQUAL_MEMORY(&r, &rback, sizeof(r));
+
+    /* Rejected: the [excitation] section after GOOD_MODEL (dt 0.5: Nyquist 1). */
+    static const struct
+    {
+        const char *name, *excitation, *where, *what;
+    } bad[] = {
+        {"sweep_no_amp.ini", "type = sweep\ndof = pitch\nf_start = 0.1\nf_end = 0.2\n",
+         ":4:", "'amplitude_deg'"},
+        {"sweep_no_end.ini", "type = sweep\ndof = pitch\namplitude = 0.1\nf_start = 0.1\n",
+         ":4:", "'f_end'"},
+        {"sweep_nyquist.ini",
+         "type = sweep\ndof = pitch\namplitude = 0.1\nf_start = 0.1\n"
+         "f_end = 1.5\n",
+         "", "Nyquist"},
+        {"sweep_law.ini",
+         "type = sweep\ndof = pitch\namplitude = 0.1\nf_start = 0.1\n"
+         "f_end = 0.2\nlaw = cubic\n",
+         ":10:", "law"},
+        {"sweep_rms.ini",
+         "type = sweep\ndof = pitch\namplitude = 0.1\nf_start = 0.1\n"
+         "f_end = 0.2\nrms = 1\n",
+         ":10:", "rms"},
+        {"ms_plunge_deg.ini",
+         "type = multisine\ndof = plunge\nrms_deg = 1\nf_min = 0.1\n"
+         "f_max = 0.2\n",
+         ":7:", "rms_deg"},
+        {"ms_band.ini", "type = multisine\ndof = pitch\nrms = 0.1\nf_min = 0.3\nf_max = 0.2\n", "",
+         "f_max"},
+        {"ms_no_line.ini",
+         "type = multisine\ndof = pitch\nrms = 0.1\nf_min = 0.101\n"
+         "f_max = 0.102\n",
+         "", "no line"},
+        {"ms_lines.ini",
+         "type = multisine\ndof = pitch\nrms = 0.1\nf_min = 0.001\n"
+         "f_max = 0.9\nperiod = 2000\n",
+         "", "lines"},
+        {"ms_flap_2dof.ini",
+         "type = multisine\ndof = flap\nrms = 0.1\nf_min = 0.1\n"
+         "f_max = 0.2\n",
+         ":6:", "pitch or plunge"},
+    };
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+    {
+        char buf[512], where[64];
+        (void)snprintf(buf, sizeof(buf),
+                       GOOD_MODEL "[excitation]\n%s[run]\nduration = 20\ndt = 0.5\n",
                        bad[i].excitation);
         (void)snprintf(where, sizeof(where), "%s%s", bad[i].name, bad[i].where);
         expect_error(bad[i].name, buf, where, bad[i].what);
@@ -456,6 +542,7 @@ int main(void)
     RUN_TEST(test_ini_values_and_units);
     RUN_TEST(test_ini_rejects_bad_files);
     RUN_TEST(test_ini_kick_train);
+    RUN_TEST(test_ini_forced_excitation);
     RUN_TEST(test_ini_write_reads_back);
     RUN_TEST(test_noise_has_the_stated_snr_and_is_reproducible);
     RUN_TEST(test_turbulence_is_seeded_and_linear_in_intensity);

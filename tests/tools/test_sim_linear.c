@@ -567,6 +567,98 @@ static void test_kick_train_matches_expm_with_jumps(void)
     TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_sim_kicks(&run, 4, dv, &err));
 }
 
+/* A force far below the first natural frequency, at a speed where the air's stiffness is
+ * negligible, is resisted by the DOF's own spring alone: the DOF follows f (the force is κ f),
+ * to within the dynamic amplification (f/f_n)² and the air's share. */
+static void test_slow_forcing_gives_the_static_deflection(void)
+{
+    static const aenl_sim_dof_t dofs[2] = {AENL_SIM_DOF_PITCH, AENL_SIM_DOF_PLUNGE};
+    static const size_t channel[2] = {1, 0}; /* section3dof channels: h, alpha, beta */
+    for (size_t d = 0; d < 2; ++d)
+    {
+        aenl_sim_model_t m;
+        aenl_sim_run_t r;
+        aenl_sim_result_t res;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        aenl_sim_model_default(&m, AENL_SIM_SECTION3DOF);
+        aenl_sim_set_velocity(&m, 1.0);
+        aenl_sim_run_default(&r, AENL_SIM_SECTION3DOF);
+        r.duration = 40.0;
+        r.dt = 0.01;
+        r.force = AENL_SIM_FORCE_SWEEP;
+        r.force_dof = dofs[d];
+        r.force_amp = d == 0 ? 0.5 * DEG : 1e-3;
+        r.force_f0 = 0.02;
+        r.force_f1 = 0.05;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &r, &res, &err), err.msg);
+        TEST_ASSERT_NOT_NULL(res.u);
+        TEST_ASSERT_EQUAL_STRING(d == 0 ? "f_pitch" : "f_plunge", res.u_name);
+        const size_t n = res.n_samples;
+        double worst = 0.0;
+        double peak = 0.0;
+        for (size_t k = 0; k < n; ++k)
+        {
+            /* the analytic sweep: amplitude, start and end frequency */
+            const double t = res.t[k];
+            const double phi =
+                2.0 * 3.14159265358979323846 *
+                (r.force_f0 * t + (r.force_f1 - r.force_f0) * t * t / (2.0 * r.duration));
+            TEST_ASSERT_DOUBLE_WITHIN(1e-12 * r.force_amp, r.force_amp * sin(phi), res.u[k]);
+            peak = fmax(peak, fabs(res.u[k]));
+            if (t >= 10.0) /* the start-up transient has rung down */
+            {
+                worst = fmax(worst, fabs(res.y[channel[d] * n + k] - res.u[k]));
+            }
+        }
+        TEST_ASSERT_DOUBLE_WITHIN(1e-6 * r.force_amp, r.force_amp, peak);
+        TEST_ASSERT_TRUE_MESSAGE(worst < 2e-3 * r.force_amp, "DOF does not follow the slow force");
+        aenl_sim_result_free(&res);
+    }
+}
+
+/* A multisine over whole periods: its DFT is a/2 · n on each grid line of the band and 0 on every
+ * other bin (orthogonality of the sampled sines), and its mean square is rms². */
+static void test_multisine_has_its_lines_and_rms(void)
+{
+    aenl_sim_run_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_run_default(&r, AENL_SIM_AIRFOIL2DOF);
+    r.duration = 256.0;
+    r.dt = 1.0;
+    r.force = AENL_SIM_FORCE_MULTISINE;
+    r.force_dof = AENL_SIM_DOF_PITCH;
+    r.force_amp = 0.02;
+    r.force_f0 = 10.0 / 256.0;
+    r.force_f1 = 29.0 / 256.0;
+    r.force_seed = 5;
+    const size_t n = 256;
+    double f[256];
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_force_series(&r, n, f, &err), err.msg);
+    double ms = 0.0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        ms += f[k] * f[k] / (double)n;
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, r.force_amp, sqrt(ms));
+    const double a = r.force_amp * sqrt(2.0 / 20.0); /* 20 lines: 10 .. 29 */
+    for (size_t j = 1; j < n / 2; ++j)
+    {
+        double re = 0.0;
+        double im = 0.0;
+        for (size_t k = 0; k < n; ++k)
+        {
+            const double w = 2.0 * 3.14159265358979323846 * (double)(j * k % n) / (double)n;
+            re += f[k] * cos(w);
+            im -= f[k] * sin(w);
+        }
+        const double mag = sqrt(re * re + im * im);
+        const double want = (j >= 10 && j <= 29) ? 0.5 * a * (double)n : 0.0;
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9 * a * (double)n, want, mag);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -580,5 +672,7 @@ int main(void)
     RUN_TEST(test_dryden_turbulence_event_matches_rk4);
     RUN_TEST(test_runaway_bound_stops_where_the_unbounded_run_crosses_it);
     RUN_TEST(test_kick_train_matches_expm_with_jumps);
+    RUN_TEST(test_slow_forcing_gives_the_static_deflection);
+    RUN_TEST(test_multisine_has_its_lines_and_rms);
     return UNITY_END();
 }

@@ -155,6 +155,16 @@ typedef enum aenl_sim_kick_sign
     AENL_SIM_KICK_POSITIVE = 2   /**< always + */
 } aenl_sim_kick_sign_t;
 
+/** Forced excitation on one DOF ([excitation] type = sweep | multisine). */
+typedef enum aenl_sim_force_kind
+{
+    AENL_SIM_FORCE_NONE = 0,
+    AENL_SIM_FORCE_SWEEP = 1,    /**< a swept sine from force_f0 to force_f1 over the record */
+    AENL_SIM_FORCE_MULTISINE = 2 /**< random-phase multisine on the grid 1/period in a band */
+} aenl_sim_force_kind_t;
+
+#define AENL_SIM_MAX_LINES 1024 /**< most frequency lines of a multisine */
+
 /** How to run a simulation: grid, tolerances, excitation and measurement noise. */
 typedef struct aenl_sim_run
 {
@@ -180,6 +190,24 @@ typedef struct aenl_sim_run
     double kick_rate_max; /**< >= kick_rate */
     aenl_sim_kick_sign_t kick_sign;
     uint64_t kick_seed;
+    /** Forced excitation (not with turbulence or kicks): a force κ·f(t) on DOF force_dof, κ its
+     *  linear stiffness, so f is in the DOF's unit (rad, ξ or m: the static deflection the force
+     *  would give against the DOF's own spring). Sweep: f = force_amp sin φ(t), the frequency
+     *  going from force_f0 to force_f1 over the duration, linearly in time (φ = 2π (f0 t +
+     *  (f1 − f0) t² / (2 T))) or, with force_log, geometrically (φ = 2π f0 (e^{k t} − 1) / k,
+     *  k = ln(f1/f0) / T). Multisine: equal-amplitude sines on every frequency j / P (P =
+     *  force_period, 0: the duration) in [force_f0, force_f1], phases uniform from force_seed,
+     *  scaled so that the RMS over a period is force_amp. Frequencies in cycles per model time
+     *  unit, below the Nyquist frequency 1 / (2 dt). The result holds f sampled (column f_<dof>).
+     */
+    aenl_sim_force_kind_t force;
+    aenl_sim_dof_t force_dof;
+    double force_amp;    /**< sweep: amplitude; multisine: RMS (> 0, DOF unit) */
+    double force_f0;     /**< sweep: start; multisine: lowest frequency (> 0) */
+    double force_f1;     /**< sweep: end; multisine: highest frequency (> 0) */
+    int force_log;       /**< sweep: 1 geometric, 0 linear in time */
+    double force_period; /**< multisine period (0: the duration) */
+    uint64_t force_seed;
     double snr; /**< 0: no noise; else std(signal)/std(noise) per channel, > 0 */
     uint64_t noise_seed;
     /** Runaway bound per output channel (in the result's channel order), channel units, >= 0:
@@ -210,6 +238,8 @@ typedef struct aenl_sim_result
     const char *names[4]; /**< "t" then the channel names (static strings) */
     double *t;            /**< n_samples */
     double *y;            /**< channel c, sample k: y[c * n_samples + k] */
+    double *u;            /**< n_samples: the forced excitation f (noise-free), or NULL */
+    const char *u_name;   /**< its column name (f_pitch, f_plunge, f_flap), or NULL */
     aenl_sim_info_t info;
 } aenl_sim_result_t;
 
@@ -286,10 +316,12 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  *    [plunge] takes no _deg keys (ξ for airfoil2dof, metres for section3dof).
  *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
  *    as <name>_dot[_deg] (rate per model time unit). Default 0.
- *  - [excitation] type = none | turbulence | kicks. turbulence: intensity (std(w_g)/U, >= 0),
- *    length_scale (L: semichords or m), spectrum = first_order | dryden (first_order), seed.
- *    kicks: dof* = pitch | plunge | flap, every* (model time unit, a whole number of dt),
- *    rate[_deg]* (the rate jump, per model time unit; plunge: no _deg), rate_max[_deg] (=
+ *  - [excitation] type = none | turbulence | kicks | sweep | multisine. sweep: dof*,
+ *    amplitude[_deg]*, f_start*, f_end*, law = linear | log (linear). multisine: dof*,
+ *    rms[_deg]*, f_min*, f_max*, period (the duration), seed (1). turbulence: intensity
+ * (std(w_g)/U, >= 0), length_scale (L: semichords or m), spectrum = first_order | dryden
+ * (first_order), seed. kicks: dof* = pitch | plunge | flap, every* (model time unit, a whole number
+ * of dt), rate[_deg]* (the rate jump, per model time unit; plunge: no _deg), rate_max[_deg] (=
  *    rate), sign = random | alternate | positive (random), seed.
  *  - [run] duration*, dt* (model time unit), rtol (1e-10), atol (1e-12).
  *  - [noise] snr* (> 0, std(signal)/std(noise) per channel), seed (42).
@@ -348,6 +380,14 @@ aenl_status_t aenl_sim_gust_series(const aenl_sim_run_t *run, double T, size_t n
  * @return AENL_OK; AENL_E_ARG for NULL arguments or a run without kicks.
  */
 aenl_status_t aenl_sim_kicks(const aenl_sim_run_t *run, size_t n, double *dv, aenl_err_t *err);
+
+/**
+ * @brief The forced excitation f at t_k = k dt, k = 0 .. n-1 (the series the integrators apply).
+ * @return AENL_OK; AENL_E_ARG for NULL arguments, a run without forced excitation or settings
+ *         aenl_sim_validate refuses.
+ */
+aenl_status_t aenl_sim_force_series(const aenl_sim_run_t *run, size_t n, double *f,
+                                    aenl_err_t *err);
 
 /** @brief Release a result and zero it. Safe on a zeroed result. */
 void aenl_sim_result_free(aenl_sim_result_t *res);

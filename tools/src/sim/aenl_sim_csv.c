@@ -12,21 +12,36 @@
 aenl_status_t aenl_sim_result_write_csv(const aenl_sim_result_t *res, const char *path,
                                         aenl_err_t *err)
 {
-    const size_t n = res->n_samples, nc = res->n_channels;
+    const size_t n = res->n_samples;
+    const size_t nc = res->n_channels;
+    /* t, the channels, then the forced excitation when there is one */
+    const char *names[5];
+    const double *col[5];
+    size_t ncol = 0;
+    names[ncol] = res->names[0];
+    col[ncol++] = res->t;
+    for (size_t c = 0; c < nc && c < 3u; ++c)
+    {
+        names[ncol] = res->names[c + 1u];
+        col[ncol++] = res->y + c * n;
+    }
+    if (res->u != NULL)
+    {
+        names[ncol] = res->u_name != NULL ? res->u_name : "f";
+        col[ncol++] = res->u;
+    }
     if (path == NULL || strcmp(path, "-") == 0)
     {
-        printf("t");
-        for (size_t c = 0; c < nc; ++c)
+        for (size_t c = 0; c < ncol; ++c)
         {
-            printf(",%s", res->names[c + 1u]);
+            printf(c == 0 ? "%s" : ",%s", names[c]);
         }
         printf("\n");
         for (size_t k = 0; k < n; ++k)
         {
-            printf("%.17g", res->t[k]);
-            for (size_t c = 0; c < nc; ++c)
+            for (size_t c = 0; c < ncol; ++c)
             {
-                printf(",%.17g", res->y[c * n + k]);
+                printf(c == 0 ? "%.17g" : ",%.17g", col[c][k]);
             }
             printf("\n");
         }
@@ -39,14 +54,13 @@ aenl_status_t aenl_sim_result_write_csv(const aenl_sim_result_t *res, const char
     }
     aenl_csv_writer_t w;
     memset(&w, 0, sizeof(w));
-    aenl_status_t st = aenl_csv_writer_open(&w, path, res->names, nc + 1u, err);
-    double row[4];
+    aenl_status_t st = aenl_csv_writer_open(&w, path, names, ncol, err);
+    double row[5];
     for (size_t k = 0; k < n && st == AENL_OK; ++k)
     {
-        row[0] = res->t[k];
-        for (size_t c = 0; c < nc && c < 3u; ++c)
+        for (size_t c = 0; c < ncol; ++c)
         {
-            row[c + 1u] = res->y[c * n + k];
+            row[c] = col[c][k];
         }
         st = aenl_csv_writer_row(&w, row, err);
     }

@@ -570,6 +570,62 @@ static aenl_status_t apply_kick(ini_ctx_t *c, const entry_t *e, aenl_sim_run_t *
                                  "seed; no _deg keys)");
 }
 
+/* [excitation] with type = sweep or multisine (its dof is already read). */
+static aenl_status_t apply_force(ini_ctx_t *c, const entry_t *e, aenl_sim_run_t *r)
+{
+    const int angular = r->force_dof != AENL_SIM_DOF_PLUNGE;
+    const int sweep = r->force == AENL_SIM_FORCE_SWEEP;
+    double scale = 1.0;
+    if (strcmp(e->key, "dof") == 0)
+    {
+        return AENL_OK;
+    }
+    if (sweep && angle_key(e, "amplitude", angular, &scale))
+    {
+        return parse_num(c, e, V_POS, scale, MAX_ABS_PARAM, &r->force_amp);
+    }
+    if (!sweep && angle_key(e, "rms", angular, &scale))
+    {
+        return parse_num(c, e, V_POS, scale, MAX_ABS_PARAM, &r->force_amp);
+    }
+    if (strcmp(e->key, sweep ? "f_start" : "f_min") == 0)
+    {
+        return parse_num(c, e, V_POS, 1.0, MAX_ABS_PARAM, &r->force_f0);
+    }
+    if (strcmp(e->key, sweep ? "f_end" : "f_max") == 0)
+    {
+        return parse_num(c, e, V_POS, 1.0, MAX_ABS_PARAM, &r->force_f1);
+    }
+    if (sweep && strcmp(e->key, "law") == 0)
+    {
+        if (strcmp(e->value, "linear") == 0 || strcmp(e->value, "log") == 0)
+        {
+            r->force_log = strcmp(e->value, "log") == 0;
+            return AENL_OK;
+        }
+        return bad(c, e, "expected linear or log");
+    }
+    if (!sweep && strcmp(e->key, "period") == 0)
+    {
+        return parse_num(c, e, V_POS, 1.0, MAX_ABS_PARAM, &r->force_period);
+    }
+    if (!sweep && strcmp(e->key, "seed") == 0)
+    {
+        return parse_seed(c, e, &r->force_seed);
+    }
+    if (sweep)
+    {
+        return unknown_key(c, e,
+                           angular ? " for type sweep (dof, amplitude[_deg], f_start, f_end, law)"
+                                   : " for type sweep on plunge (dof, amplitude, f_start, f_end, "
+                                     "law; no _deg keys)");
+    }
+    return unknown_key(c, e,
+                       angular ? " for type multisine (dof, rms[_deg], f_min, f_max, period, seed)"
+                               : " for type multisine on plunge (dof, rms, f_min, f_max, period, "
+                                 "seed; no _deg keys)");
+}
+
 static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_t *m,
                                  aenl_sim_run_t *r)
 {
@@ -599,6 +655,10 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             {
                 return apply_kick(c, e, r);
             }
+            if (r->force != AENL_SIM_FORCE_NONE)
+            {
+                return apply_force(c, e, r);
+            }
             if (strcmp(e->key, "seed") == 0)
             {
                 return parse_seed(c, e, &r->turb_seed);
@@ -623,7 +683,9 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             }
             return unknown_key(c, e,
                                " (type, intensity, length_scale, spectrum, seed; dof, every, "
-                               "rate, rate_max and sign need type = kicks)");
+                               "rate, rate_max and sign need type = kicks; amplitude, f_start, "
+                               "f_end and law type = sweep; rms, f_min, f_max and period type = "
+                               "multisine)");
         }
         case 6:
         {
@@ -670,6 +732,32 @@ static aenl_status_t missing(ini_ctx_t *c, int sec, const char *key)
                      sections[sec], key);
     }
     return AENL_E_ARG;
+}
+
+/* The keys a forced excitation cannot do without (d: the DOF, for the _deg spelling). */
+static aenl_status_t force_required(ini_ctx_t *c, const aenl_sim_run_t *r, int d)
+{
+    if (r->force == AENL_SIM_FORCE_NONE)
+    {
+        return AENL_OK;
+    }
+    const int sweep = r->force == AENL_SIM_FORCE_SWEEP;
+    const char *amp = sweep ? "amplitude" : "rms";
+    char amp_deg[16];
+    (void)snprintf(amp_deg, sizeof(amp_deg), "%s_deg", amp);
+    if (find(c, "excitation", amp) == NULL && find(c, "excitation", amp_deg) == NULL)
+    {
+        return missing(c, 5, d == AENL_SIM_DOF_PLUNGE ? amp : amp_deg);
+    }
+    if (find(c, "excitation", sweep ? "f_start" : "f_min") == NULL)
+    {
+        return missing(c, 5, sweep ? "f_start" : "f_min");
+    }
+    if (find(c, "excitation", sweep ? "f_end" : "f_max") == NULL)
+    {
+        return missing(c, 5, sweep ? "f_end" : "f_max");
+    }
+    return AENL_OK;
 }
 
 static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t *r)
@@ -787,12 +875,20 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
         {
             r->kicks = 1;
         }
+        else if (strcmp(e->value, "sweep") == 0)
+        {
+            r->force = AENL_SIM_FORCE_SWEEP;
+        }
+        else if (strcmp(e->value, "multisine") == 0)
+        {
+            r->force = AENL_SIM_FORCE_MULTISINE;
+        }
         else if (strcmp(e->value, "none") != 0)
         {
-            return bad(c, e, "expected none, turbulence or kicks");
+            return bad(c, e, "expected none, turbulence, kicks, sweep or multisine");
         }
     }
-    if (r->kicks)
+    if (r->kicks || r->force != AENL_SIM_FORCE_NONE)
     {
         static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
         const int n_dof = type == AENL_SIM_AIRFOIL2DOF ? 2 : 3;
@@ -809,6 +905,14 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
                        n_dof == 2 ? "expected pitch or plunge" : "expected pitch, plunge or flap");
         }
         r->kick_dof = (aenl_sim_dof_t)d;
+        r->force_dof = (aenl_sim_dof_t)d;
+        if ((st = force_required(c, r, d)) != AENL_OK)
+        {
+            return st;
+        }
+    }
+    if (r->kicks)
+    {
         if (find(c, "excitation", "every") == NULL)
         {
             return missing(c, 5, "every");
@@ -1001,6 +1105,28 @@ void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_
                 "rate_max = %.17g\nsign = %s\nseed = %llu\n",
                 k_dof[run->kick_dof], run->kick_every, run->kick_rate, run->kick_rate_max,
                 k_sign[run->kick_sign], (unsigned long long)run->kick_seed);
+    }
+    if (run->force == AENL_SIM_FORCE_SWEEP)
+    {
+        static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
+        fprintf(fp,
+                "\n[excitation]\ntype = sweep\ndof = %s\namplitude = %.17g\nf_start = %.17g\n"
+                "f_end = %.17g\nlaw = %s\n",
+                k_dof[run->force_dof], run->force_amp, run->force_f0, run->force_f1,
+                run->force_log ? "log" : "linear");
+    }
+    if (run->force == AENL_SIM_FORCE_MULTISINE)
+    {
+        static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
+        fprintf(fp,
+                "\n[excitation]\ntype = multisine\ndof = %s\nrms = %.17g\nf_min = %.17g\n"
+                "f_max = %.17g\nseed = %llu\n",
+                k_dof[run->force_dof], run->force_amp, run->force_f0, run->force_f1,
+                (unsigned long long)run->force_seed);
+        if (run->force_period > 0.0)
+        {
+            fprintf(fp, "period = %.17g\n", run->force_period);
+        }
     }
     fprintf(fp, "\n[run]\nduration = %.17g\ndt = %.17g\nrtol = %.17g\natol = %.17g\n",
             run->duration, run->dt, run->rtol, run->atol);

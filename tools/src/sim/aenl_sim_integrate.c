@@ -607,7 +607,12 @@ static aenl_status_t alloc_result(const sim_sys_t *s, const aenl_sim_run_t *run,
     }
     res->t = malloc(n * sizeof(double));
     res->y = malloc(n * res->n_channels * sizeof(double));
-    if (res->t == NULL || res->y == NULL)
+    if (run->force != AENL_SIM_FORCE_NONE)
+    {
+        res->u = malloc(n * sizeof(double));
+        res->u_name = sim_force_name(run->force_dof);
+    }
+    if (res->t == NULL || res->y == NULL || (run->force != AENL_SIM_FORCE_NONE && res->u == NULL))
     {
         aenl_sim_result_free(res);
         aenl_err_set(err, "out of memory for %zu samples", n);
@@ -624,6 +629,7 @@ void aenl_sim_result_free(aenl_sim_result_t *res)
     }
     free(res->t);
     free(res->y);
+    free(res->u);
     memset(res, 0, sizeof(*res));
 }
 
@@ -836,9 +842,37 @@ static void initial_mode(integ_t *in, const double *x)
     }
 }
 
+/* The run's forced excitation, attached to sys and sampled into res->u (*out: NULL without
+ * one; the caller frees it once the integration is over). */
+static aenl_status_t force_setup(sim_sys_t *sys, const aenl_sim_run_t *run, aenl_sim_result_t *res,
+                                 sim_force_t **out, aenl_err_t *err)
+{
+    *out = NULL;
+    if (run->force == AENL_SIM_FORCE_NONE)
+    {
+        return AENL_OK;
+    }
+    sim_force_t *f = calloc(1, sizeof(*f));
+    if (f == NULL)
+    {
+        aenl_sim_result_free(res);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    sim_force_init(f, run);
+    sim_force_attach(sys, f, run);
+    for (size_t k = 0; k < res->n_samples; ++k)
+    {
+        res->u[k] = sim_force_eval(f, (double)k * run->dt);
+    }
+    *out = f;
+    return AENL_OK;
+}
+
 aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
                                 aenl_sim_result_t *res, aenl_err_t *err)
 {
+    sim_force_t *force = NULL;
     sim_sys_t sys;
     integ_t *in;
     gust_gen_t gg;
@@ -858,13 +892,15 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     if ((st = aenl_sim_validate(model, run, err)) != AENL_OK ||
         (st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
                             &sys, err)) != AENL_OK ||
-        (st = alloc_result(&sys, run, res, err)) != AENL_OK)
+        (st = alloc_result(&sys, run, res, err)) != AENL_OK ||
+        (st = force_setup(&sys, run, res, &force, err)) != AENL_OK)
     {
         return st;
     }
     in = calloc(1, sizeof(*in));
     if (in == NULL)
     {
+        free(force);
         aenl_sim_result_free(res);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
@@ -939,6 +975,7 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     }
     res->info = in->info;
     free(in);
+    free(force);
     if (st != AENL_OK)
     {
         aenl_sim_result_free(res);
@@ -975,6 +1012,7 @@ static void naive_mode(const sim_sys_t *s, const double *x, sim_mode_t *mode)
 aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
                                     double h, aenl_sim_result_t *res, aenl_err_t *err)
 {
+    sim_force_t *force = NULL;
     sim_sys_t sys;
     gust_gen_t gg;
     sim_mode_t mode;
@@ -997,7 +1035,8 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
     if ((st = aenl_sim_validate(model, run, err)) != AENL_OK ||
         (st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
                             &sys, err)) != AENL_OK ||
-        (st = alloc_result(&sys, run, res, err)) != AENL_OK)
+        (st = alloc_result(&sys, run, res, err)) != AENL_OK ||
+        (st = force_setup(&sys, run, res, &force, err)) != AENL_OK)
     {
         return st;
     }
@@ -1074,6 +1113,7 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         {
             if (!isfinite(x[j]))
             {
+                free(force);
                 aenl_sim_result_free(res);
                 aenl_err_set(err, "non-finite state at t = %.17g", (double)(k + 1) * run->dt);
                 return AENL_E_NUMERIC;
@@ -1081,10 +1121,12 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         }
         if (out_of_bound(&sys, res, run->bound, x, (double)(k + 1) * run->dt, err))
         {
+            free(force);
             aenl_sim_result_free(res);
             return AENL_E_NUMERIC;
         }
     }
+    free(force);
     add_noise(res, run);
     return AENL_OK;
 }

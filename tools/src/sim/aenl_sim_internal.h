@@ -55,7 +55,30 @@ typedef struct sim_sys
     double freq_scale;         /* Im λ times this = reported frequency (ω/ω_α or Hz) */
     int out_q[AENL_SIM_MAX_Q]; /* output channel c is q index out_q[c] */
     int n_out;
+    const struct sim_force *force; /* forced excitation, or NULL */
+    int force_q;                   /* the forced DOF's q index */
 } sim_sys_t;
+
+/* A forced excitation ready to evaluate (sim_force_init). */
+typedef struct sim_force
+{
+    aenl_sim_force_kind_t kind;
+    double amp, f0, f1, T;
+    int log;
+    size_t n_lines;
+    double w[AENL_SIM_MAX_LINES];  /* angular frequencies of the multisine */
+    double ph[AENL_SIM_MAX_LINES]; /* their phases */
+} sim_force_t;
+
+/* Check the run's forced excitation and prepare it (the model says which DOFs exist). */
+aenl_status_t sim_force_check(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
+                              aenl_err_t *err);
+void sim_force_init(sim_force_t *f, const aenl_sim_run_t *run);
+double sim_force_eval(const sim_force_t *f, double t);
+/* Attach f to sys (NULL or kind none: no forcing). */
+void sim_force_attach(sim_sys_t *sys, const sim_force_t *f, const aenl_sim_run_t *run);
+/* The column name of a DOF's force (f_pitch, f_plunge, f_flap). */
+const char *sim_force_name(aenl_sim_dof_t dof);
 
 /* Branch of one DOF's law. */
 typedef struct sim_branch

@@ -66,6 +66,7 @@ void aenl_sim_run_default(aenl_sim_run_t *run, aenl_sim_type_t type)
     run->turb_length = (type == AENL_SIM_AIRFOIL2DOF) ? 2.0 : 0.25;
     run->turb_seed = 1;
     run->kick_seed = 1;
+    run->force_seed = 1;
     run->noise_seed = 42;
 }
 
@@ -341,6 +342,10 @@ aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_ru
             return AENL_E_ARG;
         }
         if (run->kicks && (st = check_kicks(model, run, err)) != AENL_OK)
+        {
+            return st;
+        }
+        if ((st = sim_force_check(model, run, err)) != AENL_OK)
         {
             return st;
         }
@@ -863,6 +868,10 @@ static void loads(const sim_sys_t *s, double t, const double *x, int with_forcin
             acc += s->Ez[i][j] * z[j];
         }
         F[i] = acc;
+    }
+    if (with_forcing && s->force != NULL)
+    {
+        F[s->force_q] += s->kappa[s->force_q] * sim_force_eval(s->force, t);
     }
 }
 
