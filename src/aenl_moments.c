@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_moments.c
- * @brief Streaming triangular-kernel conditional moments (DESIGN.md section 2.1).
+ * @brief Streaming triangular-kernel conditional moments (the paper's formulas 10-11;
+ *        docs/moments.md).
  *
  * Cell update (weighted Welford, West 1979), for a pair (u, y) with kernel weight w at a node:
  *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),  W2' = W2 +

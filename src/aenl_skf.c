@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_skf.c
- * @brief Switching Kalman filter (DESIGN.md section 2.3); model and conventions in aenl_skf.h.
+ * @brief Switching Kalman filter; model and conventions in aenl_skf.h.
  *
  * All-or-nothing: the estimate is double-buffered (x[cur], P[cur]). A step writes the new
  * estimate into the other half and flips `cur` only when everything succeeded, so a rejected step

@@ -48,7 +48,8 @@
 /** Switching points reported at most (hysteresis: two kinks per direction). */
 #define AENL_CLASSIFIER_MAX_SWITCH 4
 
-/** Classes, in the order of DESIGN.md §4. */
+/** Classes. aenl_class_name() gives the names `aenl identify` prints (docs/identify.md); the
+ *  nonlinear classes come last, from AENL_CLASS_POLYNOMIAL on, and loops over them rely on it. */
 typedef enum
 {
     AENL_CLASS_INSUFFICIENT = 0, /**< not enough well-sampled nodes yet */

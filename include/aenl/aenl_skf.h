@@ -4,7 +4,8 @@
  * @brief Small switching Kalman filter: piecewise-affine linear model with the mode chosen by
  *        thresholds on one state component, optional interacting-multiple-model (IMM) mixing.
  *
- * Model (DESIGN.md section 2.3, the seed paper's equations (13)-(14)), for step k = 1, 2, ...:
+ * Model (the seed paper's equations (13)-(14), the one `aenl fit` identifies: docs/fit.md), for
+ * step k = 1, 2, ...:
  *
  *     x_k = A_s x_{k-1} + b_s + v_k,   v_k ~ N(0, Q_s),   s = mode chosen from x_{k-1}
  *     z_k = C x_k + w_k,               w_k ~ N(0, R)

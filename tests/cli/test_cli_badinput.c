@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_cli_badinput.c
- * @brief The bad-input matrix (issue 7): every subcommand that reads a file, against truncated,
+ * @brief The bad-input matrix: every subcommand that reads a file, against truncated,
  *        binary, empty, header-only, ragged, non-numeric, NaN/Inf, duplicated, non-monotonic or
  *        repeated time, huge values, unknown options, missing arguments and unwritable outputs.
  *        Each must exit 2 with exactly one line on stderr ("aenl <sub>: ...") that contains the

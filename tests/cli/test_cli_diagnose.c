@@ -3,7 +3,7 @@
  * @file test_cli_diagnose.c
  * @brief `aenl diagnose` end to end: a record simulated from the example truth (2-DOF airfoil,
  *        hidden pitch freeplay, SNR 3) against the example linear baseline names freeplay in
- *        pitch, prints the issue's JSON, writes DIR/updated.ini that `aenl simulate` runs as is
+ *        pitch, prints the documented JSON, writes DIR/updated.ini that `aenl simulate` runs as is
  *        and the figure data. Bad input: exit 2, one message on stderr, nothing on stdout, no
  *        output file.
  */

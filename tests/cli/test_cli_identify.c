@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_cli_identify.c
- * @brief `aenl identify` end to end: the JSON object of DESIGN.md section 4 (every key and no
+ * @brief `aenl identify` end to end: the JSON object of docs/identify.md (every key and no
  *        other, types, class names from the allowed set, ascending switching points, a verdict
  *        consistent with its channel), the table, --channel, --plot (three figures per channel,
  *        folder created, nothing left on failure), and bad input (exit 2, one line on stderr
@@ -157,7 +157,7 @@ static void check_confidence(const cJSON *c, const char *what)
     TEST_ASSERT_TRUE_MESSAGE(c->valuedouble >= 0.0 && c->valuedouble <= 1.0, what);
 }
 
-/* The whole object of DESIGN.md section 4; returns the verdict's channel object or NULL. */
+/* The whole object, as docs/identify.md gives it; returns the verdict's channel object or NULL. */
 static const cJSON *check_contract(const cJSON *root, const char *file, int n_channels)
 {
     static const char *const k_top[] = {"file", "verdict", "channels"};
@@ -339,8 +339,8 @@ static const char *eval_record(size_t index, const char *file, char *p, size_t s
     return p;
 }
 
-/* Eval-suite case 20: linear, a train of kicked releases, no noise. Its kicks made both analyses
- * see a law until they were screened. */
+/* Eval-suite case 20: linear, a train of kicked releases, no noise. Unscreened, its kicks make
+ * both analyses see a law. */
 static const char *kicked_record(void)
 {
     static char path[512];

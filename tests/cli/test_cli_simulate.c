@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_cli_simulate.c
- * @brief `aenl simulate` and `aenl flutter` end to end: the CSV contract (DESIGN.md §4), the
- *        same file for the same seed, flutter numbers of MODELS.md §5.1/§5.6 through --json, and
- *        bad INIs: exit 2, one message naming file:line and key, nothing on stdout, no file.
+ * @brief `aenl simulate` and `aenl flutter` end to end: the CSV contract (columns and units of
+ *        docs/simulate.md), the same file for the same seed, the flutter speeds of the classic
+ *        airfoil (U* 6.2851) and of Conner's section (23.897 m/s) through --json, and bad INIs:
+ *        exit 2, one message naming file:line and key, nothing on stdout, no file.
  */
 #include "aenl_cli_test.h"
 

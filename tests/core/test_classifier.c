@@ -26,9 +26,9 @@ enum
     LAW_HYSTERESIS
 };
 
-/* Restoring law R(x), stiffness 1 outside the gap. Hysteresis: MODELS.md §1.5 with alpha_f = 0,
- * delta = 2g and the preload M0 = g that closes the loop (dissipative): the gap sits at [0, 2g]
- * while the DOF rises and at [-2g, 0] while it falls. */
+/* Restoring law R(x), stiffness 1 outside the gap. Hysteresis: the simulator's loop
+ * (docs/simulate.md) with alpha_f = 0, delta = 2g and the preload M0 = g that closes the loop
+ * (dissipative): the gap sits at [0, 2g] while the DOF rises and at [-2g, 0] while it falls. */
 static double law(int kind, double x, double v, double g)
 {
     switch (kind)

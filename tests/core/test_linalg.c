@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_linalg.c
- * @brief The private small-matrix kernels (included intrusively, STYLE.md section 9) against
+ * @brief The private small-matrix kernels (the .c included: no public API reaches them) against
  *        brute-force double references: products, Cholesky (and its non-PD status), triangular
  *        solves, symmetrisation, stride handling. Builds as f32 and f64.
  */

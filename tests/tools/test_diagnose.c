@@ -2,7 +2,7 @@
 /**
  * @file test_diagnose.c
  * @brief aenl_diagnose: the signature pieces (Welch peak, noise estimate, distance properties,
- *        rejected records) and representative hidden-effect cases (issue 6): measured data from a
+ *        rejected records) and representative hidden-effect cases: measured data from a
  *        truth model with the effect (parameters and seeds drawn from a seed the diagnosis never
  *        sees, SNR 3), a baseline lacking it. Goals checked: effect and DOF named, parameters
  *        within 15 %, gap reduced at least 5-fold; null case: none, gap within 2x the noise
@@ -204,8 +204,8 @@ static void test_chan_setup_noise_and_period(void)
     TEST_ASSERT_FALSE(b.valid);
     TEST_ASSERT_DOUBLE_WITHIN(1e-9, 10.0, aenl_diagnose_distance(&c, &a, &b, fam));
     /* A simulated record at rest (a model without noise that never moves): invalid, not an
-     * error (its curves cannot be formed; the LCO bench's noise-free cases 122 and 213 failed
-     * on one). */
+     * error (its curves cannot be formed; the LCO bench's noise-free cases 122 and 213 meet
+     * such records). */
     for (size_t i = 0; i < n; ++i)
     {
         x[i] = 0.0;
@@ -295,7 +295,8 @@ static void check_rival(const aenl_diagnose_result_t *r, double penalty)
     }
 }
 
-/* Diagnose the named case and check the issue's goals; the JSON and the INI round trip too.
+/* Diagnose the named case and check the goals (docs/diagnose.md); the JSON and the INI round
+ * trip too.
  * other_sim: the truth is measured with a simulator the diagnosis does not share (naive RK4, no
  * event location; Dryden gusts where the baseline assumes first-order ones). */
 static void check_case(const char *name, int other_sim)
@@ -370,7 +371,7 @@ static void check_case(const char *name, int other_sim)
         TEST_ASSERT_TRUE(r.n_dis >= 1u);
         TEST_ASSERT_TRUE(r.dis[0].significance > o.report_ratio);
     }
-    /* JSON: exactly the issue's keys. */
+    /* JSON: exactly the documented keys. */
     char *js = aenl_diagnose_json(&r, NULL);
     TEST_ASSERT_NOT_NULL(js);
     cJSON *root = cJSON_Parse(js);
@@ -595,9 +596,10 @@ static void test_noise_beyond_the_baseline(void)
 }
 
 /* A noise-free free decay against the model that made it: every run of the baseline is alike
- * (no turbulence, no noise), so its floor is 0 and the summaries have nothing random to rank; the
- * baseline reproduces the record and agrees (before, the summaries' test could not run and
- * identify --model fell back to the record's own verdict: polynomial on the suite's case 0). */
+ * (no turbulence, no noise), so its floor is 0; the summaries have nothing random to rank and
+ * their test does not run; the baseline reproduces the record exactly and agrees all the same
+ * (else identify --model would fall back to the record's own verdict: polynomial on the suite's
+ * case 0). */
 static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;
@@ -633,11 +635,11 @@ static void test_exact_baseline_agrees(void)
 
 /* Where no two runs differ (a noise-free free decay), the scores' degrees of freedom M are
  * measured over runs given a small nominal noise (0.1 % of each channel's std). The reference: M
- * as the replicates measure it on the same record with white noise of that size added. Before, M
- * stood at 1 where the runs were alike, and every difference of the scores shrank with it (the
- * suite's decay 158). M grows slowly with the noise's size (on this record about 8 at 0.1 %, 11
- * to 14 at 0.3 to 1 %, 22 at 3 %: more of the signatures' elements are the noise's), so the
- * reference is at the nominal size. */
+ * as the replicates measure it on the same record with white noise of that size added. Measured
+ * over the alike runs themselves, M would stand at 1 and every difference of the scores would
+ * shrink with it (as on the suite's decay 158). M grows slowly with the noise's size (on this
+ * record about 8 at 0.1 %, 11 to 14 at 0.3 to 1 %, 22 at 3 %: more of the signatures' elements are
+ * the noise's), so the reference is at the nominal size. */
 static void test_dof_without_noise(void)
 {
     aenl_err_t err;

@@ -207,10 +207,9 @@ static aenl_class_t regression_class(size_t index, aenl_class_t truth)
 /* Eval-suite cases 36 and 87: 2-DOF sections in noise-free turbulence with a hardening pitch
  * (36) and a softening plunge (87) spring. The turbulence pushes the way the DOF moves, and how
  * much it does changes with the amplitude: a force that follows the motion and changes smoothly
- * with the position. The regression took it for a gap moving with the direction (hysteresis)
- * until its rising-motion offset could change with amplitude. Case 84 (2-DOF, pitch hysteresis,
- * SNR 10) stays hysteresis: its switching points do move. (Case 71, hardening plunge, was the
- * hardening example until the noise floor: dithered, its polynomial's t is 3.9, below 4.) */
+ * with the position. With a constant rising-motion offset the regression takes it for a gap
+ * moving with the direction (hysteresis); its offset may change with amplitude, so it does not.
+ * Case 84 (2-DOF, pitch hysteresis, SNR 10) stays hysteresis: its switching points do move. */
 static void test_identify_turbulence_on_a_nonlinear_spring_is_not_hysteresis(void)
 {
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, regression_class(36, AENL_CLASS_POLYNOMIAL));
@@ -235,8 +234,8 @@ static double std_dev(const double *x, size_t n)
 }
 
 /* Eval-suite case 174: 3-DOF section, plunge freeplay, a noise-free decay. Undithered, the
- * dense lags interpolate the second difference and the regression can see no law at all (so it
- * was in the suite's case 8 before session 22). Dithered up to its noise floor, 0.1 of each
+ * dense lags interpolate the second difference and the regression can see no law at all.
+ * Dithered up to its noise floor, 0.1 of each
  * channel's standard deviation less what the differences estimate finds (0.26-0.82 of it here:
  * the kicks' corners and the flap's fast mode read as noise), the regression
  * finds the gap in plunge and nothing in pitch or flap. Case 38 (plunge freeplay, SNR 3) is
@@ -296,9 +295,8 @@ static void check_echoes(size_t index, aenl_eval_regime_t regime, const long *ec
 
 /* A nonlinear force in one DOF reaches the equations of the others, where it can pass for a law
  * of their own. Eval-suite case 189 (3-DOF, pitch hysteresis, noise-free turbulence): plunge
- * showed a polynomial with more evidence than the pitch's loop and was named. Case 29 (3-DOF,
- * plunge hysteresis, decay, SNR 10): pitch and flap show laws that the plunge's explains (until
- * session 22 case 89 was the decay example; its flap no longer shows one of its own).
+ * shows a polynomial with more evidence than the pitch's loop, which would be named. Case 29
+ * (3-DOF, plunge hysteresis, decay, SNR 10): pitch and flap show laws that the plunge's explains.
  * With the named channel's law among their regressors, those laws are gone; the other way
  * round, the true channel's law stays. */
 static void test_identify_an_echo_of_another_channels_law_is_linear(void)
@@ -387,7 +385,7 @@ static void apply(aenl_identify_result_t *r, const aenl_diagnose_result_t *d)
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_identify_apply_model(r, d, &err), err.msg);
 }
 
-/* Class, channel, switching points (MODELS.md section 1.5's kinks of both branches), their
+/* Class, channel, switching points (the kinks of both branches of the hysteresis loop), their
  * errors and the confidences, all worked out by hand from the weights exp(-score / 2). */
 static void test_identify_model_verdict_reads_the_diagnosis(void)
 {

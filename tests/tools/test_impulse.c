@@ -4,8 +4,8 @@
  * @brief Impulse screening (aenl_impulse.h): pulses too small to see in any row are found in
  *        the window sums, pulses that bring the motion no energy are not impulses, Gaussian
  *        residuals are not screened, the delay line keeps every row;
- *        and in `identify`, a linear decay train whose kicks used to pass for a law is linear in
- *        the regression once they are left out.
+ *        and in `identify`, a linear decay train whose kicks pass for a law when unscreened is
+ *        linear in the regression once they are left out.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -216,8 +216,8 @@ static void test_impulse_bad_configuration(void)
 }
 
 /* Eval-suite cases 20 (2-DOF, noise-free) and 10 (3-DOF, SNR 3): linear sections released
- * again and again by velocity kicks. Before the screening the regression found hysteresis in
- * the plunge of the first and a polynomial in the pitch of the second. */
+ * again and again by velocity kicks. Unscreened, the regression finds hysteresis in the plunge
+ * of the first and a polynomial in the pitch of the second. */
 static void test_identify_kicked_linear_decays_are_linear_in_the_regression(void)
 {
     static const size_t k_cases[2] = {20, 10};

@@ -41,11 +41,11 @@ typedef enum
     LAW_LINEAR,
     LAW_GAP,      /* freeplay: no stiffness inside [-GAP, GAP] on oscillator 0 */
     LAW_CUBIC,    /* hardening cubic on oscillator 1 */
-    LAW_SOFT,     /* softening with a quintic recovery on oscillator 0 (MODELS.md §1.5,
+    LAW_SOFT,     /* softening with a quintic recovery on oscillator 0 (a polynomial law,
                      Σ p_k x^k): stiffness 1 at rest, 0.1 at |x| = 0.45, rising beyond */
     LAW_SATURATE, /* stiffness 1 inside [-GAP, GAP], 0.2 outside, on oscillator 0 */
     LAW_FRICTION, /* LAW_GAP plus dry friction FRICTION sign(v) on oscillator 0 */
-    LAW_HYST,     /* MODELS.md's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
+    LAW_HYST,     /* the simulator's loop (alpha_f 0, delta 2 GAP, M0 HYST_M0) on oscillator 0:
                      no stiffness in [0, 2 GAP] rising, in [-2 GAP, 0] falling, offset +-M0 */
     LAW_ANTI,     /* LAW_GAP with its contacts reached early in the direction of motion (the
                      gap shifted by -ANTI rising, +ANTI falling), as a freeplay looks through

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_sim_ini.c
- * @brief Model INI loading (DESIGN.md §4): the example files, every rejected input with a message
- *        naming file, line and key; seeded measurement noise at the stated SNR, reproducibility,
+ * @brief Model INI loading (docs/simulate.md): the example files, every rejected input with a
+ * message naming file, line and key; seeded measurement noise at the stated SNR, reproducibility,
  *        and the turbulence forcing.
  */
 #include <math.h>

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file test_sim_lco.c
- * @brief Limit cycles with structural nonlinearities against the tables of MODELS.md: pitch
- *        freeplay (§5.3), cubic pitch spring (§5.4), hysteresis with sticking (§5.5), 3-DOF flap
- *        freeplay (§5.7); the hysteresis that is a centred freeplay; tolerance convergence;
+ * @brief Limit cycles with structural nonlinearities against reference values from an
+ *        independent implementation of the same equations (tools/examples/validate_*.ini state
+ *        one case each): pitch freeplay, cubic pitch spring, hysteresis with sticking, 3-DOF flap
+ *        freeplay; the hysteresis that is a centred freeplay; tolerance convergence;
  *        two nonlinear DOFs at once; naive RK4 converging to the event-located solution (no
  *        missed crossings).
  *
@@ -71,7 +72,7 @@ static lco_t measure(const aenl_sim_result_t *r, size_t ch, double t_from)
 static void report(const char *what, double got, double want)
 {
     char msg[160];
-    (void)snprintf(msg, sizeof(msg), "%s: %.5g (MODELS.md %.5g, %+.2f %%)", what, got, want,
+    (void)snprintf(msg, sizeof(msg), "%s: %.5g (reference %.5g, %+.2f %%)", what, got, want,
                    100.0 * (got - want) / want);
     TEST_MESSAGE(msg);
 }
@@ -139,7 +140,7 @@ static void test_lco_pitch_freeplay_table(void)
         check_within_1pc(what, TWO_PI * o.freq * us[i], om[i]);
         if (i > 0)
         {
-            /* Centred on the gap centre 0.5 deg (§1.5). */
+            /* Centred on the gap centre 0.5 deg. */
             TEST_ASSERT_DOUBLE_WITHIN(1e-3, 0.5, o.mean / DEG);
         }
         else
@@ -228,7 +229,7 @@ static void test_hysteresis_dissipative_loop_sticks(void)
 }
 
 /* The hysteresis with alpha_f = -delta / 2 and M0 = 0 is the freeplay centred on zero: both
- * branches are zero across the gap and the outer ones coincide (MODELS.md §1.5), so no jump at a
+ * branches are zero across the gap and the outer ones coincide (M0 = α_f + δ/2), so no jump at a
  * reversal and nothing to stick. The diagnosis's hysteresis candidate therefore holds its
  * centred freeplay, and comparing the two as nested laws needs the nesting to hold in the
  * simulations too, not only in the law (the sticking rule acts on the branch switch at every
@@ -400,7 +401,7 @@ static double max_diff(const aenl_sim_result_t *a, const aenl_sim_result_t *b)
 static void test_freeplay_rk4_converges_to_event_solution(void)
 {
     /* No missed crossings: the naive RK4 (branch from the state at each stage) converges to the
-     * event-located solution as h shrinks (§5.3: 1.2e-6 relative at h = 0.02). */
+     * event-located solution as h shrinks (the reference: 1.2e-6 relative at h = 0.02). */
     aenl_sim_model_t m;
     aenl_sim_run_t r;
     aenl_sim_result_t ev, rk1, rk2;

@@ -2,7 +2,7 @@
 /**
  * @file aenl_evalsuite.h
  * @brief Host-only evaluation suite of identification cases, generated from seeds with the
- *        simulators (issue 4): every case is a simulated record with its truth (class, channel,
+ *        simulators: every case is a simulated record with its truth (class, channel,
  *        switching points, gap width), reproducible from (suite seed, index) and rerunnable with
  *        `aenl simulate` from the INI it can write.
  *
@@ -30,7 +30,7 @@
  * (N falling, then rising through the quintic term) gives them in plunge (falling part) and pitch
  * (rising part), not in the flap (it would need N < 0.5, a snap-through spring).
  *
- * Laws (MODELS.md §1.5), drawn at unit amplitude and scaled to the case's amplitude A (DOF units;
+ * Laws (docs/simulate.md), drawn at unit amplitude and scaled to the case's amplitude A (DOF units;
  * decay and LCO: drawn log-uniform per DOF, pitch 1..6 deg, 3-DOF pitch 0.5..4 deg, flap 1..6 deg,
  * plunge ξ 0.02..0.2 or h 2..20 mm; turbulence: √2 x the rms of a linear pilot run, 8000 samples
  * at the drawn gust intensity 0.2..2 %):
@@ -245,9 +245,9 @@ aenl_status_t aenl_eval_case_design(uint64_t suite_seed, size_t index, unsigned 
 void aenl_eval_case_free(aenl_eval_case_t *c);
 
 /**
- * @brief Write the case's model INI (DESIGN.md §4; values in radians/SI with 17 digits, the case
- *        description and truth as comments): `aenl simulate` on it reproduces the noisy record
- *        exactly (a decay's releases are the run's kick train).
+ * @brief Write the case's model INI (docs/simulate.md; values in radians/SI with 17 digits, the
+ *        case description and truth as comments): `aenl simulate` on it reproduces the noisy
+ *        record exactly (a decay's releases are the run's kick train).
  * @return AENL_OK or AENL_E_IO with a message.
  */
 aenl_status_t aenl_eval_case_write_ini(const aenl_eval_case_t *c, const char *path,

@@ -2,8 +2,8 @@
 /**
  * @file bench_stream_f32.c
  * @brief `aenl_stream_bench [N]`: the float32 core (aenl_core_f32, the MCU build) over a long
- *        stream, against an exact double reference accumulated alongside (issue 7: "float32 core
- *        over 10^9 samples with bounded drift versus double"). Run by `aenl bench stream`.
+ *        stream, against an exact double reference accumulated alongside: over 10^9 samples
+ *        the float32 core's drift from double must stay bounded. Run by `aenl bench stream`.
  *
  * Signal: AR(2) y_n = 1.6 y_{n-1} - 0.8 y_{n-2} + e_n (e uniform-sum, std 0.3) plus an offset of
  * 1000, rounded to float as the MCU would see it. Configuration: the standard one, 64 nodes on

@@ -41,7 +41,7 @@ static void help(void)
         "location, hysteresis without sticking) and --dryden drives it with the Dryden gust\n"
         "spectrum, while the diagnosis simulates its candidates as always (event-located\n"
         "integrator, the baseline's first-order gusts): a simulator it does not share.\n"
-        "Goals (issue 6): effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
+        "Goals: effect and DOF named, parameters within 15 %%, gap reduced 5-fold;\n"
         "null cases: none, gap within 2x the noise floor.\n"
         "--bound also prints each case's information floor: the standard deviation of its\n"
         "parameters that an efficient estimator on record summaries (mean, std, kurtosis,\n"

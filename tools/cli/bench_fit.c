@@ -290,8 +290,7 @@ static void skf_m4f(void)
     printf("    code (aenl_skf.c + aenl_linalg.c, .text) = %lu B\n", text);
 }
 
-/* ---- the identification must-show (issue 5): turbulence-excited airfoil with pitch freeplay ----
- */
+/* ---- the identification must-show: turbulence-excited airfoil with pitch freeplay ---------- */
 
 #define MS_STATES 7    /* the minimal order: 4 structural + 2 aerodynamic lag + 1 gust state */
 #define MS_ITER   2000 /* SQUAREM iterations at most; stops when the log-likelihood levels off */

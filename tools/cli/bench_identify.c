@@ -2,7 +2,7 @@
 /**
  * @file bench_identify.c
  * @brief `aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]
- *        [--verbose]`: the evaluation suite of issue 4 (aenl_evalsuite.h) through the
+ *        [--verbose]`: the evaluation suite (aenl_evalsuite.h) through the
  *        identification pipeline (aenl_identify_run on the arrays in memory). Prints, per SNR,
  *        the confusion matrix (truth class x predicted class, insufficient included), the class
  *        accuracy, the correct-channel rate, the switching-point error as a fraction of the gap
@@ -120,7 +120,7 @@ static void usage(void)
     printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
            "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
            "                           [--unknown-gusts]\n\n"
-           "The identification evaluation suite (issue 4): N cases (default 240: every stratum\n"
+           "The identification evaluation suite: N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
            "the suite's designs with naive fixed-step RK4 (%d steps a sample, no event location,\n"

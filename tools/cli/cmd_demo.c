@@ -348,7 +348,8 @@ int aenl_cmd_demo(int argc, char **argv)
             printf("usage: aenl demo [--out DIR] [--data DIR]\n\n"
                    "Runs the worked examples end to end and writes CSVs and figures to DIR\n"
                    "(default out/demo). --data (or $AENL_DATA_DIR) is the folder of measured\n"
-                   "records (default: ../shared/data beside the source tree).\n");
+                   "records (default: a shared/data folder beside the source tree; the\n"
+                   "real-data examples are skipped when there is none).\n");
             return AENL_EXIT_OK;
         }
         if (strcmp(argv[i], "--out") == 0)

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file cmd_fit.c
- * @brief `aenl fit`: EM identification of the switching state-space model (DESIGN.md section 3).
+ * @brief `aenl fit`: EM identification of the switching state-space model (the paper's section 4;
+ *        docs/fit.md).
  */
 #define _POSIX_C_SOURCE 200809L
 

@@ -2,9 +2,9 @@
 /**
  * @file cmd_identify.c
  * @brief `aenl identify`: which structural nonlinearity, in which channel, with its switching
- *        points (DESIGN.md sections 2.2 and 4). A thin layer over aenl_identify_run(): the record
- *        is streamed (never loaded whole), checked row by row on the way, and the result printed
- *        as a table or as the JSON object of DESIGN.md section 4; --plot draws the paper-style
+ *        points (docs/identify.md). A thin layer over aenl_identify_run(): the record is streamed
+ *        (never loaded whole), checked row by row on the way, and the result printed as a table
+ *        or as the JSON object documented in docs/identify.md; --plot draws the paper-style
  *        figures of every channel.
  */
 #define _POSIX_C_SOURCE 200809L
@@ -46,7 +46,7 @@ static void help(void)
         "twice, one row at a time, never held whole.\n\n"
         "--json          one JSON object: file, verdict {class, channel, switch_points,\n"
         "                confidence}, channels [{name, class, switch_points, switch_point_std,\n"
-        "                confidence, bandwidth, lags}] (DESIGN.md section 4)\n"
+        "                confidence, bandwidth, lags}] (docs/identify.md)\n"
         "--plot DIR      per channel, DIR/<file>_<channel>_{timeseries,moments,restoring}.png:\n"
         "                the record, the conditional mean and variance for lags 1, 10, 30, and\n"
         "                the restoring-force points, switching points marked (needs gnuplot)\n"
@@ -57,7 +57,7 @@ static void help(void)
         "                sustained oscillation of constant amplitude is not taken for a limit\n"
         "                cycle, which an unforced linear structure cannot have\n"
         "--model BASE.ini  also test the record against a baseline (linear) model of the\n"
-        "                test, as `aenl diagnose` does (INI contract of DESIGN.md section 4: the\n"
+        "                test, as `aenl diagnose` does (the model INI of docs/simulate.md: the\n"
         "                model, its initial condition, turbulence or kick train, [run] dt the\n"
         "                record's step): the effect it names, with its fitted switching points, is "
         "the\n"
@@ -444,7 +444,7 @@ static long find_channel(const aenl_identify_source_t *src, const char *path, co
     return -1;
 }
 
-/* ---- JSON (DESIGN.md section 4) -------------------------------------------------------------- */
+/* ---- JSON (docs/identify.md) ----------------------------------------------------------------- */
 
 static cJSON *num_or_null(double v)
 {

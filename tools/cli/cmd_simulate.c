@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file cmd_simulate.c
- * @brief `aenl simulate MODEL.ini [-o out.csv]`: run a model INI (DESIGN.md §4, MODELS.md).
+ * @brief `aenl simulate MODEL.ini [-o out.csv]`: run a model INI (docs/simulate.md).
  */
 #include <stdio.h>
 #include <string.h>
@@ -14,7 +14,8 @@ static const char *const k_cmd = "simulate";
 static void help(void)
 {
     printf("usage: aenl simulate MODEL.ini [-o out.csv] [--no-ic-forcing] [--rk4 H] [--info]\n\n"
-           "Simulates the model of MODEL.ini (airfoil2dof or section3dof, see MODELS.md) with the\n"
+           "Simulates the model of MODEL.ini (airfoil2dof or section3dof, see docs/simulate.md) "
+           "with the\n"
            "event-located Dormand-Prince integrator and writes the CSV on the [run] grid:\n"
            "airfoil2dof -> t,alpha,xi (tau, rad, h/b); section3dof -> t,h,alpha,beta (s, m, rad,\n"
            "rad). Without -o the CSV goes to stdout; with -o the file appears only when complete.\n"

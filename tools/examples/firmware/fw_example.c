@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file fw_example.c
- * @brief Firmware-style example (issue 5): a measured record streamed one sample at a time
+ * @brief Firmware-style example: a measured record streamed one sample at a time
  *        through the embeddable core built in float32 (aenl_core_f32, the Cortex-M4F build):
  *        moments -> classifier on the switching channel, and the switching Kalman filter whose
  *        model is the header that `aenl fit --c-header` generated on the ground. Prints the

@@ -4,7 +4,7 @@
  * @brief Host-only: bandwidth of the triangular-kernel lag regression by exact leave-one-out
  *        cross-validation, with a normal-reference rule of thumb as fallback.
  *
- * The regression is the paper's formula (10) (seed §3.1): for a lag L the pairs are
+ * The regression is the paper's formula (10) (its section 3.1): for a lag L the pairs are
  * (u_i, y_i) = (x_{i-L}, x_i), and m_L(u) = Σ_j y_j φ_h(u − u_j) / Σ_j φ_h(u − u_j) with the
  * triangular kernel φ_h(d) = (1 − |d|/h)/h for |d| < h, 0 otherwise. A pair with a non-finite
  * member (NaN gap, Inf) is skipped; time alignment is kept.

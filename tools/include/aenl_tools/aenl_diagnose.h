@@ -315,8 +315,8 @@ aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const ch
                                        aenl_err_t *err);
 
 /**
- * @brief The result as the JSON object of `aenl diagnose --json` (issue 6), malloc'ed text;
- *        `updated_model` is the given path or null. NULL when out of memory.
+ * @brief The result as the JSON object of `aenl diagnose --json` (docs/diagnose.md), malloc'ed
+ *        text; `updated_model` is the given path or null. NULL when out of memory.
  */
 char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_path);
 

@@ -2,8 +2,8 @@
 /**
  * @file aenl_em.h
  * @brief Host-only: EM identification of a switching (piecewise-affine) linear state-space model
- *        with the mode sequence fixed by thresholds (DESIGN.md section 3, the seed paper's
- *        equations (13)-(14)), and its export to the core switching Kalman filter.
+ *        with the mode sequence fixed by thresholds (the seed paper's equations (13)-(14);
+ *        docs/fit.md), and its export to the core switching Kalman filter.
  *
  * Model, samples k = 0 .. n-1 (y_k row k of an n x n_z row-major array, NaN = missing):
  *

@@ -59,8 +59,8 @@ typedef enum aenl_rfs_law
     AENL_RFS_GAP = 3,       /**< two kinks, the same in both directions (freeplay) */
     AENL_RFS_HYSTERESIS = 4 /**< a gap shifted between rising and falling motion, plus a
                                  rising-motion offset (hysteresis); the shift lags the motion
-                                 (rising motion meets the gap higher up, as in the loop of
-                                 MODELS.md); it must beat the laws the same in both directions
+                                 (rising motion meets the gap higher up, as in the simulator's
+                                 loop); it must beat the laws the same in both directions
                                  when each, and it, is given a rising-motion offset
                                  a + b x^2 */
 } aenl_rfs_law_t;

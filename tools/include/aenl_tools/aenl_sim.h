@@ -3,18 +3,19 @@
  * @file aenl_sim.h
  * @brief Host-only aeroelastic simulators with structural nonlinearities, and linear flutter.
  *
- * Models (equations and parameters in shared/MODELS.md):
- *  - AENL_SIM_AIRFOIL2DOF: 2-DOF pitch-plunge airfoil, Wagner aerodynamics, 8 states (§1), time
- *    τ = U t / b, velocity U* = U/(b ω_α); optional Lee start-up terms f(τ), g(τ) (on by default).
- *  - AENL_SIM_SECTION3DOF: 3-DOF typical section with trailing-edge flap, Theodorsen T-functions
- *    with the R.T. Jones Wagner filter (§2), Conner parameters as defaults, time in seconds,
- *    velocity in m/s.
+ * Models (described with their INI keys in docs/simulate.md):
+ *  - AENL_SIM_AIRFOIL2DOF: 2-DOF pitch-plunge airfoil, Wagner aerodynamics, 8 states (Lee, Price
+ *    & Wong 1999), time τ = U t / b, velocity U* = U/(b ω_α); optional Lee start-up terms f(τ),
+ *    g(τ) (on by default).
+ *  - AENL_SIM_SECTION3DOF: 3-DOF typical section with trailing-edge flap (Conner, Tang, Dowell &
+ *    Virgin 1997), Theodorsen T-functions with the R.T. Jones Wagner filter, Conner parameters as
+ *    defaults, time in seconds, velocity in m/s.
  *
  * Restoring laws per DOF (pitch, plunge, flap): linear, polynomial, freeplay with preload and
- * inner stiffness, hysteresis with the sticking rule of MODELS.md §1.5. Any number of DOFs may be
- * nonlinear at once.
+ * inner stiffness, hysteresis with sticking (defined in docs/simulate.md, "Restoring laws"). Any
+ * number of DOFs may be nonlinear at once.
  *
- * Integration (MODELS.md §4.1): adaptive Dormand-Prince 5(4) with its 4th-order dense output
+ * Integration: adaptive Dormand-Prince 5(4) with its 4th-order dense output
  * (Shampine's interpolant). On each branch ("mode") the right-hand side is smooth. After each
  * accepted step every switching function of the mode is checked at 4 points of the dense output
  * (so a dip across and back inside one step is still seen), the earliest crossing is located on
@@ -76,8 +77,8 @@
 
 typedef enum aenl_sim_type
 {
-    AENL_SIM_AIRFOIL2DOF = 0, /**< MODELS.md §1 */
-    AENL_SIM_SECTION3DOF = 1  /**< MODELS.md §2 */
+    AENL_SIM_AIRFOIL2DOF = 0, /**< 2-DOF pitch-plunge airfoil, time τ = U t / b */
+    AENL_SIM_SECTION3DOF = 1  /**< 3-DOF section with trailing-edge flap, time in s */
 } aenl_sim_type_t;
 
 /** Law slots, as INI sections [pitch], [plunge], [flap]. */
@@ -92,8 +93,8 @@ typedef enum aenl_sim_law_kind
 {
     AENL_SIM_LAW_LINEAR = 0,     /**< R(x) = x */
     AENL_SIM_LAW_POLYNOMIAL = 1, /**< R(x) = Σ_k coeffs[k-1] x^k */
-    AENL_SIM_LAW_FREEPLAY = 2,   /**< MODELS.md §1.5, Lee form with preload and inner stiffness */
-    AENL_SIM_LAW_HYSTERESIS = 3  /**< MODELS.md §1.5, odd-symmetric loop, with sticking */
+    AENL_SIM_LAW_FREEPLAY = 2,   /**< Lee form with preload and inner stiffness */
+    AENL_SIM_LAW_HYSTERESIS = 3  /**< odd-symmetric loop, with sticking */
 } aenl_sim_law_kind_t;
 
 /**
@@ -103,24 +104,23 @@ typedef enum aenl_sim_law_kind
 typedef struct aenl_sim_law
 {
     aenl_sim_law_kind_t kind;
-    double delta;   /**< freeplay/hysteresis: full gap width δ >= 0 */
-    double x_f;     /**< start of the gap α_f */
-    double preload; /**< M0 */
-    double
-        inner_stiffness; /**< M_f: slope inside the gap (freeplay; 0 in the hysteresis of §1.5) */
-    size_t n_coeffs;     /**< polynomial: number of coefficients, 1..AENL_SIM_MAX_POLY */
+    double delta;           /**< freeplay/hysteresis: full gap width δ >= 0 */
+    double x_f;             /**< start of the gap α_f */
+    double preload;         /**< M0 */
+    double inner_stiffness; /**< M_f: slope inside the gap (0 in the usual hysteresis loop) */
+    size_t n_coeffs;        /**< polynomial: number of coefficients, 1..AENL_SIM_MAX_POLY */
     double coeffs[AENL_SIM_MAX_POLY]; /**< coeffs[k-1] multiplies x^k */
 } aenl_sim_law_t;
 
-/** airfoil2dof parameters (MODELS.md §1.1). */
+/** airfoil2dof parameters (the INI's [model] keys, docs/simulate.md). */
 typedef struct aenl_sim_airfoil
 {
     double mu, a_h, x_alpha, r_alpha, omega_bar, zeta_alpha, zeta_xi;
     double ustar;   /**< reduced velocity U* > 0 */
-    int ic_forcing; /**< 1 (default): keep the start-up terms f(τ), g(τ) of §1.3 */
+    int ic_forcing; /**< 1 (default): keep the Wagner integrals' start-up terms f(τ), g(τ) */
 } aenl_sim_airfoil_t;
 
-/** section3dof parameters (MODELS.md §2.4, SI units per unit span). */
+/** section3dof parameters (SI units per unit span; Conner's values by default). */
 typedef struct aenl_sim_section
 {
     double b, a, c, m, m_t, x_alpha, x_beta, r_alpha, r_beta;
@@ -262,9 +262,10 @@ typedef struct aenl_sim_flutter
 /* ---- models ------------------------------------------------------------------------------- */
 
 /**
- * @brief Defaults: airfoil2dof gets the classic case of MODELS.md §5.1 (μ 100, a_h −0.5, x_α 0.25,
- *        r_α 0.5, ω̄ 0.2, ζ 0, U* 5.5, start-up terms on); section3dof the Conner values of §2.4 at
- *        15 m/s. All laws linear, zero initial state. Cannot fail.
+ * @brief Defaults: airfoil2dof gets the classic case (μ 100, a_h −0.5, x_α 0.25, r_α 0.5, ω̄ 0.2,
+ *        ζ 0; linear flutter at U* 6.285) at U* 5.5 with the start-up terms on; section3dof
+ *        Conner's parameters (linear flutter at 23.897 m/s) at 15 m/s. All laws linear, zero
+ *        initial state. Cannot fail.
  */
 void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type);
 
@@ -275,7 +276,7 @@ void aenl_sim_run_default(aenl_sim_run_t *run, aenl_sim_type_t type);
 /**
  * @brief Switching points of a law: the distinct positions where it changes slope, ascending
  *        (freeplay: the gap [α_f, α_f + δ]; hysteresis: the kinks of both branches, α_f and
- *        α_f + δ rising, −α_f − δ and −α_f falling, MODELS.md §1.5, 3 of them when α_f = 0).
+ *        α_f + δ rising, −α_f − δ and −α_f falling, 3 of them when α_f = 0).
  * @return their count (0 for linear and polynomial laws), at most 4.
  */
 size_t aenl_sim_law_switch_points(const aenl_sim_law_t *law, double p[4]);
@@ -303,13 +304,14 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
 /* ---- INI ---------------------------------------------------------------------------------- */
 
 /**
- * @brief Load a model INI (DESIGN.md §4). Keys, per section (angles: `_deg` suffix = degrees,
- *        no suffix = radians; required keys marked *):
+ * @brief Load a model INI (docs/simulate.md, "The model INI"). Keys, per section (angles:
+ *        `_deg` suffix = degrees, no suffix = radians; required keys marked *):
  *  - [model] type* = airfoil2dof | section3dof.
  *    airfoil2dof: ustar*, mu, a_h, x_alpha, r_alpha, omega_bar, zeta_alpha, zeta_xi (defaults:
- *    the classic case of MODELS.md §5.1), ic_forcing = true|false (start-up terms f, g; default
- *    true). section3dof: velocity* (m/s), b, a, c, m, m_t, x_alpha, x_beta, r_alpha, r_beta,
- *    omega_h, omega_alpha, omega_beta, zeta_h, zeta_alpha, zeta_beta, rho (defaults §2.4).
+ *    the classic case of aenl_sim_model_default()), ic_forcing = true|false (start-up terms f, g;
+ *    default true). section3dof: velocity* (m/s), b, a, c, m, m_t, x_alpha, x_beta, r_alpha,
+ *    r_beta, omega_h, omega_alpha, omega_beta, zeta_h, zeta_alpha, zeta_beta, rho (defaults:
+ *    Conner's).
  *  - [pitch] [plunge] [flap] (flap: section3dof only): law* = linear | polynomial | freeplay |
  *    hysteresis; freeplay/hysteresis: delta[_deg]* (full gap width), alpha_f[_deg] (gap start),
  *    preload[_deg] (M0), inner_stiffness (M_f); polynomial: coeffs* = c1, c2, ... (R = Σ c_k x^k).

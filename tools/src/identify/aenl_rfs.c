@@ -750,8 +750,9 @@ static int law_ok(const rfs_work_t *wk, const rfs_law_t *lw)
         case AENL_RFS_GAP:
             return lw->b - lw->a >= 0.999 * wk->cell && kink_ok(wk, lw->a) && kink_ok(wk, lw->b);
         case AENL_RFS_HYSTERESIS:
-            /* the loop lags the motion (s > 0): rising motion meets the band later (MODELS.md:
-             * rising band [x_f, x_f + delta], falling [-x_f - delta, -x_f], s = 2 x_f + delta) */
+            /* the loop lags the motion (s > 0): rising motion meets the band later (the
+             * simulator's loop: rising band [x_f, x_f + delta], falling [-x_f - delta, -x_f],
+             * s = 2 x_f + delta) */
             return lw->b - lw->a >= 0.999 * wk->cell && lw->s >= 0.999 * wk->cell &&
                    kink_ok(wk, lw->a - 0.5 * lw->s) && kink_ok(wk, lw->b + 0.5 * lw->s);
         case AENL_RFS_LINEAR:
@@ -1336,7 +1337,8 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
     if (out->law == AENL_RFS_POLY)
     {
         /* d2 = -f: a negative cubic term stiffens as the motion leaves the centre (a quintic
-         * term may turn it round further out; MODELS.md names the law by its cubic term) */
+         * term may turn it round further out; docs/identify.md names the law by its cubic
+         * term) */
         out->hardening = g_poly[1] < 0.0 ? 1 : -1;
     }
     else if (out->cls == AENL_CLASS_POLYNOMIAL)

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_bandwidth.c
- * @brief Exact leave-one-out CV bandwidth for the triangular-kernel lag regression (seed §3.1,
- *        formula (10)), grid + golden-section search, normal-reference fallback.
+ * @brief Exact leave-one-out CV bandwidth for the triangular-kernel lag regression (the paper's
+ *        formula (10), its section 3.1), grid + golden-section search, normal-reference fallback.
  *
  * Fast exact LOO. Sort the pairs of a lag by u once. For pair i the other pairs within h form a
  * contiguous window [lo, hi) of the sorted order, found by two pointers that only move forward

@@ -2,7 +2,7 @@
 /**
  * @file aenl_sim_flutter.c
  * @brief Linear state matrix, eigenvalues (LAPACKE dgeev) and the flutter speed by bracketing
- *        (MODELS.md §1.4, §5.1, §5.6).
+ *        (the classic airfoil case flutters at U* 6.285, Conner's section at 23.897 m/s).
  */
 #include <lapacke.h>
 #include <math.h>

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_sim_ini.c
- * @brief Model INI loading (DESIGN.md §4). Every mistake is an error naming file, line and key.
+ * @brief Model INI loading (keys in docs/simulate.md). Every mistake is an error naming file,
+ *        line and key.
  *
  * inih calls the handler once per key; it does not report sections without keys, and the
  * handler is not told the line. We therefore feed inih through our own line reader, which counts

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_sim_integrate.c
- * @brief Event-located Dormand-Prince 5(4) integration with dense output (MODELS.md §4.1), the
- *        naive fixed-step RK4 reference, turbulence input and measurement noise.
+ * @brief Event-located Dormand-Prince 5(4) integration with dense output (described in
+ *        aenl_sim.h), the naive fixed-step RK4 reference, turbulence input and measurement noise.
  */
 #include <float.h>
 #include <math.h>
@@ -318,7 +318,8 @@ static void arm(integ_t *in)
     }
 }
 
-/* Branch for the law of q after a reversal or a slip towards dir (MODELS.md §1.5). */
+/* Branch for the law of q after a reversal or a slip towards dir (hysteresis follows the branch
+ * of its direction of motion). */
 static void set_dir(const sim_sys_t *s, sim_mode_t *mode, int q, int dir, const double *x)
 {
     mode->b[q].dir = dir;
@@ -326,7 +327,7 @@ static void set_dir(const sim_sys_t *s, sim_mode_t *mode, int q, int dir, const 
     mode->b[q].region = sim_law_region(&s->law[q], dir, x[q], dir);
 }
 
-/* Decide the new mode at a located event (arming and grazing safeguards of MODELS.md §4.1). */
+/* Decide the new mode at a located event (arming and grazing safeguards, see aenl_sim.h). */
 static void transition(integ_t *in, const ev_id_t *e, double *x)
 {
     const sim_sys_t *s = in->sys;

@@ -13,7 +13,7 @@
  *
  * or, for the Dryden spectrum, g = √3 g1 + (1 − √3) g2 with T_g ġ1 = −g1 + u, T_g ġ2 = −g2 + g1,
  * with state x = [q, q̇, z, g] or [q, q̇, z, g1, g2] and φ(t) = Σ_i f_amp[i] exp(−f_rate[i] t) (the
- * airfoil2dof start-up terms f, g of MODELS.md §1.3).
+ * airfoil2dof start-up terms f, g of the Wagner integrals).
  */
 #ifndef AENL_SIM_INTERNAL_H
 #define AENL_SIM_INTERNAL_H
@@ -21,7 +21,8 @@
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_sim.h"
 
-/* Jones approximation of the Wagner function (MODELS.md §1.1). */
+/* R. T. Jones's (1940) approximation of the Wagner function,
+ * φ(τ) = 1 − ψ1 exp(−ε1 τ) − ψ2 exp(−ε2 τ). */
 #define SIM_PSI1 0.165
 #define SIM_PSI2 0.335
 #define SIM_EPS1 0.0455
@@ -135,7 +136,7 @@ double sim_law_branch(const aenl_sim_law_t *law, int region, int dir, double x);
 
 /**
  * Right-hand side in `mode`. u is the gust input. When rreq is not NULL, rreq[i] receives, for
- * each stuck q i, the restoring value R that holds it (MODELS.md §1.5), else 0.
+ * each stuck q i, the restoring value R that holds it (between the two branches), else 0.
  * linear != 0: every law replaced by slope[i]·q_i and φ(t) = 0 (state matrix).
  */
 void sim_rhs(const sim_sys_t *sys, const sim_mode_t *mode, double t, const double *x, double u,

@@ -2,7 +2,8 @@
 /**
  * @file aenl_sim_model.c
  * @brief Model defaults and validation, restoring laws, assembly of the generic linear form
- *        (aenl_sim_internal.h) for MODELS.md §1 and §2, and the right-hand side.
+ *        (aenl_sim_internal.h) for the 2-DOF airfoil and the 3-DOF section, and the right-hand
+ *        side.
  */
 #include <math.h>
 #include <string.h>
@@ -18,7 +19,7 @@ void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type)
     }
     memset(model, 0, sizeof(*model));
     model->type = type;
-    /* MODELS.md §5.1 classic case. */
+    /* The classic case (Lee, Jiang & Wong 1999): linear flutter at U* 6.285. */
     model->airfoil.mu = 100.0;
     model->airfoil.a_h = -0.5;
     model->airfoil.x_alpha = 0.25;
@@ -28,7 +29,7 @@ void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type)
     model->airfoil.zeta_xi = 0.0;
     model->airfoil.ustar = 5.5;
     model->airfoil.ic_forcing = 1;
-    /* MODELS.md §2.4 Conner parameters. */
+    /* Conner's parameters (Conner, Tang, Dowell & Virgin 1997): linear flutter at 23.897 m/s. */
     model->section.b = 0.127;
     model->section.a = -0.5;
     model->section.c = 0.5;
@@ -366,7 +367,7 @@ aenl_status_t aenl_sim_validate(const aenl_sim_model_t *model, const aenl_sim_ru
     return AENL_OK;
 }
 
-/* ---- restoring laws (MODELS.md §1.5) ------------------------------------------------------ */
+/* ---- restoring laws (docs/simulate.md) ---------------------------------------------------- */
 
 /* Hysteresis branch dir is a Lee freeplay with start lo and preload dir·M0: dir = +1 gives
  * M+ (gap [α_f, α_f+δ], value M0 inside); dir = −1 gives M−(x) = −M+(−x) (gap [−α_f−δ, −α_f],
@@ -576,7 +577,8 @@ static int invert_small(int n, double M[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q],
     return 0;
 }
 
-/* MODELS.md §1.3 coefficients c0..c9, d0..d9; q = (ξ, α). */
+/* Eight-state form (Lee, Price & Wong 1999): the Wagner integrals become the lag states w1..w4,
+ * c0..c9 the coefficients of the plunge row, d0..d9 those of the pitch row; q = (ξ, α). */
 static void build_airfoil(const aenl_sim_model_t *model, double ustar, int with_gust,
                           double gust_length, sim_sys_t *s)
 {
@@ -677,8 +679,8 @@ static void build_airfoil(const aenl_sim_model_t *model, double ustar, int with_
     s->out_q[1] = 0; /* xi */
 }
 
-/* MODELS.md §2: q = (h, α, β), Theodorsen T-functions, Jones/Wagner lag on the 3/4-chord
- * downwash q̂. */
+/* Conner's section: q = (h, α, β), Theodorsen's (1935) T-functions, Jones/Wagner lag on the
+ * 3/4-chord downwash q̂. */
 static void build_section(const aenl_sim_model_t *model, double U, int with_gust,
                           double gust_length, sim_sys_t *s)
 {
