@@ -368,6 +368,31 @@ static void test_cli_identify_method_test_bad_usage(void)
     }
 }
 
+/* The suite through the test: one short case runs, the table has the undetermined column and
+ * the cost per value is printed; a wrong method or a combination it does not take is refused. */
+static void test_cli_bench_identify_method_test(void)
+{
+    const char *run_args[] = {"bench", "identify", "--method", "test", "--cases",
+                              "1",     "--rows",   "2000",     NULL};
+    const char *bad_method[] = {"bench", "identify", "--method", "magic", NULL};
+    const char *with_model[] = {"bench", "identify", "--method", "test", "--model", NULL};
+    cli_result_t r;
+    cli_run(&r, run_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "identify --method test (aenl_nlt_run)"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "undet"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "s per million values"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "identification: "), r.out);
+    TEST_ASSERT_NULL_MESSAGE(strstr(r.out, "failures\n  case"), r.out);
+    cli_run(&r, bad_method);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "--method"), r.err);
+    cli_run(&r, with_model);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "does not combine"), r.err);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -379,6 +404,7 @@ int main(void)
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
+    RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_nlt_linear_records_hold_the_level);
     return UNITY_END();
 }

@@ -33,6 +33,7 @@
 
 #include "aenl_cli.h"
 #include "aenl/aenl.h"
+#include "aenl_tools/aenl_nltest.h"
 #include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_identify.h"
 
@@ -43,7 +44,7 @@ static const char *const k_cmd = "bench identify";
 #define N_SNR   AENL_EVAL_N_SNR
 
 static const char *const k_snr_name[N_SNR] = {"inf", "10", "3", "2"};
-static const char *const k_cls_short[N_PRED] = {"insuff", "linear", "poly", "freeplay", "hyster"};
+static const char *k_cls_short[N_PRED] = {"insuff", "linear", "poly", "freeplay", "hyster"};
 
 static double now_s(void)
 {
@@ -112,6 +113,8 @@ typedef struct args
     int regime;              /* --regime: only these cases (-1 all) */
     long rows;               /* --rows: each record's first rows (0 all) */
     long from;               /* --from: the first case index run */
+    int method_test;         /* --method test: identify --method test instead of the pipeline */
+    size_t samples;          /* samples x channels identified (for the cost per value) */
     aenl_eval_options_t sim; /* --rk4, --dryden */
 } args_t;
 
@@ -119,7 +122,7 @@ static void usage(void)
 {
     printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
            "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
-           "                           [--unknown-gusts]\n\n"
+           "                           [--unknown-gusts] [--method test]\n\n"
            "The identification evaluation suite: N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
@@ -135,7 +138,10 @@ static void usage(void)
            "state, turbulence or kick train); the record alone's verdicts on the same cases are\n"
            "printed beside. It takes seconds to minutes a case. The test is given the case's\n"
            "turbulence seed, as for gusts that were measured or a record simulated from the INI;\n"
-           "--unknown-gusts gives it another, as for gusts nobody measured (a real record).\n",
+           "--unknown-gusts gives it another, as for gusts nobody measured (a real record).\n"
+           "--method test identifies each record with `identify --method test` (the likelihood-\n"
+           "based test on the record alone) instead; its undetermined verdicts are the 'undet'\n"
+           "column, and its cost per value (samples x channels) is printed.\n",
            AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
@@ -150,6 +156,8 @@ static int parse_args(int argc, char **argv, args_t *a)
     a->regime = -1;
     a->rows = 0;
     a->from = 0;
+    a->method_test = 0;
+    a->samples = 0;
     memset(&a->sim, 0, sizeof(a->sim));
     for (int i = 1; i < argc; ++i)
     {
@@ -208,6 +216,20 @@ static int parse_args(int argc, char **argv, args_t *a)
             {
                 return -1;
             }
+        }
+        else if (strcmp(s, "--method") == 0)
+        {
+            const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
+            if (v == NULL)
+            {
+                return -1;
+            }
+            if (strcmp(v, "test") != 0 && strcmp(v, "moments") != 0)
+            {
+                aenl_cli_error(k_cmd, "--method: expected test or moments, got '%s'", v);
+                return -1;
+            }
+            a->method_test = strcmp(v, "test") == 0;
         }
         else if (strcmp(s, "--dryden") == 0)
         {
@@ -675,7 +697,7 @@ static void print_confusion(const tally_t *t)
     }
 }
 
-static void print_summary(tally_t *t)
+static void print_summary(tally_t *t, int alone)
 {
     printf("\nper SNR       class acc  goal   channel  goal | gap cases  no pts  n differs  "
            "points  median err  p90 err (x gap; goal median <= 0.10 at SNR 3)\n");
@@ -698,9 +720,13 @@ static void print_summary(tally_t *t)
         all_ch += t->channel_ok[l];
     }
     printf("  all         %6.1f %%         %6.1f %%\n", pct(all_ok, all_c), pct(all_ch, all_c));
-    printf("\neach analysis alone (class / channel)   SNR inf        SNR 10         SNR 3          "
-           "SNR 2\n");
-    for (int w = 0; w < (t->n_model > 0 ? 3 : 2); ++w)
+    if (alone)
+    {
+        printf(
+            "\neach analysis alone (class / channel)   SNR inf        SNR 10         SNR 3       "
+            "   SNR 2\n");
+    }
+    for (int w = 0; alone && w < (t->n_model > 0 ? 3 : 2); ++w)
     {
         printf("  %-36s", w == 0   ? "core classifier (moments, onboard)"
                           : w == 1 ? "restoring-force regression"
@@ -820,6 +846,111 @@ static aenl_status_t model_test(const aenl_eval_case_t *c, size_t n, int unknown
     st = aenl_identify_model_test(res, &tab, &base, &run, err);
     aenl_table_free(&tab);
     return st;
+}
+
+/* Score a verdict of the test on the record alone: class (undetermined counts as wrong, in the
+ * column of class 0), channel, switching points of the named channel as in score(). */
+static void score_test(const aenl_eval_case_t *c, const aenl_nlt_result_t *r, outcome_t *o)
+{
+    memset(o, 0, sizeof(*o));
+    o->st = c->stratum;
+    o->truth = (int)c->cls;
+    o->pred = r != NULL ? (int)r->verdict_class : (int)AENL_CLASS_INSUFFICIENT;
+    if (o->pred < 0 || o->pred >= N_PRED)
+    {
+        o->pred = (int)AENL_CLASS_INSUFFICIENT;
+    }
+    o->class_ok = o->pred == o->truth;
+    const long v = r != NULL ? r->verdict : -1;
+    o->channel_ok = c->channel_index < 0 ? v < 0 : v == c->channel_index;
+    o->confidence = r != NULL ? r->confidence : 0.0;
+    if (c->n_switch == 0 || !o->channel_ok || r == NULL)
+    {
+        return;
+    }
+    const aenl_nlt_channel_t *ch = &r->ch[v];
+    if (ch->n_points == 0 || r->undetermined)
+    {
+        o->no_points = 1;
+        return;
+    }
+    o->count_differs = ch->n_points != c->n_switch;
+    for (size_t i = 0; i < c->n_switch; ++i)
+    {
+        double best = HUGE_VAL;
+        for (size_t j = 0; j < ch->n_points; ++j)
+        {
+            best = fmin(best, fabs(ch->points[j] - c->switch_points[i]));
+        }
+        o->err[o->n_err++] = best / c->gap;
+    }
+}
+
+/* One case through identify --method test. */
+static int run_case_test(args_t *a, size_t i, tally_t *t)
+{
+    aenl_eval_case_t c;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    double t0 = now_s();
+    const aenl_status_t st = aenl_eval_case_make_with(a->seed, i, &a->sim, &c, &err);
+    t->t_gen += now_s() - t0;
+    if (st != AENL_OK)
+    {
+        ++t->gen_failures;
+        printf("  case %zu not generated: %s\n", i, err.msg);
+        return st == AENL_E_IO ? -1 : 0;
+    }
+    t->rejections += c.attempt;
+    t->cases_rejected += c.attempt > 0;
+    const size_t n = a->rows > 0 && (size_t)a->rows < c.n_samples ? (size_t)a->rows : c.n_samples;
+    const size_t nc = c.n_channels;
+    double *y = (double *)malloc(n * nc * sizeof(double));
+    if (y == NULL)
+    {
+        aenl_eval_case_free(&c);
+        return -1;
+    }
+    for (size_t k = 0; k < n; ++k)
+    {
+        for (size_t j = 0; j < nc; ++j)
+        {
+            y[k * nc + j] = c.cols[j][k];
+        }
+    }
+    aenl_nlt_opts_t opts;
+    aenl_nlt_opts_default(&opts);
+    aenl_nlt_result_t res;
+    aenl_err_clear(&err);
+    t0 = now_s();
+    const aenl_status_t sti = aenl_nlt_run(y, n, nc, &opts, &res, &err);
+    t->t_id += now_s() - t0;
+    a->samples += n * nc;
+    free(y);
+    if (sti != AENL_OK)
+    {
+        ++t->id_failures;
+        printf("  case %zu: identify --method test failed: %s\n", i, err.msg);
+    }
+    outcome_t o;
+    score_test(&c, sti == AENL_OK ? &res : NULL, &o);
+    const int rc = tally_add(t, &o);
+    if (a->verbose)
+    {
+        printf("  %4zu %-11s %-11s %-6s %-10s SNR %-3s truth %-10s %-6s -> %-12s %-6s conf %.3f "
+               "p %.2e%s\n",
+               i, aenl_eval_variant_name(c.stratum.variant),
+               c.stratum.model == 0 ? "airfoil2dof" : "section3dof",
+               aenl_eval_dof_name(c.stratum.dof), aenl_eval_regime_name(c.stratum.regime),
+               k_snr_name[c.stratum.snr_level], aenl_class_name(c.cls),
+               c.channel_index >= 0 ? c.names[c.channel_index] : "-",
+               sti == AENL_OK ? aenl_nlt_class_name(res.verdict_class, res.undetermined) : "failed",
+               sti == AENL_OK && res.verdict >= 0 ? c.names[res.verdict] : "-", o.confidence,
+               sti == AENL_OK && res.verdict >= 0 ? res.ch[res.verdict].p : 1.0,
+               o.class_ok && o.channel_ok ? "" : "  MISS");
+    }
+    aenl_eval_case_free(&c);
+    return rc;
 }
 
 static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *tm)
@@ -947,9 +1078,19 @@ int aenl_bench_identify(int argc, char **argv)
     }
     memset(&t, 0, sizeof(t));
     memset(&tm, 0, sizeof(tm));
-    printf("identification evaluation suite: %ld cases, seed %llu (aenl_evalsuite.h); pipeline "
-           "aenl_identify_run, default options\n",
-           a.cases, a.seed);
+    if (a.method_test && (a.model || a.write_dir != NULL))
+    {
+        aenl_cli_error(k_cmd, "--method test does not combine with --model or --write");
+        return AENL_EXIT_USAGE;
+    }
+    if (a.method_test)
+    {
+        k_cls_short[0] = "undet";
+    }
+    printf("identification evaluation suite: %ld cases, seed %llu (aenl_evalsuite.h); %s, "
+           "default options\n",
+           a.cases, a.seed,
+           a.method_test ? "identify --method test (aenl_nlt_run)" : "pipeline aenl_identify_run");
     if (a.regime >= 0 || a.rows > 0 || a.model)
     {
         if (a.regime >= 0)
@@ -989,7 +1130,8 @@ int aenl_bench_identify(int argc, char **argv)
         {
             continue;
         }
-        if (run_case(&a, (size_t)i, &t, tsv, &tm) != 0)
+        if ((a.method_test ? run_case_test(&a, (size_t)i, &t)
+                           : run_case(&a, (size_t)i, &t, tsv, &tm)) != 0)
         {
             aenl_cli_error(k_cmd, "out of memory");
             rc = AENL_EXIT_FAIL;
@@ -1003,7 +1145,7 @@ int aenl_bench_identify(int argc, char **argv)
         aenl_cli_error(k_cmd, "error writing results.tsv");
     }
     print_confusion(&t);
-    print_summary(&t);
+    print_summary(&t, !a.method_test);
     print_reliability(&t);
     printf("\ngeneration: %zu cases, %zu rejected attempts (in %zu cases), %zu not generated; "
            "%.2f s per case\n",
@@ -1016,6 +1158,19 @@ int aenl_bench_identify(int argc, char **argv)
         printf("model-based test: %.1f s per case, %zu failures, a second effect named in %zu "
                "(spurious: one law a case)\n",
                t.t_model / (double)t.n_model, t.model_failures, t.model_second);
+    }
+    if (a.method_test)
+    {
+        printf("identify --method test: %.3g s per million values (samples x channels), %.3g s "
+               "for a 20 000-sample 3-channel record at that rate (one core)\n",
+               a.samples > 0 ? t.t_id / (double)a.samples * 1e6 : 0.0,
+               a.samples > 0 ? t.t_id / (double)a.samples * 60000.0 : 0.0);
+        printf("\nwall time %.1f s\n", wall);
+        for (unsigned l = 0; l < N_SNR; ++l)
+        {
+            free(t.err[l]);
+        }
+        return rc;
     }
     print_timing(&tm);
     printf("float32 core (aenl_classifier_bench_f32, default aenl_config.h):\n");
