@@ -29,11 +29,13 @@
 #define NLT_CHI2_1_95     3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
 #define NLT_STAGE1_LAWS   4                 /* u^2, u^3, d, d u */
 #define NLT_IMPULSE_LEVEL 1e-4 /* upper tail of a whitened innovation taken for an impulse */
+#define NLT_ROW_BLOCK     32   /* samples whose regression rows update G together */
 
 /* ---- small dense helpers (row-major) --------------------------------------------------------- */
 
 /* c (n x m) = a (n x k) b (k x m). */
-static void mat_mul(const double *a, const double *b, double *c, size_t n, size_t k, size_t m)
+static void mat_mul(const double *restrict a, const double *restrict b, double *restrict c,
+                    size_t n, size_t k, size_t m)
 {
     for (size_t i = 0; i < n; ++i)
     {
@@ -482,6 +484,89 @@ static void design_step(const design_t *d, const double *F, size_t t, size_t nx,
     *D = out;
 }
 
+/* G (nc x nc) += Rt Rt' over m rows, Rt (nc x m) holding one column of the rows per line; the
+ * upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper triangle).
+ * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
+ * outer product to G, which streams the whole of G through the cache for every row. */
+static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t m)
+{
+    for (size_t i0 = 0; i0 < nc; i0 += 4u)
+    {
+        for (size_t j0 = i0; j0 < nc; j0 += 4u)
+        {
+            if (i0 + 4u <= nc && j0 + 4u <= nc)
+            {
+                const double *x0 = Rt + i0 * m;
+                const double *x1 = x0 + m;
+                const double *x2 = x1 + m;
+                const double *x3 = x2 + m;
+                const double *y0 = Rt + j0 * m;
+                const double *y1 = y0 + m;
+                const double *y2 = y1 + m;
+                const double *y3 = y2 + m;
+                double s00 = 0.0, s01 = 0.0, s02 = 0.0, s03 = 0.0;
+                double s10 = 0.0, s11 = 0.0, s12 = 0.0, s13 = 0.0;
+                double s20 = 0.0, s21 = 0.0, s22 = 0.0, s23 = 0.0;
+                double s30 = 0.0, s31 = 0.0, s32 = 0.0, s33 = 0.0;
+                for (size_t q = 0; q < m; ++q)
+                {
+                    const double u0 = x0[q], u1 = x1[q], u2 = x2[q], u3 = x3[q];
+                    const double v0 = y0[q], v1 = y1[q], v2 = y2[q], v3 = y3[q];
+                    s00 += u0 * v0;
+                    s01 += u0 * v1;
+                    s02 += u0 * v2;
+                    s03 += u0 * v3;
+                    s10 += u1 * v0;
+                    s11 += u1 * v1;
+                    s12 += u1 * v2;
+                    s13 += u1 * v3;
+                    s20 += u2 * v0;
+                    s21 += u2 * v1;
+                    s22 += u2 * v2;
+                    s23 += u2 * v3;
+                    s30 += u3 * v0;
+                    s31 += u3 * v1;
+                    s32 += u3 * v2;
+                    s33 += u3 * v3;
+                }
+                double *g0 = G + i0 * nc + j0;
+                double *g1 = g0 + nc;
+                double *g2 = g1 + nc;
+                double *g3 = g2 + nc;
+                g0[0] += s00;
+                g0[1] += s01;
+                g0[2] += s02;
+                g0[3] += s03;
+                g1[0] += s10;
+                g1[1] += s11;
+                g1[2] += s12;
+                g1[3] += s13;
+                g2[0] += s20;
+                g2[1] += s21;
+                g2[2] += s22;
+                g2[3] += s23;
+                g3[0] += s30;
+                g3[1] += s31;
+                g3[2] += s32;
+                g3[3] += s33;
+                continue;
+            }
+            for (size_t i = i0; i < i0 + 4u && i < nc; ++i)
+            {
+                for (size_t j = j0; j < j0 + 4u && j < nc; ++j)
+                {
+                    double acc = 0.0;
+                    for (size_t q = 0; q < m; ++q)
+                    {
+                        acc += Rt[i * m + q] * Rt[j * m + q];
+                    }
+                    G[i * nc + j] += acc;
+                }
+            }
+        }
+    }
+}
+
 static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
 {
     const size_t nx = k->nx;
@@ -497,19 +582,23 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
         aenl_err_set(err, "aenl_nltest: an empty design");
         return AENL_E_ARG;
     }
+    const size_t m_blk = NLT_ROW_BLOCK * nz;
     double *D = (double *)calloc(nx * nc, sizeof(double));
     double *Dn = (double *)calloc(nx * nc, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));
+    double *Rt = (double *)calloc(nc * m_blk, sizeof(double));
     d->G = (double *)calloc(nc * nc, sizeof(double));
     d->r = (double *)calloc(nc, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || d->G == NULL || d->r == NULL)
+    if (D == NULL || Dn == NULL || R == NULL || Rt == NULL || d->G == NULL || d->r == NULL)
     {
         free(D);
         free(Dn);
         free(R);
+        free(Rt);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
+    size_t rows = 0;
     for (size_t t = 0; t < k->n; ++t)
     {
         const double *F = k->F + k->slot[t] * nx * nx;
@@ -518,28 +607,36 @@ static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *e
             const double *WC = k->WC + k->slot[t] * nz * nx;
             const double *e = k->eps + t * nz;
             mat_mul(WC, D, R, nz, nx, nc);
-            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force */
+            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force;
+             * the rows wait in Rt for a block's G update */
             for (size_t a = 0; a < nz; ++a)
             {
                 const double *ra = R + a * nc;
                 for (size_t i = 0; i < nc; ++i)
                 {
-                    const double ri = ra[i];
-                    if (!(fabs(ri) > 0.0))
-                    {
-                        continue;
-                    }
-                    double *Gi = d->G + i * nc;
-                    for (size_t j = i; j < nc; ++j)
-                    {
-                        Gi[j] += ri * ra[j];
-                    }
-                    d->r[i] += ri * e[a];
+                    Rt[i * m_blk + rows] = ra[i];
+                    d->r[i] += ra[i] * e[a];
                 }
+                rows++;
+            }
+            if (rows == m_blk)
+            {
+                syrk_rows(d->G, nc, Rt, rows);
+                rows = 0;
             }
         }
         design_step(d, F, t, nx, &D, &Dn);
     }
+    if (rows > 0)
+    {
+        /* the last, partial block: its rows are the first of each line of Rt */
+        for (size_t i = 1; i < nc; ++i)
+        {
+            memmove(Rt + i * rows, Rt + i * m_blk, rows * sizeof(double));
+        }
+        syrk_rows(d->G, nc, Rt, rows);
+    }
+    free(Rt);
     for (size_t i = 0; i < nc; ++i)
     {
         for (size_t j = 0; j < i; ++j)
