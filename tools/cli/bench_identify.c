@@ -317,21 +317,31 @@ static void score_alone(const aenl_eval_case_t *c, const aenl_identify_result_t 
 }
 
 /* Score the identification of one case. */
-static void score(const aenl_eval_case_t *c, const aenl_identify_result_t *r, outcome_t *o)
+/* The class, channel and confidence of a verdict (cls, channel v, conf; no result: ok 0);
+ * returns 1 when its switching points are to be scored (a gap truth, its channel named). */
+static int score_verdict(const aenl_eval_case_t *c, int ok, int cls, long v, double conf,
+                         outcome_t *o)
 {
     memset(o, 0, sizeof(*o));
     o->st = c->stratum;
     o->truth = (int)c->cls;
-    o->pred = r != NULL ? (int)r->verdict_class : (int)AENL_CLASS_INSUFFICIENT;
+    o->pred = ok ? cls : (int)AENL_CLASS_INSUFFICIENT;
     if (o->pred < 0 || o->pred >= N_PRED)
     {
         o->pred = (int)AENL_CLASS_INSUFFICIENT;
     }
     o->class_ok = o->pred == o->truth;
-    const long v = r != NULL ? r->verdict : -1;
+    v = ok ? v : -1;
     o->channel_ok = c->channel_index < 0 ? v < 0 : v == c->channel_index;
-    o->confidence = r != NULL ? r->verdict_confidence : 0.0;
-    if (c->n_switch == 0 || !o->channel_ok || r == NULL)
+    o->confidence = ok ? conf : 0.0;
+    return ok && c->n_switch > 0 && o->channel_ok;
+}
+
+static void score(const aenl_eval_case_t *c, const aenl_identify_result_t *r, outcome_t *o)
+{
+    const long v = r != NULL ? r->verdict : -1;
+    if (!score_verdict(c, r != NULL, r != NULL ? (int)r->verdict_class : 0, v,
+                       r != NULL ? r->verdict_confidence : 0.0, o))
     {
         return;
     }
@@ -852,19 +862,9 @@ static aenl_status_t model_test(const aenl_eval_case_t *c, size_t n, int unknown
  * column of class 0), channel, switching points of the named channel as in score(). */
 static void score_test(const aenl_eval_case_t *c, const aenl_nlt_result_t *r, outcome_t *o)
 {
-    memset(o, 0, sizeof(*o));
-    o->st = c->stratum;
-    o->truth = (int)c->cls;
-    o->pred = r != NULL ? (int)r->verdict_class : (int)AENL_CLASS_INSUFFICIENT;
-    if (o->pred < 0 || o->pred >= N_PRED)
-    {
-        o->pred = (int)AENL_CLASS_INSUFFICIENT;
-    }
-    o->class_ok = o->pred == o->truth;
     const long v = r != NULL ? r->verdict : -1;
-    o->channel_ok = c->channel_index < 0 ? v < 0 : v == c->channel_index;
-    o->confidence = r != NULL ? r->confidence : 0.0;
-    if (c->n_switch == 0 || !o->channel_ok || r == NULL)
+    if (!score_verdict(c, r != NULL, r != NULL ? (int)r->verdict_class : 0, v,
+                       r != NULL ? r->confidence : 0.0, o))
     {
         return;
     }
@@ -886,14 +886,13 @@ static void score_test(const aenl_eval_case_t *c, const aenl_nlt_result_t *r, ou
     }
 }
 
-/* One case through identify --method test. */
-static int run_case_test(args_t *a, size_t i, tally_t *t)
+/* Case i of the suite into c (1), or not generated (0, counted and said) or out of memory (-1). */
+static int make_case(const args_t *a, size_t i, tally_t *t, aenl_eval_case_t *c)
 {
-    aenl_eval_case_t c;
     aenl_err_t err;
     aenl_err_clear(&err);
-    double t0 = now_s();
-    const aenl_status_t st = aenl_eval_case_make_with(a->seed, i, &a->sim, &c, &err);
+    const double t0 = now_s();
+    const aenl_status_t st = aenl_eval_case_make_with(a->seed, i, &a->sim, c, &err);
     t->t_gen += now_s() - t0;
     if (st != AENL_OK)
     {
@@ -901,8 +900,22 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
         printf("  case %zu not generated: %s\n", i, err.msg);
         return st == AENL_E_IO ? -1 : 0;
     }
-    t->rejections += c.attempt;
-    t->cases_rejected += c.attempt > 0;
+    t->rejections += c->attempt;
+    t->cases_rejected += c->attempt > 0;
+    return 1;
+}
+
+/* One case through identify --method test. */
+static int run_case_test(args_t *a, size_t i, tally_t *t)
+{
+    aenl_eval_case_t c;
+    aenl_err_t err;
+    const int made = make_case(a, i, t, &c);
+    if (made <= 0)
+    {
+        return made;
+    }
+    aenl_err_clear(&err);
     const size_t n = a->rows > 0 && (size_t)a->rows < c.n_samples ? (size_t)a->rows : c.n_samples;
     const size_t nc = c.n_channels;
     double *y = (double *)malloc(n * nc * sizeof(double));
@@ -922,7 +935,7 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
     aenl_nlt_opts_default(&opts);
     aenl_nlt_result_t res;
     aenl_err_clear(&err);
-    t0 = now_s();
+    double t0 = now_s();
     const aenl_status_t sti = aenl_nlt_run(y, n, nc, &opts, &res, &err);
     t->t_id += now_s() - t0;
     a->samples += n * nc;
@@ -957,18 +970,12 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
 {
     aenl_eval_case_t c;
     aenl_err_t err;
-    aenl_err_clear(&err);
-    double t0 = now_s();
-    const aenl_status_t st = aenl_eval_case_make_with(a->seed, i, &a->sim, &c, &err);
-    t->t_gen += now_s() - t0;
-    if (st != AENL_OK)
+    const int made = make_case(a, i, t, &c);
+    if (made <= 0)
     {
-        ++t->gen_failures;
-        printf("  case %zu not generated: %s\n", i, err.msg);
-        return st == AENL_E_IO ? -1 : 0;
+        return made;
     }
-    t->rejections += c.attempt;
-    t->cases_rejected += c.attempt > 0;
+    aenl_err_clear(&err);
     aenl_identify_source_t src;
     aenl_identify_arrays_t ctx;
     aenl_identify_opts_t opts;
@@ -977,7 +984,7 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
     const size_t n = a->rows > 0 && (size_t)a->rows < c.n_samples ? (size_t)a->rows : c.n_samples;
     aenl_identify_arrays_source(&src, &ctx, c.cols, c.names, c.n_channels, n);
     aenl_err_clear(&err);
-    t0 = now_s();
+    double t0 = now_s();
     const aenl_status_t sti = aenl_identify_run(&src, &opts, &res, &err);
     t->t_id += now_s() - t0;
     outcome_t o;

@@ -743,28 +743,20 @@ static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, 
     double *Dn = (double *)calloc(nx * nc, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));
     double *st = (double *)malloc(nl * sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || st == NULL)
+    const size_t hac = hac_lag(k->n);
+    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL || st == NULL || ring == NULL)
     {
         free(D);
         free(Dn);
         free(R);
         free(st);
+        free(ring);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
     memset(score, 0, nl * sizeof(double));
     memset(meat, 0, nl * nl * sizeof(double));
-    const size_t hac = hac_lag(k->n);
-    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
-    if (ring == NULL)
-    {
-        free(D);
-        free(Dn);
-        free(R);
-        free(st);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
     size_t ti = 0;
     for (size_t t = 0; t < k->n; ++t)
     {
