@@ -20,998 +20,14 @@
 
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_stats.h"
+#include "aenl_nlt_internal.h"
 
-#define NLT_MAX_X         12    /* states of the linear model */
-#define NLT_STEADY_TOL    1e-11 /* relative change of P at which the filter is taken as steady */
-#define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
-#define NLT_N_QUANT       25    /* coarse switching-point grid: points evenly over the motion */
-#define NLT_N_FINE        9     /* fine grid points per switching point */
-#define NLT_CHI2_1_95     3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
-#define NLT_STAGE1_LAWS   4                 /* u^2, u^3, d, d u */
-#define NLT_IMPULSE_LEVEL 1e-4 /* upper tail of a whitened innovation taken for an impulse */
-#define NLT_ROW_BLOCK     32   /* samples whose regression rows update G together */
-
-/* ---- small dense helpers (row-major) --------------------------------------------------------- */
-
-/* c (n x m) = a (n x k) b (k x m). */
-static void mat_mul(const double *restrict a, const double *restrict b, double *restrict c,
-                    size_t n, size_t k, size_t m)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = 0; j < m; ++j)
-        {
-            c[i * m + j] = 0.0;
-        }
-        for (size_t l = 0; l < k; ++l)
-        {
-            const double ail = a[i * k + l];
-            for (size_t j = 0; j < m; ++j)
-            {
-                c[i * m + j] += ail * b[l * m + j];
-            }
-        }
-    }
-}
-
-/* Solve L x = b in place for lower-triangular L (n x n). */
-static void lower_solve(const double *l, double *x, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        double s = x[i];
-        for (size_t k = 0; k < i; ++k)
-        {
-            s -= l[i * n + k] * x[k];
-        }
-        x[i] = s / l[i * n + i];
-    }
-}
-
-/* ---- the filter pass ------------------------------------------------------------------------- */
-
-typedef struct
-{
-    size_t n, nz, nx;
-    double *eps;         /* n x nz whitened innovations (0 on a missing row) */
-    unsigned char *used; /* 1: the row entered the update */
-    double *u;           /* n x nz filtered outputs C x_{t|t} */
-    double *xs;          /* nx x n filtered states, state-major (one series per state) */
-    size_t *slot;        /* n: index into F and WC */
-    double *F;           /* slots x nx x nx: A (I - K C) */
-    double *WC;          /* slots x nz x nx: S^{-1/2} C */
-    size_t n_slots, cap_slots;
-    double ee;   /* sum of squared whitened innovations */
-    size_t rows; /* innovations used (samples x channels) */
-} kf_t;
-
-static void kf_free(kf_t *k)
-{
-    free(k->eps);
-    free(k->used);
-    free(k->u);
-    free(k->xs);
-    free(k->slot);
-    free(k->F);
-    free(k->WC);
-    memset(k, 0, sizeof(*k));
-}
-
-static int kf_new_slot(kf_t *k)
-{
-    if (k->n_slots == k->cap_slots)
-    {
-        const size_t cap = k->cap_slots == 0 ? 64 : 2 * k->cap_slots;
-        double *f = (double *)realloc(k->F, cap * k->nx * k->nx * sizeof(double));
-        if (f == NULL)
-        {
-            return -1;
-        }
-        k->F = f;
-        double *w = (double *)realloc(k->WC, cap * k->nz * k->nx * sizeof(double));
-        if (w == NULL)
-        {
-            return -1;
-        }
-        k->WC = w;
-        k->cap_slots = cap;
-    }
-    k->n_slots++;
-    return 0;
-}
-
-static int rel_close(const double *a, const double *b, size_t n, double tol)
-{
-    double num = 0.0;
-    double den = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        num = fmax(num, fabs(a[i] - b[i]));
-        den = fmax(den, fabs(b[i]));
-    }
-    return num <= tol * den;
-}
-
-/* One covariance step at a used row: gain pieces into a new slot, P advanced. */
-typedef struct
-{
-    double K[NLT_MAX_X * AENL_NLT_MAX_CH];
-    double L[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
-} kf_gain_t;
-
-static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, kf_gain_t *g,
-                                 size_t slot, aenl_err_t *err)
-{
-    const size_t nx = k->nx;
-    const size_t nz = k->nz;
-    double PCt[NLT_MAX_X * AENL_NLT_MAX_CH];
-    double IKC[NLT_MAX_X * NLT_MAX_X];
-    double T1[NLT_MAX_X * NLT_MAX_X];
-    double T2[NLT_MAX_X * NLT_MAX_X];
-    /* S = C P C' + R, PCt = P C' */
-    for (size_t i = 0; i < nx; ++i)
-    {
-        for (size_t j = 0; j < nz; ++j)
-        {
-            double s = 0.0;
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += P[i * nx + l] * m->C[j * nx + l];
-            }
-            PCt[i * nz + j] = s;
-        }
-    }
-    for (size_t i = 0; i < nz; ++i)
-    {
-        for (size_t j = 0; j < nz; ++j)
-        {
-            double s = m->R[i * nz + j];
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += m->C[i * nx + l] * PCt[l * nz + j];
-            }
-            g->L[i * nz + j] = s;
-        }
-    }
-    for (size_t i = 0; i < nz; ++i)
-    {
-        for (size_t j = i + 1; j < nz; ++j)
-        {
-            g->L[i * nz + j] = 0.0; /* lower factor only */
-        }
-    }
-    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nz, g->L, (lapack_int)nz) != 0)
-    {
-        aenl_err_set(err, "innovation covariance not positive definite");
-        return AENL_E_NUMERIC;
-    }
-    /* K' = S^-1 (P C')': solve with the factor, column by column of K' */
-    for (size_t i = 0; i < nx; ++i)
-    {
-        double v[AENL_NLT_MAX_CH];
-        for (size_t j = 0; j < nz; ++j)
-        {
-            v[j] = PCt[i * nz + j];
-        }
-        lower_solve(g->L, v, nz);
-        for (size_t jj = nz; jj-- > 0;)
-        {
-            double s = v[jj];
-            for (size_t l = jj + 1; l < nz; ++l)
-            {
-                s -= g->L[l * nz + jj] * v[l];
-            }
-            v[jj] = s / g->L[jj * nz + jj];
-        }
-        for (size_t j = 0; j < nz; ++j)
-        {
-            g->K[i * nz + j] = v[j];
-        }
-    }
-    /* IKC = I - K C; Pf = IKC P IKC' + K R K' (Joseph form) */
-    for (size_t i = 0; i < nx; ++i)
-    {
-        for (size_t j = 0; j < nx; ++j)
-        {
-            double s = (i == j) ? 1.0 : 0.0;
-            for (size_t l = 0; l < nz; ++l)
-            {
-                s -= g->K[i * nz + l] * m->C[l * nx + j];
-            }
-            IKC[i * nx + j] = s;
-        }
-    }
-    mat_mul(IKC, P, T1, nx, nx, nx);
-    for (size_t i = 0; i < nx; ++i)
-    {
-        for (size_t j = 0; j < nx; ++j)
-        {
-            double s = 0.0;
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += T1[i * nx + l] * IKC[j * nx + l];
-            }
-            double kr = 0.0;
-            for (size_t a = 0; a < nz; ++a)
-            {
-                for (size_t b = 0; b < nz; ++b)
-                {
-                    kr += g->K[i * nz + a] * m->R[a * nz + b] * g->K[j * nz + b];
-                }
-            }
-            T2[i * nx + j] = s + kr;
-        }
-    }
-    /* the slot: F = A IKC, WC = L^-1 C */
-    mat_mul(m->A, IKC, k->F + slot * nx * nx, nx, nx, nx);
-    for (size_t j = 0; j < nx; ++j)
-    {
-        double v[AENL_NLT_MAX_CH];
-        for (size_t i = 0; i < nz; ++i)
-        {
-            v[i] = m->C[i * nx + j];
-        }
-        lower_solve(g->L, v, nz);
-        for (size_t i = 0; i < nz; ++i)
-        {
-            k->WC[slot * nz * nx + i * nx + j] = v[i];
-        }
-    }
-    /* P_next = A Pf A' + Q */
-    mat_mul(m->A, T2, T1, nx, nx, nx);
-    for (size_t i = 0; i < nx; ++i)
-    {
-        for (size_t j = 0; j < nx; ++j)
-        {
-            double s = m->Q[i * nx + j];
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += T1[i * nx + l] * m->A[j * nx + l];
-            }
-            T2[i * nx + j] = s;
-        }
-    }
-    for (size_t i = 0; i < nx; ++i) /* symmetric by construction; keep it so */
-    {
-        for (size_t j = 0; j < nx; ++j)
-        {
-            P[i * nx + j] = 0.5 * (T2[i * nx + j] + T2[j * nx + i]);
-        }
-    }
-    return AENL_OK;
-}
-
-/* The filter over y (n x nz, standardised), keeping what the regressions need. */
-static aenl_status_t kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
-                            const unsigned char *reset, const double *P_reset, aenl_err_t *err)
-{
-    const size_t nx = k->nx;
-    const size_t nz = k->nz;
-    const size_t n = k->n;
-    double x[NLT_MAX_X];
-    double xf[NLT_MAX_X];
-    double P[NLT_MAX_X * NLT_MAX_X];
-    double Pprev[NLT_MAX_X * NLT_MAX_X];
-    kf_gain_t g;
-    int steady = 0;
-    size_t cur = 0;
-    size_t miss_slot = (size_t)-1;
-    if (n == 0 || nz == 0 || nx == 0 || nx > NLT_MAX_X)
-    {
-        aenl_err_set(err, "aenl_nltest: an empty record or model");
-        return AENL_E_ARG;
-    }
-    k->eps = (double *)calloc(n * nz, sizeof(double));
-    k->u = (double *)calloc(n * nz, sizeof(double));
-    k->used = (unsigned char *)calloc(n, 1);
-    k->slot = (size_t *)calloc(n, sizeof(size_t));
-    k->xs = (double *)calloc(n * nx, sizeof(double));
-    if (k->eps == NULL || k->u == NULL || k->used == NULL || k->slot == NULL || k->xs == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    memcpy(x, m->x0, nx * sizeof(double));
-    memcpy(P, m->P0, nx * nx * sizeof(double));
-    for (size_t t = 0; t < n; ++t)
-    {
-        const double *yt = y + t * nz;
-        int ok = 1;
-        for (size_t j = 0; j < nz; ++j)
-        {
-            ok &= isfinite(yt[j]) ? 1 : 0;
-        }
-        if (!ok)
-        {
-            /* No update: the innovations' sensitivity moves with A alone. */
-            if (miss_slot == (size_t)-1)
-            {
-                if (kf_new_slot(k) != 0)
-                {
-                    aenl_err_set(err, "out of memory");
-                    return AENL_E_DIM;
-                }
-                miss_slot = k->n_slots - 1;
-                memcpy(k->F + miss_slot * nx * nx, m->A, nx * nx * sizeof(double));
-                memset(k->WC + miss_slot * nz * nx, 0, nz * nx * sizeof(double));
-            }
-            k->slot[t] = miss_slot;
-            memcpy(xf, x, nx * sizeof(double));
-            double T1[NLT_MAX_X * NLT_MAX_X] = {0};
-            double T2[NLT_MAX_X * NLT_MAX_X] = {0};
-            mat_mul(m->A, P, T1, nx, nx, nx);
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    double s = m->Q[i * nx + j];
-                    for (size_t l = 0; l < nx; ++l)
-                    {
-                        s += T1[i * nx + l] * m->A[j * nx + l];
-                    }
-                    T2[i * nx + j] = s;
-                }
-            }
-            memcpy(P, T2, nx * nx * sizeof(double));
-            steady = 0;
-        }
-        else
-        {
-            if (reset != NULL && reset[t])
-            {
-                /* An impulse the model's Gaussian noise does not explain: the state may have
-                 * moved anywhere in its usual range, and the filter starts afresh from there. */
-                for (size_t i = 0; i < nx * nx; ++i)
-                {
-                    P[i] += P_reset[i];
-                }
-                steady = 0;
-            }
-            if (!steady)
-            {
-                memcpy(Pprev, P, nx * nx * sizeof(double));
-                if (kf_new_slot(k) != 0)
-                {
-                    aenl_err_set(err, "out of memory");
-                    return AENL_E_DIM;
-                }
-                cur = k->n_slots - 1;
-                const aenl_status_t st = kf_cov_step(k, m, P, &g, cur, err);
-                if (st != AENL_OK)
-                {
-                    return st;
-                }
-                steady = rel_close(P, Pprev, nx * nx, NLT_STEADY_TOL);
-            }
-            k->slot[t] = cur;
-            k->used[t] = 1;
-            double e[AENL_NLT_MAX_CH];
-            for (size_t j = 0; j < nz; ++j)
-            {
-                double s = yt[j];
-                for (size_t l = 0; l < nx; ++l)
-                {
-                    s -= m->C[j * nx + l] * x[l];
-                }
-                e[j] = s;
-            }
-            for (size_t i = 0; i < nx; ++i)
-            {
-                double s = x[i];
-                for (size_t j = 0; j < nz; ++j)
-                {
-                    s += g.K[i * nz + j] * e[j];
-                }
-                xf[i] = s;
-            }
-            lower_solve(g.L, e, nz);
-            for (size_t j = 0; j < nz; ++j)
-            {
-                k->eps[t * nz + j] = e[j];
-                k->ee += e[j] * e[j];
-            }
-            k->rows += nz;
-        }
-        for (size_t j = 0; j < nz; ++j)
-        {
-            double s = 0.0;
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += m->C[j * nx + l] * xf[l];
-            }
-            k->u[t * nz + j] = s;
-        }
-        for (size_t i = 0; i < nx; ++i)
-        {
-            k->xs[i * n + t] = xf[i];
-        }
-        for (size_t i = 0; i < nx; ++i)
-        {
-            double s = m->b[i];
-            for (size_t l = 0; l < nx; ++l)
-            {
-                s += m->A[i * nx + l] * xf[l];
-            }
-            x[i] = s;
-        }
-    }
-    return AENL_OK;
-}
-
-/* ---- regressions on the innovations' sensitivities ------------------------------------------- */
-
-/* A design: series (n values each) that are full (nx columns) or directed along dir (1 column). */
-typedef struct
-{
-    size_t n_series;
-    const double **g;  /* n_series pointers to n values */
-    const int *full;   /* per series */
-    const double *dir; /* nx: the direction of the directed series */
-    size_t ncols;
-    double *G; /* ncols x ncols */
-    double *r; /* ncols */
-} design_t;
-
-/* One step of the sensitivities: Dn = F D + the inputs of sample t, then D and Dn swap. */
-static void design_step(const design_t *d, const double *F, size_t t, size_t nx, double **D,
-                        double **Dn)
-{
-    const size_t nc = d->ncols;
-    double *out = *Dn;
-    mat_mul(F, *D, out, nx, nx, nc);
-    size_t c = 0;
-    for (size_t s = 0; s < d->n_series; ++s)
-    {
-        const double gt = d->g[s][t];
-        if (d->full[s])
-        {
-            for (size_t i = 0; i < nx; ++i)
-            {
-                out[i * nc + c + i] += gt;
-            }
-            c += nx;
-        }
-        else
-        {
-            for (size_t i = 0; i < nx; ++i)
-            {
-                out[i * nc + c] += gt * d->dir[i];
-            }
-            c += 1;
-        }
-    }
-    *Dn = *D;
-    *D = out;
-}
-
-/* G (nc x nc) += Rt Rt' over m rows, Rt (nc x m) holding one column of the rows per line; the
- * upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper triangle).
- * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
- * outer product to G, which streams the whole of G through the cache for every row. */
-static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t m)
-{
-    for (size_t i0 = 0; i0 < nc; i0 += 4u)
-    {
-        for (size_t j0 = i0; j0 < nc; j0 += 4u)
-        {
-            if (i0 + 4u <= nc && j0 + 4u <= nc)
-            {
-                const double *x0 = Rt + i0 * m;
-                const double *x1 = x0 + m;
-                const double *x2 = x1 + m;
-                const double *x3 = x2 + m;
-                const double *y0 = Rt + j0 * m;
-                const double *y1 = y0 + m;
-                const double *y2 = y1 + m;
-                const double *y3 = y2 + m;
-                double s00 = 0.0, s01 = 0.0, s02 = 0.0, s03 = 0.0;
-                double s10 = 0.0, s11 = 0.0, s12 = 0.0, s13 = 0.0;
-                double s20 = 0.0, s21 = 0.0, s22 = 0.0, s23 = 0.0;
-                double s30 = 0.0, s31 = 0.0, s32 = 0.0, s33 = 0.0;
-                for (size_t q = 0; q < m; ++q)
-                {
-                    const double u0 = x0[q], u1 = x1[q], u2 = x2[q], u3 = x3[q];
-                    const double v0 = y0[q], v1 = y1[q], v2 = y2[q], v3 = y3[q];
-                    s00 += u0 * v0;
-                    s01 += u0 * v1;
-                    s02 += u0 * v2;
-                    s03 += u0 * v3;
-                    s10 += u1 * v0;
-                    s11 += u1 * v1;
-                    s12 += u1 * v2;
-                    s13 += u1 * v3;
-                    s20 += u2 * v0;
-                    s21 += u2 * v1;
-                    s22 += u2 * v2;
-                    s23 += u2 * v3;
-                    s30 += u3 * v0;
-                    s31 += u3 * v1;
-                    s32 += u3 * v2;
-                    s33 += u3 * v3;
-                }
-                double *g0 = G + i0 * nc + j0;
-                double *g1 = g0 + nc;
-                double *g2 = g1 + nc;
-                double *g3 = g2 + nc;
-                g0[0] += s00;
-                g0[1] += s01;
-                g0[2] += s02;
-                g0[3] += s03;
-                g1[0] += s10;
-                g1[1] += s11;
-                g1[2] += s12;
-                g1[3] += s13;
-                g2[0] += s20;
-                g2[1] += s21;
-                g2[2] += s22;
-                g2[3] += s23;
-                g3[0] += s30;
-                g3[1] += s31;
-                g3[2] += s32;
-                g3[3] += s33;
-                continue;
-            }
-            for (size_t i = i0; i < i0 + 4u && i < nc; ++i)
-            {
-                for (size_t j = j0; j < j0 + 4u && j < nc; ++j)
-                {
-                    double acc = 0.0;
-                    for (size_t q = 0; q < m; ++q)
-                    {
-                        acc += Rt[i * m + q] * Rt[j * m + q];
-                    }
-                    G[i * nc + j] += acc;
-                }
-            }
-        }
-    }
-}
-
-static aenl_status_t design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
-{
-    const size_t nx = k->nx;
-    const size_t nz = k->nz;
-    size_t nc = 0;
-    for (size_t s = 0; s < d->n_series; ++s)
-    {
-        nc += d->full[s] ? nx : 1u;
-    }
-    d->ncols = nc;
-    if (nc == 0 || nx == 0 || nz == 0)
-    {
-        aenl_err_set(err, "aenl_nltest: an empty design");
-        return AENL_E_ARG;
-    }
-    const size_t m_blk = NLT_ROW_BLOCK * nz;
-    double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)calloc(nx * nc, sizeof(double));
-    double *R = (double *)calloc(nz * nc, sizeof(double));
-    double *Rt = (double *)calloc(nc * m_blk, sizeof(double));
-    d->G = (double *)calloc(nc * nc, sizeof(double));
-    d->r = (double *)calloc(nc, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || Rt == NULL || d->G == NULL || d->r == NULL)
-    {
-        free(D);
-        free(Dn);
-        free(R);
-        free(Rt);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    size_t rows = 0;
-    for (size_t t = 0; t < k->n; ++t)
-    {
-        const double *F = k->F + k->slot[t] * nx * nx;
-        if (k->used[t])
-        {
-            const double *WC = k->WC + k->slot[t] * nz * nx;
-            const double *e = k->eps + t * nz;
-            mat_mul(WC, D, R, nz, nx, nc);
-            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force;
-             * the rows wait in Rt for a block's G update */
-            for (size_t a = 0; a < nz; ++a)
-            {
-                const double *ra = R + a * nc;
-                for (size_t i = 0; i < nc; ++i)
-                {
-                    Rt[i * m_blk + rows] = ra[i];
-                    d->r[i] += ra[i] * e[a];
-                }
-                rows++;
-            }
-            if (rows == m_blk)
-            {
-                syrk_rows(d->G, nc, Rt, rows);
-                rows = 0;
-            }
-        }
-        design_step(d, F, t, nx, &D, &Dn);
-    }
-    if (rows > 0)
-    {
-        /* the last, partial block: its rows are the first of each line of Rt */
-        for (size_t i = 1; i < nc; ++i)
-        {
-            memmove(Rt + i * rows, Rt + i * m_blk, rows * sizeof(double));
-        }
-        syrk_rows(d->G, nc, Rt, rows);
-    }
-    free(Rt);
-    for (size_t i = 0; i < nc; ++i)
-    {
-        for (size_t j = 0; j < i; ++j)
-        {
-            d->G[i * nc + j] = d->G[j * nc + i];
-        }
-    }
-    free(D);
-    free(Dn);
-    free(R);
-    return AENL_OK;
-}
-
-static void design_free(design_t *d)
-{
-    free(d->G);
-    free(d->r);
-    d->G = NULL;
-    d->r = NULL;
-}
-
-/* The normal equations of columns idx[0..m-1] scaled to unit diagonal (sc: the scales; a zero
- * column gets scale 0 and a unit diagonal), with a small ridge that keeps near-collinear sets
- * solvable: A (m x m) and, when r_out is not NULL, the scaled right-hand side. */
-static void scaled_normal(const design_t *d, const size_t *idx, size_t m, double *A, double *sc,
-                          double *r_out)
-{
-    for (size_t i = 0; i < m; ++i)
-    {
-        const double gii = d->G[idx[i] * d->ncols + idx[i]];
-        sc[i] = gii > 0.0 ? 1.0 / sqrt(gii) : 0.0;
-    }
-    for (size_t i = 0; i < m; ++i)
-    {
-        for (size_t j = 0; j < m; ++j)
-        {
-            A[i * m + j] = d->G[idx[i] * d->ncols + idx[j]] * sc[i] * sc[j];
-        }
-        A[i * m + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
-        if (r_out != NULL)
-        {
-            r_out[i] = d->r[idx[i]] * sc[i];
-        }
-    }
-}
-
-/* The least-squares fit on columns idx[0..m-1] of the design: returns r' G^-1 r (the reduction of
- * the residual sum of squares), NaN when singular, and, when beta is not NULL, the coefficients. */
-static double fit_subset(const design_t *d, const size_t *idx, size_t m, double *beta)
-{
-    double *A = (double *)malloc(m * m * sizeof(double));
-    double *b = (double *)malloc(m * sizeof(double));
-    double *sc = (double *)malloc(m * sizeof(double));
-    double *x = (double *)malloc(m * sizeof(double));
-    double red = NAN;
-    if (A != NULL && b != NULL && sc != NULL && x != NULL)
-    {
-        scaled_normal(d, idx, m, A, sc, b);
-        memcpy(x, b, m * sizeof(double));
-        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, 1, A, (lapack_int)m, x, 1) == 0)
-        {
-            red = 0.0;
-            for (size_t i = 0; i < m; ++i)
-            {
-                red += b[i] * x[i];
-                if (beta != NULL)
-                {
-                    beta[i] = x[i] * sc[i];
-                }
-            }
-        }
-    }
-    free(x);
-    free(A);
-    free(b);
-    free(sc);
-    return red;
-}
-
-/* The Bartlett lag of the long-run variance of the score contributions: Newey and West's rule
- * floor(4 (n / 100)^(2/9)). */
-static size_t hac_lag(size_t n)
-{
-    return (size_t)floor(4.0 * pow((double)n / 100.0, 2.0 / 9.0));
-}
-
-/* The heteroskedasticity-robust score of the columns nn.. of a design given its first nn
- * (Wooldridge's robust LM): the test columns are partialled on the nuisance ones with Pi
- * (nn x nl, the least-squares coefficients of G), and the per-sample score contributions
- * s_t = sum over channels of (partialled row) x (whitened innovation) give
- * score = sum s_t and meat = their long-run variance (sum s_t s_t' plus the Bartlett-weighted
- * autocovariances up to hac_lag). score' meat^-1 score is chi-square with nl degrees of freedom
- * when the innovations are uncorrelated with the past, whatever their distribution and however
- * their spread changes over the record (an impulse, a decay's fading amplitude); the lags keep
- * it so when an approximate linear model leaves the innovations a little serially correlated. */
-static aenl_status_t design_robust(const design_t *d, const kf_t *k, size_t nn, const double *Pi,
-                                   double *score, double *meat, aenl_err_t *err)
-{
-    const size_t nx = k->nx;
-    const size_t nz = k->nz;
-    const size_t nc = d->ncols;
-    const size_t nl = nc - nn;
-    double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)calloc(nx * nc, sizeof(double));
-    double *R = (double *)calloc(nz * nc, sizeof(double));
-    double *st = (double *)malloc(nl * sizeof(double));
-    const size_t hac = hac_lag(k->n);
-    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || st == NULL || ring == NULL)
-    {
-        free(D);
-        free(Dn);
-        free(R);
-        free(st);
-        free(ring);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    memset(score, 0, nl * sizeof(double));
-    memset(meat, 0, nl * nl * sizeof(double));
-    size_t ti = 0;
-    for (size_t t = 0; t < k->n; ++t)
-    {
-        const double *F = k->F + k->slot[t] * nx * nx;
-        if (k->used[t])
-        {
-            const double *WC = k->WC + k->slot[t] * nz * nx;
-            const double *e = k->eps + t * nz;
-            mat_mul(WC, D, R, nz, nx, nc);
-            memset(st, 0, nl * sizeof(double));
-            for (size_t a = 0; a < nz; ++a)
-            {
-                const double *ra = R + a * nc;
-                for (size_t l = 0; l < nl; ++l)
-                {
-                    double x = ra[nn + l];
-                    for (size_t i = 0; i < nn; ++i)
-                    {
-                        x -= Pi[i * nl + l] * ra[i];
-                    }
-                    st[l] += x * e[a];
-                }
-            }
-            for (size_t l = 0; l < nl; ++l)
-            {
-                score[l] += st[l];
-                for (size_t m = l; m < nl; ++m)
-                {
-                    meat[l * nl + m] += st[l] * st[m];
-                }
-            }
-            for (size_t h = 1; h <= hac && h <= ti; ++h)
-            {
-                const double w = 1.0 - (double)h / (double)(hac + 1);
-                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
-                for (size_t l = 0; l < nl; ++l)
-                {
-                    for (size_t m = l; m < nl; ++m)
-                    {
-                        meat[l * nl + m] += w * (st[l] * sp[m] + sp[l] * st[m]);
-                    }
-                }
-            }
-            if (hac > 0)
-            {
-                memcpy(ring + (ti % (hac + 1)) * nl, st, nl * sizeof(double));
-            }
-            ti++;
-        }
-        design_step(d, F, t, nx, &D, &Dn);
-    }
-    for (size_t l = 0; l < nl; ++l)
-    {
-        for (size_t m = 0; m < l; ++m)
-        {
-            meat[l * nl + m] = meat[m * nl + l];
-        }
-    }
-    free(D);
-    free(Dn);
-    free(R);
-    free(st);
-    free(ring);
-    return AENL_OK;
-}
-
-/* Pi (nn x nl): the coefficients of the columns nn.. of the design regressed on its first nn,
- * from the scaled normal equations. */
-static aenl_status_t partial_coefficients(const design_t *d, size_t nn, double *Pi, aenl_err_t *err)
-{
-    const size_t nc = d->ncols;
-    const size_t nl = nc - nn;
-    double *A = (double *)malloc(nn * nn * sizeof(double));
-    double *sc = (double *)malloc(nn * sizeof(double));
-    size_t *idx = (size_t *)malloc(nn * sizeof(size_t));
-    aenl_status_t st = AENL_OK;
-    if (A == NULL || sc == NULL || idx == NULL)
-    {
-        st = AENL_E_DIM;
-        aenl_err_set(err, "out of memory");
-    }
-    else
-    {
-        for (size_t i = 0; i < nn; ++i)
-        {
-            idx[i] = i;
-        }
-        scaled_normal(d, idx, nn, A, sc, NULL);
-        for (size_t i = 0; i < nn; ++i)
-        {
-            for (size_t l = 0; l < nl; ++l)
-            {
-                Pi[i * nl + l] = d->G[i * nc + nn + l] * sc[i];
-            }
-        }
-        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, (lapack_int)nl, A, (lapack_int)nn,
-                          Pi, (lapack_int)nl) != 0)
-        {
-            st = AENL_E_NUMERIC;
-            aenl_err_set(err, "the nuisance regression is singular");
-        }
-        for (size_t i = 0; i < nn && st == AENL_OK; ++i)
-        {
-            for (size_t l = 0; l < nl; ++l)
-            {
-                Pi[i * nl + l] *= sc[i];
-            }
-        }
-    }
-    free(A);
-    free(sc);
-    free(idx);
-    return st;
-}
-
-/* x' A^-1 x for a symmetric positive semi-definite A (n x n), scaled to unit diagonal with a
- * small ridge; NaN when it cannot be solved. */
-static double quad_inverse(const double *A, const double *x, size_t n)
-{
-    double *M = (double *)malloc(n * n * sizeof(double));
-    double *v = (double *)malloc(n * sizeof(double));
-    double *w = (double *)malloc(n * sizeof(double));
-    double q = NAN;
-    if (M != NULL && v != NULL && w != NULL)
-    {
-        for (size_t i = 0; i < n; ++i)
-        {
-            const double di = A[i * n + i];
-            w[i] = di > 0.0 ? 1.0 / sqrt(di) : 0.0;
-        }
-        for (size_t i = 0; i < n; ++i)
-        {
-            for (size_t j = 0; j < n; ++j)
-            {
-                M[i * n + j] = A[i * n + j] * w[i] * w[j];
-            }
-            M[i * n + i] += NLT_RIDGE + (w[i] > 0.0 ? 0.0 : 1.0);
-            v[i] = x[i] * w[i];
-        }
-        double *b = (double *)malloc(n * sizeof(double));
-        if (b != NULL)
-        {
-            memcpy(b, v, n * sizeof(double));
-            if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, 1, M, (lapack_int)n, b, 1) == 0)
-            {
-                q = 0.0;
-                for (size_t i = 0; i < n; ++i)
-                {
-                    q += v[i] * b[i];
-                }
-            }
-            free(b);
-        }
-    }
-    free(M);
-    free(v);
-    free(w);
-    return q;
-}
+#define NLT_N_QUANT     25 /* coarse switching-point grid: points evenly over the motion */
+#define NLT_N_FINE      9  /* fine grid points per switching point */
+#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
+#define NLT_STAGE1_LAWS 4                 /* u^2, u^3, d, d u */
 
 /* ---- stage 2: the laws along a fixed direction ----------------------------------------------- */
-
-/* Columns of the directed series, residualised on the nuisance columns 0..nn-1: Gt (ns x ns),
- * rt (ns). */
-typedef struct
-{
-    size_t ns;
-    double *Gt;
-    double *rt;
-} resid_t;
-
-static aenl_status_t residualise(const design_t *d, size_t nn, resid_t *out, aenl_err_t *err)
-{
-    const size_t nc = d->ncols;
-    const size_t ns = nc - nn;
-    double *L = (double *)malloc(nn * nn * sizeof(double));
-    double *W = (double *)malloc(nn * ns * sizeof(double));
-    double *w = (double *)malloc(nn * sizeof(double));
-    out->ns = ns;
-    out->Gt = (double *)malloc(ns * ns * sizeof(double));
-    out->rt = (double *)malloc(ns * sizeof(double));
-    if (L == NULL || W == NULL || w == NULL || out->Gt == NULL || out->rt == NULL)
-    {
-        free(L);
-        free(W);
-        free(w);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    /* factor of the scaled nuisance block with a ridge, as in fit_subset */
-    double sc[(1 + NLT_MAX_X) * NLT_MAX_X];
-    size_t nidx[(1 + NLT_MAX_X) * NLT_MAX_X];
-    for (size_t i = 0; i < nn; ++i)
-    {
-        nidx[i] = i;
-    }
-    scaled_normal(d, nidx, nn, L, sc, NULL);
-    aenl_status_t st = AENL_OK;
-    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, L, (lapack_int)nn) != 0)
-    {
-        aenl_err_set(err, "nuisance regression singular");
-        st = AENL_E_NUMERIC;
-    }
-    else
-    {
-        for (size_t s = 0; s < ns; ++s) /* W[:, s] = L^-1 (scaled G_NS[:, s]) */
-        {
-            for (size_t i = 0; i < nn; ++i)
-            {
-                w[i] = d->G[i * nc + nn + s] * sc[i];
-            }
-            lower_solve(L, w, nn);
-            for (size_t i = 0; i < nn; ++i)
-            {
-                W[i * ns + s] = w[i];
-            }
-        }
-        for (size_t i = 0; i < nn; ++i)
-        {
-            w[i] = d->r[i] * sc[i];
-        }
-        lower_solve(L, w, nn);
-        for (size_t a = 0; a < ns; ++a)
-        {
-            double ra = d->r[nn + a];
-            for (size_t i = 0; i < nn; ++i)
-            {
-                ra -= W[i * ns + a] * w[i];
-            }
-            out->rt[a] = ra;
-            for (size_t b = a; b < ns; ++b)
-            {
-                double g = d->G[(nn + a) * nc + nn + b];
-                for (size_t i = 0; i < nn; ++i)
-                {
-                    g -= W[i * ns + a] * W[i * ns + b];
-                }
-                out->Gt[a * ns + b] = g;
-                out->Gt[b * ns + a] = g;
-            }
-        }
-    }
-    free(L);
-    free(W);
-    free(w);
-    return st;
-}
-
-static void resid_free(resid_t *r)
-{
-    free(r->Gt);
-    free(r->rt);
-    r->Gt = NULL;
-    r->rt = NULL;
-}
 
 /* Gain of one column x = sum_i c_i s_i (nc entries of idx/coef). */
 static double gain1(const resid_t *r, const size_t *idx, const double *c, size_t n)
@@ -1357,10 +373,10 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
         full[i] = 1;
     }
     design_t d = {ns, g, full, NULL, 0, NULL, NULL};
-    aenl_status_t st = design_accumulate(&d, rn->kf, err);
+    aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st != AENL_OK)
     {
-        design_free(&d);
+        nlt_design_free(&d);
         return st;
     }
     size_t idx[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
@@ -1369,8 +385,8 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
         idx[i] = i;
     }
     double beta[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
-    const double red_n = fit_subset(&d, idx, n_nuis * nx, NULL);
-    const double red_f = fit_subset(&d, idx, d.ncols, beta);
+    const double red_n = nlt_fit_subset(&d, idx, n_nuis * nx, NULL);
+    const double red_f = nlt_fit_subset(&d, idx, d.ncols, beta);
     const size_t ncols = d.ncols;
     const size_t nn = n_nuis * nx;
     const size_t nl = ncols - nn;
@@ -1384,17 +400,17 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     }
     if (st == AENL_OK)
     {
-        st = partial_coefficients(&d, nn, Pi, err);
+        st = nlt_partial_coefficients(&d, nn, Pi, err);
     }
     if (st == AENL_OK)
     {
-        st = design_robust(&d, rn->kf, nn, Pi, score, meat, err);
+        st = nlt_design_robust(&d, rn->kf, nn, Pi, score, meat, err);
     }
-    const double q = st == AENL_OK ? quad_inverse(meat, score, nl) : (double)NAN;
+    const double q = st == AENL_OK ? nlt_quad_inverse(meat, score, nl) : (double)NAN;
     free(Pi);
     free(score);
     free(meat);
-    design_free(&d);
+    nlt_design_free(&d);
     if (st != AENL_OK)
     {
         return st;
@@ -1592,16 +608,16 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
         return AENL_E_DIM;
     }
     design_t d = {n_nuis + S2_FIXED + 2u * nk, ser.g, ser.full, dir, 0, NULL, NULL};
-    aenl_status_t st = design_accumulate(&d, rn->kf, err);
+    aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     resid_t r = {0, NULL, NULL};
     if (st == AENL_OK)
     {
-        st = residualise(&d, n_nuis * nx, &r, err);
+        st = nlt_residualise(&d, n_nuis * nx, &r, err);
     }
-    design_free(&d);
+    nlt_design_free(&d);
     if (st != AENL_OK)
     {
-        resid_free(&r);
+        nlt_resid_free(&r);
         s2_free(&ser);
         return st;
     }
@@ -1625,7 +641,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     profile_t ph;
     profile_pairs(&r, knots, nk, qidx, NLT_N_QUANT, qidx, NLT_N_QUANT, freeplay_gain, s2, &pf);
     profile_pairs(&r, knots, nk, all, nk, all, nk, hysteresis_gain, s2, &ph);
-    resid_free(&r);
+    nlt_resid_free(&r);
     s2_free(&ser);
 
     /* refine both on a fine grid around their best pairs (spacing: a quarter of the local
@@ -1666,12 +682,12 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
         return AENL_E_DIM;
     }
     design_t d2 = {n_nuis + S2_FIXED + 2u * nfu, ser.g, ser.full, dir, 0, NULL, NULL};
-    st = design_accumulate(&d2, rn->kf, err);
+    st = nlt_design_accumulate(&d2, rn->kf, err);
     if (st == AENL_OK)
     {
-        st = residualise(&d2, n_nuis * nx, &r, err);
+        st = nlt_residualise(&d2, n_nuis * nx, &r, err);
     }
-    design_free(&d2);
+    nlt_design_free(&d2);
     if (st == AENL_OK)
     {
         size_t f1[NLT_N_FINE] = {0};
@@ -1803,7 +819,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
                                         : (lbest == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY
                                                                       : AENL_CLASS_HYSTERESIS));
     }
-    resid_free(&r);
+    nlt_resid_free(&r);
     s2_free(&ser);
     return st;
 }
@@ -1936,94 +952,6 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
     return st_last;
 }
 
-/* The chi-square quantile with k degrees of freedom whose upper tail is alpha (bisection). */
-static double chi2_quantile_upper(double alpha, double k)
-{
-    double lo = 0.0;
-    double hi = k + 10.0 * sqrt(2.0 * k) + 100.0;
-    for (int it = 0; it < 200; ++it)
-    {
-        const double mid = 0.5 * (lo + hi);
-        if (aenl_chi2_sf(mid, k) > alpha)
-        {
-            lo = mid;
-        }
-        else
-        {
-            hi = mid;
-        }
-    }
-    return 0.5 * (lo + hi);
-}
-
-/* Impulses: samples whose whitened innovation lies beyond the chi-square quantile at
- * NLT_IMPULSE_LEVEL (a linear Gaussian record has about n times that many). A tap, a kick or a
- * gust front moves the state by more than the model's Gaussian noise allows, and a filter that
- * believes its state goes on mispredicting for many samples after it, in a way that depends on
- * where the motion is: the test would read that as a law. The filter is run again with its
- * covariance widened at each impulse by the filtered states' own covariance (the state may have
- * moved anywhere in its usual range). *n_imp receives the count. */
-static aenl_status_t kf_rerun_with_resets(kf_t *k, const aenl_em_model_t *m, const double *ys,
-                                          size_t *n_imp, aenl_err_t *err)
-{
-    const size_t n = k->n;
-    const size_t nz = k->nz;
-    const size_t nx = k->nx;
-    const double thr = chi2_quantile_upper(NLT_IMPULSE_LEVEL, (double)nz);
-    unsigned char *flag = (unsigned char *)calloc(n, 1);
-    if (flag == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    size_t cnt = 0;
-    for (size_t t = 0; t < n; ++t)
-    {
-        double q = 0.0;
-        for (size_t j = 0; j < nz; ++j)
-        {
-            q += k->eps[t * nz + j] * k->eps[t * nz + j];
-        }
-        flag[t] = k->used[t] && q > thr;
-        cnt += flag[t];
-    }
-    *n_imp = cnt;
-    aenl_status_t st = AENL_OK;
-    if (cnt > 0)
-    {
-        double mean[NLT_MAX_X] = {0};
-        double P_reset[NLT_MAX_X * NLT_MAX_X] = {0};
-        for (size_t i = 0; i < nx; ++i)
-        {
-            for (size_t t = 0; t < n; ++t)
-            {
-                mean[i] += k->xs[i * n + t];
-            }
-            mean[i] /= (double)n;
-        }
-        for (size_t i = 0; i < nx; ++i)
-        {
-            for (size_t j = 0; j <= i; ++j)
-            {
-                double c = 0.0;
-                for (size_t t = 0; t < n; ++t)
-                {
-                    c += (k->xs[i * n + t] - mean[i]) * (k->xs[j * n + t] - mean[j]);
-                }
-                P_reset[i * nx + j] = c / (double)n;
-                P_reset[j * nx + i] = c / (double)n;
-            }
-        }
-        kf_free(k);
-        k->n = n;
-        k->nz = nz;
-        k->nx = nx;
-        st = kf_run(k, m, ys, flag, P_reset, err);
-    }
-    free(flag);
-    return st;
-}
-
 aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
                            aenl_nlt_result_t *res, aenl_err_t *err)
 {
@@ -2112,11 +1040,11 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     kf.nx = nx;
     if (st == AENL_OK)
     {
-        st = kf_run(&kf, &em.model, ys, NULL, NULL, err);
+        st = nlt_kf_run(&kf, &em.model, ys, NULL, NULL, err);
     }
     if (st == AENL_OK)
     {
-        st = kf_rerun_with_resets(&kf, &em.model, ys, &res->n_impulses, err);
+        st = nlt_kf_rerun_with_resets(&kf, &em.model, ys, &res->n_impulses, err);
     }
     free(ys);
     rn.kf = &kf;
@@ -2193,7 +1121,7 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     free(rn.lin);
     free(rn.dsg);
     free(rn.work);
-    kf_free(&kf);
+    nlt_kf_free(&kf);
     aenl_em_result_free(&em);
     return st;
 }

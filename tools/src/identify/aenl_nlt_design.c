@@ -1,0 +1,565 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_nlt_design.c
+ * @brief The record-alone test's regressions: columns that are the innovations' sensitivities
+ *        to a force, their cross-products, least-squares fits, the robust score and the
+ *        residualised columns of stage 2.
+ */
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_nlt_internal.h"
+
+/* ---- regressions on the innovations' sensitivities ------------------------------------------- */
+
+/* One step of the sensitivities: Dn = F D + the inputs of sample t, then D and Dn swap. */
+static void design_step(const design_t *d, const double *F, size_t t, size_t nx, double **D,
+                        double **Dn)
+{
+    const size_t nc = d->ncols;
+    double *out = *Dn;
+    nlt_mat_mul(F, *D, out, nx, nx, nc);
+    size_t c = 0;
+    for (size_t s = 0; s < d->n_series; ++s)
+    {
+        const double gt = d->g[s][t];
+        if (d->full[s])
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                out[i * nc + c + i] += gt;
+            }
+            c += nx;
+        }
+        else
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                out[i * nc + c] += gt * d->dir[i];
+            }
+            c += 1;
+        }
+    }
+    *Dn = *D;
+    *D = out;
+}
+
+/* G (nc x nc) += Rt Rt' over m rows, Rt (nc x m) holding one column of the rows per line; the
+ * upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper triangle).
+ * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
+ * outer product to G, which streams the whole of G through the cache for every row. */
+static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t m)
+{
+    for (size_t i0 = 0; i0 < nc; i0 += 4u)
+    {
+        for (size_t j0 = i0; j0 < nc; j0 += 4u)
+        {
+            if (i0 + 4u <= nc && j0 + 4u <= nc)
+            {
+                const double *x0 = Rt + i0 * m;
+                const double *x1 = x0 + m;
+                const double *x2 = x1 + m;
+                const double *x3 = x2 + m;
+                const double *y0 = Rt + j0 * m;
+                const double *y1 = y0 + m;
+                const double *y2 = y1 + m;
+                const double *y3 = y2 + m;
+                double s00 = 0.0, s01 = 0.0, s02 = 0.0, s03 = 0.0;
+                double s10 = 0.0, s11 = 0.0, s12 = 0.0, s13 = 0.0;
+                double s20 = 0.0, s21 = 0.0, s22 = 0.0, s23 = 0.0;
+                double s30 = 0.0, s31 = 0.0, s32 = 0.0, s33 = 0.0;
+                for (size_t q = 0; q < m; ++q)
+                {
+                    const double u0 = x0[q], u1 = x1[q], u2 = x2[q], u3 = x3[q];
+                    const double v0 = y0[q], v1 = y1[q], v2 = y2[q], v3 = y3[q];
+                    s00 += u0 * v0;
+                    s01 += u0 * v1;
+                    s02 += u0 * v2;
+                    s03 += u0 * v3;
+                    s10 += u1 * v0;
+                    s11 += u1 * v1;
+                    s12 += u1 * v2;
+                    s13 += u1 * v3;
+                    s20 += u2 * v0;
+                    s21 += u2 * v1;
+                    s22 += u2 * v2;
+                    s23 += u2 * v3;
+                    s30 += u3 * v0;
+                    s31 += u3 * v1;
+                    s32 += u3 * v2;
+                    s33 += u3 * v3;
+                }
+                double *g0 = G + i0 * nc + j0;
+                double *g1 = g0 + nc;
+                double *g2 = g1 + nc;
+                double *g3 = g2 + nc;
+                g0[0] += s00;
+                g0[1] += s01;
+                g0[2] += s02;
+                g0[3] += s03;
+                g1[0] += s10;
+                g1[1] += s11;
+                g1[2] += s12;
+                g1[3] += s13;
+                g2[0] += s20;
+                g2[1] += s21;
+                g2[2] += s22;
+                g2[3] += s23;
+                g3[0] += s30;
+                g3[1] += s31;
+                g3[2] += s32;
+                g3[3] += s33;
+                continue;
+            }
+            for (size_t i = i0; i < i0 + 4u && i < nc; ++i)
+            {
+                for (size_t j = j0; j < j0 + 4u && j < nc; ++j)
+                {
+                    double acc = 0.0;
+                    for (size_t q = 0; q < m; ++q)
+                    {
+                        acc += Rt[i * m + q] * Rt[j * m + q];
+                    }
+                    G[i * nc + j] += acc;
+                }
+            }
+        }
+    }
+}
+
+aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    size_t nc = 0;
+    for (size_t s = 0; s < d->n_series; ++s)
+    {
+        nc += d->full[s] ? nx : 1u;
+    }
+    d->ncols = nc;
+    if (nc == 0 || nx == 0 || nz == 0)
+    {
+        aenl_err_set(err, "aenl_nltest: an empty design");
+        return AENL_E_ARG;
+    }
+    const size_t m_blk = NLT_ROW_BLOCK * nz;
+    double *D = (double *)calloc(nx * nc, sizeof(double));
+    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    double *R = (double *)calloc(nz * nc, sizeof(double));
+    double *Rt = (double *)calloc(nc * m_blk, sizeof(double));
+    d->G = (double *)calloc(nc * nc, sizeof(double));
+    d->r = (double *)calloc(nc, sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL || Rt == NULL || d->G == NULL || d->r == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        free(Rt);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    size_t rows = 0;
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            const double *WC = k->WC + k->slot[t] * nz * nx;
+            const double *e = k->eps + t * nz;
+            nlt_mat_mul(WC, D, R, nz, nx, nc);
+            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force;
+             * the rows wait in Rt for a block's G update */
+            for (size_t a = 0; a < nz; ++a)
+            {
+                const double *ra = R + a * nc;
+                for (size_t i = 0; i < nc; ++i)
+                {
+                    Rt[i * m_blk + rows] = ra[i];
+                    d->r[i] += ra[i] * e[a];
+                }
+                rows++;
+            }
+            if (rows == m_blk)
+            {
+                syrk_rows(d->G, nc, Rt, rows);
+                rows = 0;
+            }
+        }
+        design_step(d, F, t, nx, &D, &Dn);
+    }
+    if (rows > 0)
+    {
+        /* the last, partial block: its rows are the first of each line of Rt */
+        for (size_t i = 1; i < nc; ++i)
+        {
+            memmove(Rt + i * rows, Rt + i * m_blk, rows * sizeof(double));
+        }
+        syrk_rows(d->G, nc, Rt, rows);
+    }
+    free(Rt);
+    for (size_t i = 0; i < nc; ++i)
+    {
+        for (size_t j = 0; j < i; ++j)
+        {
+            d->G[i * nc + j] = d->G[j * nc + i];
+        }
+    }
+    free(D);
+    free(Dn);
+    free(R);
+    return AENL_OK;
+}
+
+void nlt_design_free(design_t *d)
+{
+    free(d->G);
+    free(d->r);
+    d->G = NULL;
+    d->r = NULL;
+}
+
+/* The normal equations of columns idx[0..m-1] scaled to unit diagonal (sc: the scales; a zero
+ * column gets scale 0 and a unit diagonal), with a small ridge that keeps near-collinear sets
+ * solvable: A (m x m) and, when r_out is not NULL, the scaled right-hand side. */
+static void scaled_normal(const design_t *d, const size_t *idx, size_t m, double *A, double *sc,
+                          double *r_out)
+{
+    for (size_t i = 0; i < m; ++i)
+    {
+        const double gii = d->G[idx[i] * d->ncols + idx[i]];
+        sc[i] = gii > 0.0 ? 1.0 / sqrt(gii) : 0.0;
+    }
+    for (size_t i = 0; i < m; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            A[i * m + j] = d->G[idx[i] * d->ncols + idx[j]] * sc[i] * sc[j];
+        }
+        A[i * m + i] += NLT_RIDGE + (sc[i] > 0.0 ? 0.0 : 1.0);
+        if (r_out != NULL)
+        {
+            r_out[i] = d->r[idx[i]] * sc[i];
+        }
+    }
+}
+
+/* The least-squares fit on columns idx[0..m-1] of the design: returns r' G^-1 r (the reduction of
+ * the residual sum of squares), NaN when singular, and, when beta is not NULL, the coefficients. */
+double nlt_fit_subset(const design_t *d, const size_t *idx, size_t m, double *beta)
+{
+    double *A = (double *)malloc(m * m * sizeof(double));
+    double *b = (double *)malloc(m * sizeof(double));
+    double *sc = (double *)malloc(m * sizeof(double));
+    double *x = (double *)malloc(m * sizeof(double));
+    double red = NAN;
+    if (A != NULL && b != NULL && sc != NULL && x != NULL)
+    {
+        scaled_normal(d, idx, m, A, sc, b);
+        memcpy(x, b, m * sizeof(double));
+        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, 1, A, (lapack_int)m, x, 1) == 0)
+        {
+            red = 0.0;
+            for (size_t i = 0; i < m; ++i)
+            {
+                red += b[i] * x[i];
+                if (beta != NULL)
+                {
+                    beta[i] = x[i] * sc[i];
+                }
+            }
+        }
+    }
+    free(x);
+    free(A);
+    free(b);
+    free(sc);
+    return red;
+}
+
+/* The Bartlett lag of the long-run variance of the score contributions: Newey and West's rule
+ * floor(4 (n / 100)^(2/9)). */
+static size_t hac_lag(size_t n)
+{
+    return (size_t)floor(4.0 * pow((double)n / 100.0, 2.0 / 9.0));
+}
+
+/* The heteroskedasticity-robust score of the columns nn.. of a design given its first nn
+ * (Wooldridge's robust LM): the test columns are partialled on the nuisance ones with Pi
+ * (nn x nl, the least-squares coefficients of G), and the per-sample score contributions
+ * s_t = sum over channels of (partialled row) x (whitened innovation) give
+ * score = sum s_t and meat = their long-run variance (sum s_t s_t' plus the Bartlett-weighted
+ * autocovariances up to hac_lag). score' meat^-1 score is chi-square with nl degrees of freedom
+ * when the innovations are uncorrelated with the past, whatever their distribution and however
+ * their spread changes over the record (an impulse, a decay's fading amplitude); the lags keep
+ * it so when an approximate linear model leaves the innovations a little serially correlated. */
+aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, const double *Pi,
+                                double *score, double *meat, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t nc = d->ncols;
+    const size_t nl = nc - nn;
+    double *D = (double *)calloc(nx * nc, sizeof(double));
+    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    double *R = (double *)calloc(nz * nc, sizeof(double));
+    double *st = (double *)malloc(nl * sizeof(double));
+    const size_t hac = hac_lag(k->n);
+    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL || st == NULL || ring == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        free(st);
+        free(ring);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    memset(score, 0, nl * sizeof(double));
+    memset(meat, 0, nl * nl * sizeof(double));
+    size_t ti = 0;
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            const double *WC = k->WC + k->slot[t] * nz * nx;
+            const double *e = k->eps + t * nz;
+            nlt_mat_mul(WC, D, R, nz, nx, nc);
+            memset(st, 0, nl * sizeof(double));
+            for (size_t a = 0; a < nz; ++a)
+            {
+                const double *ra = R + a * nc;
+                for (size_t l = 0; l < nl; ++l)
+                {
+                    double x = ra[nn + l];
+                    for (size_t i = 0; i < nn; ++i)
+                    {
+                        x -= Pi[i * nl + l] * ra[i];
+                    }
+                    st[l] += x * e[a];
+                }
+            }
+            for (size_t l = 0; l < nl; ++l)
+            {
+                score[l] += st[l];
+                for (size_t m = l; m < nl; ++m)
+                {
+                    meat[l * nl + m] += st[l] * st[m];
+                }
+            }
+            for (size_t h = 1; h <= hac && h <= ti; ++h)
+            {
+                const double w = 1.0 - (double)h / (double)(hac + 1);
+                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
+                for (size_t l = 0; l < nl; ++l)
+                {
+                    for (size_t m = l; m < nl; ++m)
+                    {
+                        meat[l * nl + m] += w * (st[l] * sp[m] + sp[l] * st[m]);
+                    }
+                }
+            }
+            if (hac > 0)
+            {
+                memcpy(ring + (ti % (hac + 1)) * nl, st, nl * sizeof(double));
+            }
+            ti++;
+        }
+        design_step(d, F, t, nx, &D, &Dn);
+    }
+    for (size_t l = 0; l < nl; ++l)
+    {
+        for (size_t m = 0; m < l; ++m)
+        {
+            meat[l * nl + m] = meat[m * nl + l];
+        }
+    }
+    free(D);
+    free(Dn);
+    free(R);
+    free(st);
+    free(ring);
+    return AENL_OK;
+}
+
+/* Pi (nn x nl): the coefficients of the columns nn.. of the design regressed on its first nn,
+ * from the scaled normal equations. */
+aenl_status_t nlt_partial_coefficients(const design_t *d, size_t nn, double *Pi, aenl_err_t *err)
+{
+    const size_t nc = d->ncols;
+    const size_t nl = nc - nn;
+    double *A = (double *)malloc(nn * nn * sizeof(double));
+    double *sc = (double *)malloc(nn * sizeof(double));
+    size_t *idx = (size_t *)calloc(nn, sizeof(size_t));
+    aenl_status_t st = AENL_OK;
+    if (A == NULL || sc == NULL || idx == NULL)
+    {
+        st = AENL_E_DIM;
+        aenl_err_set(err, "out of memory");
+    }
+    else
+    {
+        for (size_t i = 0; i < nn; ++i)
+        {
+            idx[i] = i;
+        }
+        scaled_normal(d, idx, nn, A, sc, NULL);
+        for (size_t i = 0; i < nn; ++i)
+        {
+            for (size_t l = 0; l < nl; ++l)
+            {
+                Pi[i * nl + l] = d->G[i * nc + nn + l] * sc[i];
+            }
+        }
+        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, (lapack_int)nl, A, (lapack_int)nn,
+                          Pi, (lapack_int)nl) != 0)
+        {
+            st = AENL_E_NUMERIC;
+            aenl_err_set(err, "the nuisance regression is singular");
+        }
+        for (size_t i = 0; i < nn && st == AENL_OK; ++i)
+        {
+            for (size_t l = 0; l < nl; ++l)
+            {
+                Pi[i * nl + l] *= sc[i];
+            }
+        }
+    }
+    free(A);
+    free(sc);
+    free(idx);
+    return st;
+}
+
+/* x' A^-1 x for a symmetric positive semi-definite A (n x n), scaled to unit diagonal with a
+ * small ridge; NaN when it cannot be solved. */
+double nlt_quad_inverse(const double *A, const double *x, size_t n)
+{
+    double *M = (double *)malloc(n * n * sizeof(double));
+    double *v = (double *)malloc(n * sizeof(double));
+    double *w = (double *)malloc(n * sizeof(double));
+    double q = NAN;
+    if (M != NULL && v != NULL && w != NULL)
+    {
+        for (size_t i = 0; i < n; ++i)
+        {
+            const double di = A[i * n + i];
+            w[i] = di > 0.0 ? 1.0 / sqrt(di) : 0.0;
+        }
+        for (size_t i = 0; i < n; ++i)
+        {
+            for (size_t j = 0; j < n; ++j)
+            {
+                M[i * n + j] = A[i * n + j] * w[i] * w[j];
+            }
+            M[i * n + i] += NLT_RIDGE + (w[i] > 0.0 ? 0.0 : 1.0);
+            v[i] = x[i] * w[i];
+        }
+        double *b = (double *)malloc(n * sizeof(double));
+        if (b != NULL)
+        {
+            memcpy(b, v, n * sizeof(double));
+            if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, 1, M, (lapack_int)n, b, 1) == 0)
+            {
+                q = 0.0;
+                for (size_t i = 0; i < n; ++i)
+                {
+                    q += v[i] * b[i];
+                }
+            }
+            free(b);
+        }
+    }
+    free(M);
+    free(v);
+    free(w);
+    return q;
+}
+
+aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_err_t *err)
+{
+    const size_t nc = d->ncols;
+    const size_t ns = nc - nn;
+    double *L = (double *)malloc(nn * nn * sizeof(double));
+    double *W = (double *)malloc(nn * ns * sizeof(double));
+    double *w = (double *)malloc(nn * sizeof(double));
+    out->ns = ns;
+    out->Gt = (double *)malloc(ns * ns * sizeof(double));
+    out->rt = (double *)malloc(ns * sizeof(double));
+    if (L == NULL || W == NULL || w == NULL || out->Gt == NULL || out->rt == NULL)
+    {
+        free(L);
+        free(W);
+        free(w);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    /* factor of the scaled nuisance block with a ridge, as in nlt_fit_subset */
+    double sc[(1 + NLT_MAX_X) * NLT_MAX_X];
+    size_t nidx[(1 + NLT_MAX_X) * NLT_MAX_X];
+    for (size_t i = 0; i < nn; ++i)
+    {
+        nidx[i] = i;
+    }
+    scaled_normal(d, nidx, nn, L, sc, NULL);
+    aenl_status_t st = AENL_OK;
+    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, L, (lapack_int)nn) != 0)
+    {
+        aenl_err_set(err, "nuisance regression singular");
+        st = AENL_E_NUMERIC;
+    }
+    else
+    {
+        for (size_t s = 0; s < ns; ++s) /* W[:, s] = L^-1 (scaled G_NS[:, s]) */
+        {
+            for (size_t i = 0; i < nn; ++i)
+            {
+                w[i] = d->G[i * nc + nn + s] * sc[i];
+            }
+            nlt_lower_solve(L, w, nn);
+            for (size_t i = 0; i < nn; ++i)
+            {
+                W[i * ns + s] = w[i];
+            }
+        }
+        for (size_t i = 0; i < nn; ++i)
+        {
+            w[i] = d->r[i] * sc[i];
+        }
+        nlt_lower_solve(L, w, nn);
+        for (size_t a = 0; a < ns; ++a)
+        {
+            double ra = d->r[nn + a];
+            for (size_t i = 0; i < nn; ++i)
+            {
+                ra -= W[i * ns + a] * w[i];
+            }
+            out->rt[a] = ra;
+            for (size_t b = a; b < ns; ++b)
+            {
+                double g = d->G[(nn + a) * nc + nn + b];
+                for (size_t i = 0; i < nn; ++i)
+                {
+                    g -= W[i * ns + a] * W[i * ns + b];
+                }
+                out->Gt[a * ns + b] = g;
+                out->Gt[b * ns + a] = g;
+            }
+        }
+    }
+    free(L);
+    free(W);
+    free(w);
+    return st;
+}
+
+void nlt_resid_free(resid_t *r)
+{
+    free(r->Gt);
+    free(r->rt);
+    r->Gt = NULL;
+    r->rt = NULL;
+}

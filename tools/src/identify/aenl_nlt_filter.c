@@ -1,0 +1,489 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file aenl_nlt_filter.c
+ * @brief The record-alone test's Kalman filter pass: whitened innovations, the whitened output
+ *        matrix and the transition of the innovations' sensitivity at every step (shared once
+ *        the filter is steady), and the restarts at impulses.
+ */
+#include <lapacke.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "aenl_nlt_internal.h"
+#include "aenl_tools/aenl_stats.h"
+
+/* ---- small dense helpers (row-major) --------------------------------------------------------- */
+
+/* c (n x m) = a (n x k) b (k x m). */
+void nlt_mat_mul(const double *restrict a, const double *restrict b, double *restrict c, size_t n,
+                 size_t k, size_t m)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            c[i * m + j] = 0.0;
+        }
+        for (size_t l = 0; l < k; ++l)
+        {
+            const double ail = a[i * k + l];
+            for (size_t j = 0; j < m; ++j)
+            {
+                c[i * m + j] += ail * b[l * m + j];
+            }
+        }
+    }
+}
+
+/* Solve L x = b in place for lower-triangular L (n x n). */
+void nlt_lower_solve(const double *l, double *x, size_t n)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        double s = x[i];
+        for (size_t k = 0; k < i; ++k)
+        {
+            s -= l[i * n + k] * x[k];
+        }
+        x[i] = s / l[i * n + i];
+    }
+}
+
+/* ---- the filter pass ------------------------------------------------------------------------- */
+
+void nlt_kf_free(kf_t *k)
+{
+    free(k->eps);
+    free(k->used);
+    free(k->u);
+    free(k->xs);
+    free(k->slot);
+    free(k->F);
+    free(k->WC);
+    memset(k, 0, sizeof(*k));
+}
+
+static int kf_new_slot(kf_t *k)
+{
+    if (k->n_slots == k->cap_slots)
+    {
+        const size_t cap = k->cap_slots == 0 ? 64 : 2 * k->cap_slots;
+        double *f = (double *)realloc(k->F, cap * k->nx * k->nx * sizeof(double));
+        if (f == NULL)
+        {
+            return -1;
+        }
+        k->F = f;
+        double *w = (double *)realloc(k->WC, cap * k->nz * k->nx * sizeof(double));
+        if (w == NULL)
+        {
+            return -1;
+        }
+        k->WC = w;
+        k->cap_slots = cap;
+    }
+    k->n_slots++;
+    return 0;
+}
+
+static int rel_close(const double *a, const double *b, size_t n, double tol)
+{
+    double num = 0.0;
+    double den = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        num = fmax(num, fabs(a[i] - b[i]));
+        den = fmax(den, fabs(b[i]));
+    }
+    return num <= tol * den;
+}
+
+/* out = A P A' + Q (the covariance one step ahead); out must not be P. */
+static void predict_cov(const aenl_em_model_t *m, const double *P, double *out, size_t nx)
+{
+    double T[NLT_MAX_X * NLT_MAX_X] = {0};
+    nlt_mat_mul(m->A, P, T, nx, nx, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = m->Q[i * nx + j];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += T[i * nx + l] * m->A[j * nx + l];
+            }
+            out[i * nx + j] = s;
+        }
+    }
+}
+
+/* One covariance step at a used row: gain pieces into a new slot, P advanced. */
+typedef struct
+{
+    double K[NLT_MAX_X * AENL_NLT_MAX_CH];
+    double L[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
+} kf_gain_t;
+
+static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, kf_gain_t *g,
+                                 size_t slot, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    double PCt[NLT_MAX_X * AENL_NLT_MAX_CH];
+    double IKC[NLT_MAX_X * NLT_MAX_X];
+    double T1[NLT_MAX_X * NLT_MAX_X];
+    double T2[NLT_MAX_X * NLT_MAX_X];
+    /* S = C P C' + R, PCt = P C' */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += P[i * nx + l] * m->C[j * nx + l];
+            }
+            PCt[i * nz + j] = s;
+        }
+    }
+    for (size_t i = 0; i < nz; ++i)
+    {
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = m->R[i * nz + j];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->C[i * nx + l] * PCt[l * nz + j];
+            }
+            g->L[i * nz + j] = s;
+        }
+    }
+    for (size_t i = 0; i < nz; ++i)
+    {
+        for (size_t j = i + 1; j < nz; ++j)
+        {
+            g->L[i * nz + j] = 0.0; /* lower factor only */
+        }
+    }
+    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nz, g->L, (lapack_int)nz) != 0)
+    {
+        aenl_err_set(err, "innovation covariance not positive definite");
+        return AENL_E_NUMERIC;
+    }
+    /* K' = S^-1 (P C')': solve with the factor, column by column of K' */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double v[AENL_NLT_MAX_CH];
+        for (size_t j = 0; j < nz; ++j)
+        {
+            v[j] = PCt[i * nz + j];
+        }
+        nlt_lower_solve(g->L, v, nz);
+        for (size_t jj = nz; jj-- > 0;)
+        {
+            double s = v[jj];
+            for (size_t l = jj + 1; l < nz; ++l)
+            {
+                s -= g->L[l * nz + jj] * v[l];
+            }
+            v[jj] = s / g->L[jj * nz + jj];
+        }
+        for (size_t j = 0; j < nz; ++j)
+        {
+            g->K[i * nz + j] = v[j];
+        }
+    }
+    /* IKC = I - K C; Pf = IKC P IKC' + K R K' (Joseph form) */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = (i == j) ? 1.0 : 0.0;
+            for (size_t l = 0; l < nz; ++l)
+            {
+                s -= g->K[i * nz + l] * m->C[l * nx + j];
+            }
+            IKC[i * nx + j] = s;
+        }
+    }
+    nlt_mat_mul(IKC, P, T1, nx, nx, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += T1[i * nx + l] * IKC[j * nx + l];
+            }
+            double kr = 0.0;
+            for (size_t a = 0; a < nz; ++a)
+            {
+                for (size_t b = 0; b < nz; ++b)
+                {
+                    kr += g->K[i * nz + a] * m->R[a * nz + b] * g->K[j * nz + b];
+                }
+            }
+            T2[i * nx + j] = s + kr;
+        }
+    }
+    /* the slot: F = A IKC, WC = L^-1 C */
+    nlt_mat_mul(m->A, IKC, k->F + slot * nx * nx, nx, nx, nx);
+    for (size_t j = 0; j < nx; ++j)
+    {
+        double v[AENL_NLT_MAX_CH];
+        for (size_t i = 0; i < nz; ++i)
+        {
+            v[i] = m->C[i * nx + j];
+        }
+        nlt_lower_solve(g->L, v, nz);
+        for (size_t i = 0; i < nz; ++i)
+        {
+            k->WC[slot * nz * nx + i * nx + j] = v[i];
+        }
+    }
+    /* P_next = A Pf A' + Q */
+    predict_cov(m, T2, T1, nx);
+    memcpy(T2, T1, nx * nx * sizeof(double));
+    for (size_t i = 0; i < nx; ++i) /* symmetric by construction; keep it so */
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            P[i * nx + j] = 0.5 * (T2[i * nx + j] + T2[j * nx + i]);
+        }
+    }
+    return AENL_OK;
+}
+
+/* The filter over y (n x nz, standardised), keeping what the regressions need. */
+aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
+                         const unsigned char *reset, const double *P_reset, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t n = k->n;
+    double x[NLT_MAX_X];
+    double xf[NLT_MAX_X];
+    double P[NLT_MAX_X * NLT_MAX_X];
+    double Pprev[NLT_MAX_X * NLT_MAX_X];
+    kf_gain_t g;
+    int steady = 0;
+    size_t cur = 0;
+    size_t miss_slot = (size_t)-1;
+    if (n == 0 || nz == 0 || nx == 0 || nx > NLT_MAX_X)
+    {
+        aenl_err_set(err, "aenl_nltest: an empty record or model");
+        return AENL_E_ARG;
+    }
+    k->eps = (double *)calloc(n * nz, sizeof(double));
+    k->u = (double *)calloc(n * nz, sizeof(double));
+    k->used = (unsigned char *)calloc(n, 1);
+    k->slot = (size_t *)calloc(n, sizeof(size_t));
+    k->xs = (double *)calloc(n * nx, sizeof(double));
+    if (k->eps == NULL || k->u == NULL || k->used == NULL || k->slot == NULL || k->xs == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    memcpy(x, m->x0, nx * sizeof(double));
+    memcpy(P, m->P0, nx * nx * sizeof(double));
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double *yt = y + t * nz;
+        int ok = 1;
+        for (size_t j = 0; j < nz; ++j)
+        {
+            ok &= isfinite(yt[j]) ? 1 : 0;
+        }
+        if (!ok)
+        {
+            /* No update: the innovations' sensitivity moves with A alone. */
+            if (miss_slot == (size_t)-1)
+            {
+                if (kf_new_slot(k) != 0)
+                {
+                    aenl_err_set(err, "out of memory");
+                    return AENL_E_DIM;
+                }
+                miss_slot = k->n_slots - 1;
+                memcpy(k->F + miss_slot * nx * nx, m->A, nx * nx * sizeof(double));
+                memset(k->WC + miss_slot * nz * nx, 0, nz * nx * sizeof(double));
+            }
+            k->slot[t] = miss_slot;
+            memcpy(xf, x, nx * sizeof(double));
+            double T2[NLT_MAX_X * NLT_MAX_X] = {0};
+            predict_cov(m, P, T2, nx);
+            memcpy(P, T2, nx * nx * sizeof(double));
+            steady = 0;
+        }
+        else
+        {
+            if (reset != NULL && reset[t])
+            {
+                /* An impulse the model's Gaussian noise does not explain: the state may have
+                 * moved anywhere in its usual range, and the filter starts afresh from there. */
+                for (size_t i = 0; i < nx * nx; ++i)
+                {
+                    P[i] += P_reset[i];
+                }
+                steady = 0;
+            }
+            if (!steady)
+            {
+                memcpy(Pprev, P, nx * nx * sizeof(double));
+                if (kf_new_slot(k) != 0)
+                {
+                    aenl_err_set(err, "out of memory");
+                    return AENL_E_DIM;
+                }
+                cur = k->n_slots - 1;
+                const aenl_status_t st = kf_cov_step(k, m, P, &g, cur, err);
+                if (st != AENL_OK)
+                {
+                    return st;
+                }
+                steady = rel_close(P, Pprev, nx * nx, NLT_STEADY_TOL);
+            }
+            k->slot[t] = cur;
+            k->used[t] = 1;
+            double e[AENL_NLT_MAX_CH];
+            for (size_t j = 0; j < nz; ++j)
+            {
+                double s = yt[j];
+                for (size_t l = 0; l < nx; ++l)
+                {
+                    s -= m->C[j * nx + l] * x[l];
+                }
+                e[j] = s;
+            }
+            for (size_t i = 0; i < nx; ++i)
+            {
+                double s = x[i];
+                for (size_t j = 0; j < nz; ++j)
+                {
+                    s += g.K[i * nz + j] * e[j];
+                }
+                xf[i] = s;
+            }
+            nlt_lower_solve(g.L, e, nz);
+            for (size_t j = 0; j < nz; ++j)
+            {
+                k->eps[t * nz + j] = e[j];
+                k->ee += e[j] * e[j];
+            }
+            k->rows += nz;
+        }
+        for (size_t j = 0; j < nz; ++j)
+        {
+            double s = 0.0;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->C[j * nx + l] * xf[l];
+            }
+            k->u[t * nz + j] = s;
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            k->xs[i * n + t] = xf[i];
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            double s = m->b[i];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                s += m->A[i * nx + l] * xf[l];
+            }
+            x[i] = s;
+        }
+    }
+    return AENL_OK;
+}
+
+/* The chi-square quantile with k degrees of freedom whose upper tail is alpha (bisection). */
+static double chi2_quantile_upper(double alpha, double k)
+{
+    double lo = 0.0;
+    double hi = k + 10.0 * sqrt(2.0 * k) + 100.0;
+    for (int it = 0; it < 200; ++it)
+    {
+        const double mid = 0.5 * (lo + hi);
+        if (aenl_chi2_sf(mid, k) > alpha)
+        {
+            lo = mid;
+        }
+        else
+        {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Impulses: samples whose whitened innovation lies beyond the chi-square quantile at
+ * NLT_IMPULSE_LEVEL (a linear Gaussian record has about n times that many). A tap, a kick or a
+ * gust front moves the state by more than the model's Gaussian noise allows, and a filter that
+ * believes its state goes on mispredicting for many samples after it, in a way that depends on
+ * where the motion is: the test would read that as a law. The filter is run again with its
+ * covariance widened at each impulse by the filtered states' own covariance (the state may have
+ * moved anywhere in its usual range). *n_imp receives the count. */
+aenl_status_t nlt_kf_rerun_with_resets(kf_t *k, const aenl_em_model_t *m, const double *ys,
+                                       size_t *n_imp, aenl_err_t *err)
+{
+    const size_t n = k->n;
+    const size_t nz = k->nz;
+    const size_t nx = k->nx;
+    const double thr = chi2_quantile_upper(NLT_IMPULSE_LEVEL, (double)nz);
+    unsigned char *flag = (unsigned char *)calloc(n, 1);
+    if (flag == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    size_t cnt = 0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        double q = 0.0;
+        for (size_t j = 0; j < nz; ++j)
+        {
+            q += k->eps[t * nz + j] * k->eps[t * nz + j];
+        }
+        flag[t] = k->used[t] && q > thr;
+        cnt += flag[t];
+    }
+    *n_imp = cnt;
+    aenl_status_t st = AENL_OK;
+    if (cnt > 0)
+    {
+        double mean[NLT_MAX_X] = {0};
+        double P_reset[NLT_MAX_X * NLT_MAX_X] = {0};
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t t = 0; t < n; ++t)
+            {
+                mean[i] += k->xs[i * n + t];
+            }
+            mean[i] /= (double)n;
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            for (size_t j = 0; j <= i; ++j)
+            {
+                double c = 0.0;
+                for (size_t t = 0; t < n; ++t)
+                {
+                    c += (k->xs[i * n + t] - mean[i]) * (k->xs[j * n + t] - mean[j]);
+                }
+                P_reset[i * nx + j] = c / (double)n;
+                P_reset[j * nx + i] = c / (double)n;
+            }
+        }
+        nlt_kf_free(k);
+        k->n = n;
+        k->nz = nz;
+        k->nx = nx;
+        st = nlt_kf_run(k, m, ys, flag, P_reset, err);
+    }
+    free(flag);
+    return st;
+}
