@@ -71,6 +71,36 @@ static void test_cli_simulate_writes_the_force_column(void)
     cli_run(&r, args_out);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, text, 4000));
+
+    /* The model-based test refuses a forced baseline rather than rebuild its force over the
+     * record's length: the response columns (the force column cut off) against the same INI. */
+    static char resp[1 << 20];
+    size_t k = 0;
+    for (const char *p = text; *p != '\0' && k + 2 < sizeof(resp);)
+    {
+        const char *eol = strchr(p, '\n');
+        if (eol == NULL)
+        {
+            break;
+        }
+        const char *last = p;
+        for (const char *q = p; q < eol; ++q)
+        {
+            last = *q == ',' ? q : last;
+        }
+        memcpy(resp + k, p, (size_t)(last - p));
+        k += (size_t)(last - p);
+        resp[k++] = '\n';
+        p = eol + 1;
+    }
+    resp[k] = '\0';
+    const char *rec = cli_file("sim_ms_response.csv", resp);
+    const char *model_args[] = {"identify", rec, "--model", EXAMPLES "section3dof_multisine.ini",
+                                NULL};
+    cli_run(&r, model_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "forced excitation"), r.err);
 }
 
 /* Output targets that are not regular files are written, never replaced: "-" and /dev/stdout

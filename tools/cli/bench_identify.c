@@ -122,7 +122,7 @@ static void usage(void)
 {
     printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
            "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
-           "                           [--unknown-gusts] [--method test]\n\n"
+           "                           [--unknown-gusts] [--method moments|test]\n\n"
            "The identification evaluation suite: N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
@@ -316,7 +316,6 @@ static void score_alone(const aenl_eval_case_t *c, const aenl_identify_result_t 
     t->alone[which][l][1] += (size_t)(c->channel_index < 0 ? v < 0 : v == c->channel_index);
 }
 
-/* Score the identification of one case. */
 /* The class, channel and confidence of a verdict (cls, channel v, conf; no result: ok 0);
  * returns 1 when its switching points are to be scored (a gap truth, its channel named). */
 static int score_verdict(const aenl_eval_case_t *c, int ok, int cls, long v, double conf,
@@ -337,6 +336,7 @@ static int score_verdict(const aenl_eval_case_t *c, int ok, int cls, long v, dou
     return ok && c->n_switch > 0 && o->channel_ok;
 }
 
+/* Score the identification of one case. */
 static void score(const aenl_eval_case_t *c, const aenl_identify_result_t *r, outcome_t *o)
 {
     const long v = r != NULL ? r->verdict : -1;
@@ -1070,6 +1070,11 @@ int aenl_bench_identify(int argc, char **argv)
     {
         return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
     }
+    if (a.method_test && (a.model || a.write_dir != NULL))
+    {
+        aenl_cli_error(k_cmd, "--method test does not combine with --model or --write");
+        return AENL_EXIT_USAGE;
+    }
     if (a.write_dir != NULL)
     {
         char path[1200];
@@ -1085,11 +1090,6 @@ int aenl_bench_identify(int argc, char **argv)
     }
     memset(&t, 0, sizeof(t));
     memset(&tm, 0, sizeof(tm));
-    if (a.method_test && (a.model || a.write_dir != NULL))
-    {
-        aenl_cli_error(k_cmd, "--method test does not combine with --model or --write");
-        return AENL_EXIT_USAGE;
-    }
     if (a.method_test)
     {
         k_cls_short[0] = "undet";

@@ -18,7 +18,9 @@ static void help(void)
            "with the\n"
            "event-located Dormand-Prince integrator and writes the CSV on the [run] grid:\n"
            "airfoil2dof -> t,alpha,xi (tau, rad, h/b); section3dof -> t,h,alpha,beta (s, m, rad,\n"
-           "rad). Without -o the CSV goes to stdout; with -o the file appears only when complete.\n"
+           "rad); a sweep or multisine ([excitation]) adds its force as a last column f_pitch,\n"
+           "f_plunge or f_flap. Without -o the CSV goes to stdout; with -o the file appears only\n"
+           "when complete.\n"
            "  --no-ic-forcing  drop the Wagner start-up terms f, g (airfoil2dof)\n"
            "  --rk4 H          naive fixed-step RK4 with step H instead (for comparisons)\n"
            "  --info           integrator counters on stderr (steps, events, sticking)\n");

@@ -318,13 +318,13 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  *    [plunge] takes no _deg keys (ξ for airfoil2dof, metres for section3dof).
  *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
  *    as <name>_dot[_deg] (rate per model time unit). Default 0.
- *  - [excitation] type = none | turbulence | kicks | sweep | multisine. sweep: dof*,
+ *  - [excitation] type = none | turbulence | kicks | sweep | multisine. turbulence:
+ *    intensity (std(w_g)/U, >= 0), length_scale (L: semichords or m), spectrum = first_order |
+ *    dryden (first_order), seed. kicks: dof* = pitch | plunge | flap, every* (model time unit, a
+ *    whole number of dt), rate[_deg]* (the rate jump, per model time unit; plunge: no _deg),
+ *    rate_max[_deg] (= rate), sign = random | alternate | positive (random), seed. sweep: dof*,
  *    amplitude[_deg]*, f_start*, f_end*, law = linear | log (linear). multisine: dof*,
- *    rms[_deg]*, f_min*, f_max*, period (the duration), seed (1). turbulence: intensity
- * (std(w_g)/U, >= 0), length_scale (L: semichords or m), spectrum = first_order | dryden
- * (first_order), seed. kicks: dof* = pitch | plunge | flap, every* (model time unit, a whole number
- * of dt), rate[_deg]* (the rate jump, per model time unit; plunge: no _deg), rate_max[_deg] (=
- *    rate), sign = random | alternate | positive (random), seed.
+ *    rms[_deg]*, f_min*, f_max*, period (the duration), seed (1).
  *  - [run] duration*, dt* (model time unit), rtol (1e-10), atol (1e-12).
  *  - [noise] snr* (> 0, std(signal)/std(noise) per channel), seed (42).
  *  Unknown sections or keys, a key given twice, a missing required key, a non-numeric, NaN or
@@ -385,8 +385,9 @@ aenl_status_t aenl_sim_kicks(const aenl_sim_run_t *run, size_t n, double *dv, ae
 
 /**
  * @brief The forced excitation f at t_k = k dt, k = 0 .. n-1 (the series the integrators apply).
- * @return AENL_OK; AENL_E_ARG for NULL arguments, a run without forced excitation or settings
- *         aenl_sim_validate refuses.
+ * @return AENL_OK; AENL_E_ARG for NULL arguments, a run without forced excitation, or a
+ *         signal aenl_sim_validate would refuse (amplitude, frequencies, lines; the DOF and the
+ *         other excitations are not looked at here).
  */
 aenl_status_t aenl_sim_force_series(const aenl_sim_run_t *run, size_t n, double *f,
                                     aenl_err_t *err);

@@ -1421,6 +1421,17 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
                               const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
                               aenl_diagnose_result_t *r, aenl_err_t *err)
 {
+    if (run->force != AENL_SIM_FORCE_NONE)
+    {
+        /* The candidates run over the record's length, so a sweep or multisine rebuilt from the
+         * INI would not be the force the record was driven by. */
+        aenl_err_set(err,
+                     "the baseline's [excitation] is a %s: the model-based test does not "
+                     "take a forced excitation (it would rebuild the force over the "
+                     "record's length instead of using the measured one)",
+                     run->force == AENL_SIM_FORCE_SWEEP ? "sweep" : "multisine");
+        return AENL_E_ARG;
+    }
     const double t0 = now_s();
     size_t n_ch = 0;
     const char *const *names = aenl_diagnose_channel_names(base->type, &n_ch);

@@ -46,26 +46,27 @@ static void design_step(const design_t *d, const double *F, size_t t, size_t nx,
     *D = out;
 }
 
-/* G (nc x nc) += Rt Rt' over m rows, Rt (nc x m) holding one column of the rows per line; the
- * upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper triangle).
+/* G (nc x nc) += Rt Rt' over m rows, Rt (nc lines of ld >= m) holding one column of the rows per
+ * line; the upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper
+ * triangle).
  * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
  * outer product to G, which streams the whole of G through the cache for every row. */
-static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t m)
+static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t ld, size_t m)
 {
     for (size_t i0 = 0; i0 < nc; i0 += 4u)
     {
         for (size_t j0 = i0; j0 < nc; j0 += 4u)
         {
-            if (i0 + 4u <= nc && j0 + 4u <= nc)
+            if (j0 + 4u <= nc) /* then i0 + 4 <= nc too */
             {
-                const double *x0 = Rt + i0 * m;
-                const double *x1 = x0 + m;
-                const double *x2 = x1 + m;
-                const double *x3 = x2 + m;
-                const double *y0 = Rt + j0 * m;
-                const double *y1 = y0 + m;
-                const double *y2 = y1 + m;
-                const double *y3 = y2 + m;
+                const double *x0 = Rt + i0 * ld;
+                const double *x1 = x0 + ld;
+                const double *x2 = x1 + ld;
+                const double *x3 = x2 + ld;
+                const double *y0 = Rt + j0 * ld;
+                const double *y1 = y0 + ld;
+                const double *y2 = y1 + ld;
+                const double *y3 = y2 + ld;
                 double s00 = 0.0, s01 = 0.0, s02 = 0.0, s03 = 0.0;
                 double s10 = 0.0, s11 = 0.0, s12 = 0.0, s13 = 0.0;
                 double s20 = 0.0, s21 = 0.0, s22 = 0.0, s23 = 0.0;
@@ -120,7 +121,7 @@ static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, 
                     double acc = 0.0;
                     for (size_t q = 0; q < m; ++q)
                     {
-                        acc += Rt[i * m + q] * Rt[j * m + q];
+                        acc += Rt[i * ld + q] * Rt[j * ld + q];
                     }
                     G[i * nc + j] += acc;
                 }
@@ -183,7 +184,7 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
             }
             if (rows == m_blk)
             {
-                syrk_rows(d->G, nc, Rt, rows);
+                syrk_rows(d->G, nc, Rt, m_blk, rows);
                 rows = 0;
             }
         }
@@ -191,12 +192,7 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
     }
     if (rows > 0)
     {
-        /* the last, partial block: its rows are the first of each line of Rt */
-        for (size_t i = 1; i < nc; ++i)
-        {
-            memmove(Rt + i * rows, Rt + i * m_blk, rows * sizeof(double));
-        }
-        syrk_rows(d->G, nc, Rt, rows);
+        syrk_rows(d->G, nc, Rt, m_blk, rows); /* the last, partial block */
     }
     free(Rt);
     for (size_t i = 0; i < nc; ++i)

@@ -58,7 +58,7 @@ static aenl_status_t signal_check(const aenl_sim_run_t *run, aenl_err_t *err)
         }
         if (!isfinite(run->force_period) || run->force_period < 0.0)
         {
-            aenl_err_set(err, "[excitation] period must be > 0");
+            aenl_err_set(err, "[excitation] period must be finite and >= 0 (0: the duration)");
             return AENL_E_ARG;
         }
         double j0 = 0.0;

@@ -583,11 +583,13 @@ static aenl_status_t apply_force(ini_ctx_t *c, const entry_t *e, aenl_sim_run_t 
     }
     if (sweep && angle_key(e, "amplitude", angular, &scale))
     {
-        return parse_num(c, e, V_POS, scale, MAX_ABS_PARAM, &r->force_amp);
+        return parse_num(c, e, V_POS, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE,
+                         &r->force_amp);
     }
     if (!sweep && angle_key(e, "rms", angular, &scale))
     {
-        return parse_num(c, e, V_POS, scale, MAX_ABS_PARAM, &r->force_amp);
+        return parse_num(c, e, V_POS, scale, angular ? MAX_ABS_ANGLE : MAX_ABS_PLUNGE,
+                         &r->force_amp);
     }
     if (strcmp(e->key, sweep ? "f_start" : "f_min") == 0)
     {
@@ -685,8 +687,8 @@ static aenl_status_t apply_entry(ini_ctx_t *c, const entry_t *e, aenl_sim_model_
             return unknown_key(c, e,
                                " (type, intensity, length_scale, spectrum, seed; dof, every, "
                                "rate, rate_max and sign need type = kicks; amplitude, f_start, "
-                               "f_end and law type = sweep; rms, f_min, f_max and period type = "
-                               "multisine)");
+                               "f_end and law need type = sweep; rms, f_min, f_max and period "
+                               "need type = multisine)");
         }
         case 6:
         {
