@@ -393,6 +393,23 @@ static void test_cli_bench_identify_method_test(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "does not combine"), r.err);
 }
 
+/* The level bench: two records run and the table is printed; a bad option is refused. */
+static void test_cli_bench_null(void)
+{
+    const char *run_args[] = {"bench", "null", "--records", "2", "--verbose", NULL};
+    const char *bad_level[] = {"bench", "null", "--level", "0.7", NULL};
+    cli_result_t r;
+    cli_run(&r, run_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "free decay"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "/2 ("), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "0 records failed"), r.out);
+    cli_run(&r, bad_level);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "--level"), r.err);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -405,6 +422,7 @@ int main(void)
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
     RUN_TEST(test_cli_bench_identify_method_test);
+    RUN_TEST(test_cli_bench_null);
     RUN_TEST(test_nlt_linear_records_hold_the_level);
     return UNITY_END();
 }

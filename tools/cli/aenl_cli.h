@@ -76,6 +76,8 @@ int aenl_cmd_diagnose(int argc, char **argv);
 int aenl_bench_diagnose(int argc, char **argv);
 /** `aenl bench identify` (tools/cli/bench_identify.c). */
 int aenl_bench_identify(int argc, char **argv);
+/** `aenl bench null`: the level of identify --method test on linear records (bench_null.c). */
+int aenl_bench_null(int argc, char **argv);
 /** Run `name`, a program in aenl's own folder, with args (tools/cli/cli_run.c). */
 int aenl_bench_run_sibling(const char *name, char *const *args, int n_args);
 

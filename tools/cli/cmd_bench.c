@@ -276,6 +276,8 @@ int aenl_cmd_bench(int argc, char **argv)
             "       aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
             "                           [--verbose]\n"
             "                                         (identification suite; minutes)\n"
+            "       aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
+            "                                         (level of identify --method test; minutes)\n"
             "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
             "double; minutes)\n");
         return AENL_EXIT_OK;
@@ -305,6 +307,10 @@ int aenl_cmd_bench(int argc, char **argv)
     {
         return aenl_bench_identify(argc - 1, argv + 1);
     }
+    if (strcmp(what, "null") == 0)
+    {
+        return aenl_bench_null(argc - 1, argv + 1);
+    }
     if (strcmp(what, "all") == 0 && argc <= 2)
     {
         int rc = bench_moments();
@@ -325,9 +331,10 @@ int aenl_cmd_bench(int argc, char **argv)
                : rc3 != AENL_EXIT_OK ? rc3
                                      : rc4;
     }
-    aenl_cli_error(k_cmd,
-                   "unknown benchmark '%s' (moments, simulate, fit, identify, diagnose, stream "
-                   "or all)",
-                   what);
+    aenl_cli_error(
+        k_cmd,
+        "unknown benchmark '%s' (moments, simulate, fit, identify, null, diagnose, stream "
+        "or all)",
+        what);
     return AENL_EXIT_USAGE;
 }
