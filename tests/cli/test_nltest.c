@@ -179,7 +179,24 @@ static void test_nlt_freeplay_named_with_its_gap(void)
     aenl_err_t err;
     aenl_err_clear(&err);
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+    /* the same record as separate channel arrays gives the same run, bit for bit */
+    double *split = (double *)malloc(2u * n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(split);
+    for (size_t k = 0; k < n; ++k)
+    {
+        split[k] = y[2u * k];
+        split[n + k] = y[2u * k + 1u];
+    }
+    const double *cols[2] = {split, split + n};
+    aenl_nlt_result_t rc;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run_columns(cols, n, 2, &o, &rc, &err),
+                                  err.msg);
+    free(split);
     free(y);
+    TEST_ASSERT_EQUAL_INT(r.verdict_class, rc.verdict_class);
+    TEST_ASSERT_EQUAL_DOUBLE(r.ch[0].stat, rc.ch[0].stat);
+    TEST_ASSERT_EQUAL_DOUBLE(r.ch[1].stat, rc.ch[1].stat);
+    TEST_ASSERT_EQUAL_DOUBLE(r.ch[0].points[0], rc.ch[0].points[0]);
     TEST_ASSERT_EQUAL_INT(0, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, r.verdict_class);
     TEST_ASSERT_FALSE(r.undetermined);

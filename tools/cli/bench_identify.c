@@ -918,28 +918,14 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
     aenl_err_clear(&err);
     const size_t n = a->rows > 0 && (size_t)a->rows < c.n_samples ? (size_t)a->rows : c.n_samples;
     const size_t nc = c.n_channels;
-    double *y = (double *)malloc(n * nc * sizeof(double));
-    if (y == NULL)
-    {
-        aenl_eval_case_free(&c);
-        return -1;
-    }
-    for (size_t k = 0; k < n; ++k)
-    {
-        for (size_t j = 0; j < nc; ++j)
-        {
-            y[k * nc + j] = c.cols[j][k];
-        }
-    }
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);
     aenl_nlt_result_t res;
     aenl_err_clear(&err);
     double t0 = now_s();
-    const aenl_status_t sti = aenl_nlt_run(y, n, nc, &opts, &res, &err);
+    const aenl_status_t sti = aenl_nlt_run_columns(c.cols, n, nc, &opts, &res, &err);
     t->t_id += now_s() - t0;
     a->samples += n * nc;
-    free(y);
     if (sti != AENL_OK)
     {
         ++t->id_failures;

@@ -196,27 +196,14 @@ static int run_record(size_t i, const null_args_t *a, double *secs, int *reg, in
     }
     const size_t n = r.n_samples;
     const size_t nc = r.n_channels;
-    double *y = (double *)malloc(n * nc * sizeof(double));
-    if (y == NULL)
-    {
-        aenl_sim_result_free(&r);
-        return -1;
-    }
-    for (size_t k = 0; k < n; ++k)
-    {
-        for (size_t c = 0; c < nc; ++c)
-        {
-            y[k * nc + c] = r.y[c * n + k];
-        }
-    }
+    const double *cols[3] = {r.y, r.y + n, r.y + 2u * n};
     aenl_nlt_opts_t o;
     aenl_nlt_opts_default(&o);
     o.level = a->level;
     aenl_nlt_result_t res;
     const double t0 = now_s();
-    const aenl_status_t st = aenl_nlt_run(y, n, nc, &o, &res, &err);
+    const aenl_status_t st = aenl_nlt_run_columns(cols, n, nc, &o, &res, &err);
     *secs = now_s() - t0;
-    free(y);
     int out = -1;
     if (st != AENL_OK)
     {

@@ -60,26 +60,16 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
         return AENL_EXIT_USAGE;
     }
     const size_t n = t.n_rows;
-    double *y = (double *)malloc(n * nz * sizeof(double));
-    if (y == NULL)
+    const double *chan[AENL_NLT_MAX_CH];
+    for (size_t j = 0; j < nz; ++j)
     {
-        aenl_cli_error(k_cmd, "out of memory");
-        aenl_table_free(&t);
-        return AENL_EXIT_FAIL;
-    }
-    for (size_t r = 0; r < n; ++r)
-    {
-        for (size_t j = 0; j < nz; ++j)
-        {
-            y[r * nz + j] = t.data[cols[j] * n + r];
-        }
+        chan[j] = t.data + cols[j] * n;
     }
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);
     opts.level = level;
     aenl_nlt_result_t res;
-    const aenl_status_t st = aenl_nlt_run(y, n, nz, &opts, &res, &err);
-    free(y);
+    const aenl_status_t st = aenl_nlt_run_columns(chan, n, nz, &opts, &res, &err);
     int rc = AENL_EXIT_OK;
     if (st != AENL_OK)
     {

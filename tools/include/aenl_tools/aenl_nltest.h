@@ -115,6 +115,11 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
 aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
                            aenl_nlt_result_t *res, aenl_err_t *err);
 
+/** aenl_nlt_run on separate channel arrays: cols[j] holds the n samples of channel j. */
+aenl_status_t aenl_nlt_run_columns(const double *const *cols, size_t n, size_t n_ch,
+                                   const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                   aenl_err_t *err);
+
 /** Name of a law ("polynomial", "freeplay", "hysteresis"). */
 const char *aenl_nlt_law_name(aenl_nlt_law_t law);
 

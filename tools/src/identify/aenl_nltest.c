@@ -952,10 +952,18 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
     return st_last;
 }
 
-aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
-                           aenl_nlt_result_t *res, aenl_err_t *err)
+/* The run on channels col[j], sample t at col[j][t * stride]: row-major records and separate
+ * columns both enter without a copy (the run makes its own scaled one). */
+static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                                 const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                 aenl_err_t *err)
 {
-    aenl_status_t st = check_args(y, n, n_ch, opts, res, err);
+    int cols_ok = col != NULL;
+    for (size_t j = 0; cols_ok && j < n_ch && j < AENL_NLT_MAX_CH; ++j)
+    {
+        cols_ok = col[j] != NULL;
+    }
+    aenl_status_t st = check_args(cols_ok ? col[0] : NULL, n, n_ch, opts, res, err);
     if (st != AENL_OK)
     {
         return st;
@@ -989,7 +997,7 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     }
     for (size_t t = 0; t < n * n_ch; ++t)
     {
-        if (!isfinite(y[t]))
+        if (!isfinite(col[t % n_ch][(t / n_ch) * stride]))
         {
             free(ys);
             aenl_err_set(err,
@@ -1006,7 +1014,7 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
         size_t cnt = 0;
         for (size_t t = 0; t < n; ++t)
         {
-            const double v = y[t * n_ch + j];
+            const double v = col[j][t * stride];
             if (isfinite(v))
             {
                 s += v;
@@ -1025,7 +1033,7 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
         rn.scale[j] = sqrt(var);
         for (size_t t = 0; t < n; ++t)
         {
-            ys[t * n_ch + j] = y[t * n_ch + j] / rn.scale[j];
+            ys[t * n_ch + j] = col[j][t * stride] / rn.scale[j];
         }
     }
     aenl_em_result_t em;
@@ -1124,4 +1132,22 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     nlt_kf_free(&kf);
     aenl_em_result_free(&em);
     return st;
+}
+
+aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
+                           aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    const double *col[AENL_NLT_MAX_CH] = {NULL};
+    for (size_t j = 0; y != NULL && j < n_ch && j < AENL_NLT_MAX_CH; ++j)
+    {
+        col[j] = y + j;
+    }
+    return run_strided(y != NULL ? col : NULL, n_ch, n, n_ch, opts, res, err);
+}
+
+aenl_status_t aenl_nlt_run_columns(const double *const *cols, size_t n, size_t n_ch,
+                                   const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                   aenl_err_t *err)
+{
+    return run_strided(cols, 1, n, n_ch, opts, res, err);
 }
