@@ -159,6 +159,47 @@ static void test_cli_version(void)
     TEST_ASSERT_EQUAL_size_t(0, strlen(r.err));
 }
 
+/* The shared conventions of every subcommand: "--opt=value" is "--opt value"; after "--" an
+ * argument that starts with '-' is a file name; before it, such a name is an unknown option. */
+static void test_cli_option_conventions(void)
+{
+    const char *spaced[] = {
+        "simulate", EXAMPLES "validate_linear_u4.ini", "--rk4", "0.05", "-o", "-", NULL};
+    const char *joined[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "--rk4=0.05", "-o", "-",
+                            NULL};
+    static char a[1 << 17];
+    cli_result_t r;
+    cli_run(&r, spaced);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_TRUE(r.n_out > 1000 && r.n_out < sizeof(a));
+    memcpy(a, r.out, r.n_out);
+    const size_t na = r.n_out;
+    cli_run(&r, joined);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(na, r.n_out);
+    TEST_ASSERT_EQUAL_MEMORY(a, r.out, na);
+    /* an empty value after '=' is a missing value, not the next argument */
+    const char *empty[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "--rk4=", "-o", "-",
+                           NULL};
+    cli_run(&r, empty);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.out);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r.err_lines, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+
+    static char ini[1 << 14];
+    TEST_ASSERT_TRUE(cli_slurp(EXAMPLES "validate_linear_u4.ini", ini, sizeof(ini)) > 10);
+    (void)cli_file("-dash.ini", ini);
+    const char *dashed[] = {"simulate", "-o", "-", "--", "-dash.ini", NULL};
+    cli_run(&r, dashed);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(r.out, "t,alpha,xi\n0,0.017453292519943", 30));
+    const char *undashed[] = {"simulate", "-dash.ini", "-o", "-", NULL};
+    cli_run(&r, undashed);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "-dash.ini"), r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+}
+
 static void test_cli_simulate_same_seed_same_file(void)
 {
     const char *a1[] = {"simulate", EXAMPLES "paper_hysteresis_pitch.ini", "-o", "seed_a.csv",
@@ -264,6 +305,7 @@ int main(void)
     RUN_TEST(test_cli_simulate_writes_to_stdout_and_devices);
     RUN_TEST(test_cli_simulate_writes_the_force_column);
     RUN_TEST(test_cli_version);
+    RUN_TEST(test_cli_option_conventions);
     RUN_TEST(test_cli_simulate_same_seed_same_file);
     RUN_TEST(test_cli_simulate_bad_ini);
     RUN_TEST(test_cli_flutter_json);

@@ -791,10 +791,40 @@ static void test_outfile_abort_all_removes_pending(void)
     TEST_ASSERT_FALSE(file_exists(pb));
 }
 
+/* aenl's own files: $AENL_SHARE_DIR is looked in first; a file that is nowhere is an error that
+ * names it, with an empty path. */
+static void test_share_path_order_and_error(void)
+{
+    char dir[] = "./share_test_XXXXXX";
+    TEST_ASSERT_NOT_NULL(mkdtemp(dir));
+    char sub[64], file[96];
+    (void)snprintf(sub, sizeof(sub), "%s/plot", dir);
+    (void)snprintf(file, sizeof(file), "%s/plot/probe.gp", dir);
+    TEST_ASSERT_EQUAL_INT(0, mkdir(sub, 0700));
+    FILE *f = fopen(file, "w");
+    TEST_ASSERT_NOT_NULL(f);
+    (void)fclose(f);
+    TEST_ASSERT_EQUAL_INT(0, setenv("AENL_SHARE_DIR", dir, 1));
+    char buf[512];
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_share_path("plot/probe.gp", buf, sizeof(buf), &err));
+    TEST_ASSERT_EQUAL_STRING(file, buf);
+    TEST_ASSERT_EQUAL_INT(AENL_E_IO, aenl_share_path("plot/absent.gp", buf, sizeof(buf), &err));
+    TEST_ASSERT_EQUAL_STRING("", buf);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, "plot/absent.gp"), err.msg);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(err.msg, dir + 2), err.msg);
+    TEST_ASSERT_EQUAL_INT(0, unsetenv("AENL_SHARE_DIR"));
+    TEST_ASSERT_EQUAL_INT(0, remove(file));
+    TEST_ASSERT_EQUAL_INT(0, rmdir(sub));
+    TEST_ASSERT_EQUAL_INT(0, rmdir(dir));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_err_keeps_first_cause);
+    RUN_TEST(test_share_path_order_and_error);
     RUN_TEST(test_table_round_trip_is_bit_exact);
     RUN_TEST(test_csv_writer_streams_rows);
     RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);

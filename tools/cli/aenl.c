@@ -37,7 +37,9 @@ static const subcommand_t k_subcommands[] = {
 static void usage(FILE *fp)
 {
     fprintf(fp, "usage: aenl <subcommand> [options]   (aenl <subcommand> --help for its options)\n"
-                "       aenl --version\n\n");
+                "       aenl --version\n\n"
+                "Every subcommand takes --opt VALUE or --opt=VALUE; after --, every argument is\n"
+                "a file name, even one that starts with '-'.\n\n");
     for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
     {
         fprintf(fp, "  %-10s %s\n", k_subcommands[i].name, k_subcommands[i].summary);
@@ -123,6 +125,83 @@ const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i)
     return argv[*i];
 }
 
+/* The arguments as every subcommand's parser reads them: "--opt=value" becomes "--opt" "value",
+ * and after "--" an argument that starts with '-' becomes the same path written "./-name", so
+ * no subcommand needs to know either convention. *out is NULL-terminated; the strings made
+ * here are listed in *owned (free with free_args). Returns the new count, or -1 out of memory. */
+static int normalise_args(int argc, char **argv, char ***out, char ***owned)
+{
+    char **v = (char **)calloc(2u * (size_t)argc + 1u, sizeof(char *));
+    char **own = (char **)calloc(2u * (size_t)argc + 1u, sizeof(char *));
+    if (v == NULL || own == NULL)
+    {
+        free((void *)v);
+        free((void *)own);
+        return -1;
+    }
+    int n = 0;
+    int n_own = 0;
+    int files_only = 0;
+    for (int i = 0; i < argc; ++i)
+    {
+        const char *a = argv[i];
+        const char *eq = strchr(a, '=');
+        if (!files_only && i > 0 && strcmp(a, "--") == 0)
+        {
+            files_only = 1;
+        }
+        else if (!files_only && a[0] == '-' && a[1] == '-' && eq != NULL && eq > a + 2)
+        {
+            const size_t len = (size_t)(eq - a);
+            char *opt = (char *)malloc(len + 1u);
+            if (opt == NULL)
+            {
+                *out = v;
+                *owned = own;
+                return -1;
+            }
+            memcpy(opt, a, len);
+            opt[len] = '\0';
+            own[n_own++] = opt;
+            v[n++] = opt;
+            v[n++] = (char *)(eq + 1); /* points into argv, which outlives the run */
+        }
+        else if (files_only && a[0] == '-' && a[1] != '\0')
+        {
+            const size_t len = strlen(a);
+            char *path = (char *)malloc(len + 3u);
+            if (path == NULL)
+            {
+                *out = v;
+                *owned = own;
+                return -1;
+            }
+            path[0] = '.';
+            path[1] = '/';
+            memcpy(path + 2, a, len + 1u);
+            own[n_own++] = path;
+            v[n++] = path;
+        }
+        else
+        {
+            v[n++] = argv[i];
+        }
+    }
+    *out = v;
+    *owned = own;
+    return n;
+}
+
+static void free_args(char **v, char **owned)
+{
+    for (size_t i = 0; owned != NULL && owned[i] != NULL; ++i)
+    {
+        free(owned[i]);
+    }
+    free((void *)owned);
+    free((void *)v);
+}
+
 static void on_signal(int sig)
 {
     /* abort_all only calls unlink(2), which is async-signal-safe (aenl_io.c). */
@@ -155,7 +234,17 @@ int main(int argc, char **argv)
     {
         if (strcmp(argv[1], k_subcommands[i].name) == 0)
         {
-            const int rc = k_subcommands[i].run(argc - 1, argv + 1);
+            char **args = NULL;
+            char **owned = NULL;
+            const int n_args = normalise_args(argc - 1, argv + 1, &args, &owned);
+            if (n_args < 0)
+            {
+                free_args(args, owned);
+                aenl_cli_error(argv[1], "out of memory");
+                return AENL_EXIT_FAIL;
+            }
+            const int rc = k_subcommands[i].run(n_args, args);
+            free_args(args, owned);
             aenl_outfile_abort_all(); /* nothing half-written survives, whatever the path out */
             if (fflush(stdout) != 0 && rc == AENL_EXIT_OK)
             {

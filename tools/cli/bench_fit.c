@@ -240,6 +240,14 @@ static void skf_m4f(void)
         printf("  Cortex-M4F: skipped (arm-none-eabi-gcc not found)\n");
         return;
     }
+    char src[4200];
+    aenl_err_t perr;
+    aenl_err_clear(&perr);
+    if (aenl_share_path("source", src, sizeof(src), &perr) != AENL_OK)
+    {
+        printf("  Cortex-M4F: skipped (needs the build tree's link to the sources)\n");
+        return;
+    }
     char dir[] = "/tmp/aenl_bench_fit_XXXXXX";
     if (mkdtemp(dir) == NULL)
     {
@@ -256,15 +264,14 @@ static void skf_m4f(void)
         "arm-none-eabi-gcc %s -I'%s/include' -c p.c -o p.o && "
         "arm-none-eabi-size skf.o la.o | tail -n 2 && arm-none-eabi-nm -S p.o; "
         "cd /; rm -rf '%s'",
-        dir, flags, AENL_SOURCE_DIR, AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR,
-        AENL_SOURCE_DIR, AENL_SOURCE_DIR, flags, AENL_SOURCE_DIR, dir);
+        dir, flags, src, src, src, flags, src, src, src, flags, src, dir);
     if (len < 0 || (size_t)len >= sizeof(cmd))
     {
         printf("  Cortex-M4F: skipped (source path too long for the command line)\n");
         (void)rmdir(dir); /* still empty; a leftover empty folder in /tmp is harmless */
         return;
     }
-    /* The paths come from the build (AENL_SOURCE_DIR) and mkdtemp: no user input. */
+    /* The paths come from the build tree's link to the sources and mkdtemp: no user input. */
     FILE *p = popen(cmd, "r"); /* NOLINT(cert-env33-c) */
     if (p == NULL)
     {
@@ -296,7 +303,7 @@ static void skf_m4f(void)
 #define MS_ITER   2000 /* SQUAREM iterations at most; stops when the log-likelihood levels off */
 #define MS_TOL    1e-9 /* relative log-likelihood gain per iteration that counts as levelled */
 #define MS_PI     3.14159265358979323846
-#define MS_INI    AENL_SOURCE_DIR "/tools/examples/fit_airfoil_turbulence.ini"
+#define MS_INI    "examples/fit_airfoil_turbulence.ini" /* under aenl's shared files */
 #define MS_MAX_Q  16 /* compared quantities per record (2 outer modes x 2 pairs x f, zeta) */
 
 /* The compared quantities of one record: relative error and Cramer-Rao floor of each. */
@@ -527,7 +534,9 @@ static void must_show(ms_errs_t *rec0)
     const double t0 = now_s();
     double *y = NULL;
     size_t n = 0;
-    if (aenl_sim_load_ini(MS_INI, &sm, &run, &err) != AENL_OK ||
+    char ini[4200];
+    if (aenl_share_path(MS_INI, ini, sizeof(ini), &err) != AENL_OK ||
+        aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK ||
         fit_record(&sm, &run, &y, &n, &fit, &err) != AENL_OK)
     {
         printf("  must-show: %s\n", err.msg);
@@ -617,7 +626,9 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
     aenl_sim_run_t run;
     aenl_err_t err;
     aenl_err_clear(&err);
-    if (aenl_sim_load_ini(MS_INI, &sm, &run, &err) != AENL_OK)
+    char ini[4200];
+    if (aenl_share_path(MS_INI, ini, sizeof(ini), &err) != AENL_OK ||
+        aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK)
     {
         printf("  Monte Carlo: %s\n", err.msg);
         return;

@@ -163,9 +163,11 @@ static void bench_moments_case(const char *name, uint16_t n_grid, uint16_t n_lag
 static void m4f_report(void)
 {
     char script[1024];
-    const int len =
-        snprintf(script, sizeof(script), "%s/tools/scripts/check_m4f.sh", AENL_SOURCE_DIR);
-    FILE *probe = (len > 0 && len < (int)sizeof(script)) ? fopen(script, "r") : NULL;
+    aenl_err_t perr;
+    aenl_err_clear(&perr);
+    const int found = aenl_share_path("source/tools/scripts/check_m4f.sh", script, sizeof(script),
+                                      &perr) == AENL_OK;
+    FILE *probe = found ? fopen(script, "r") : NULL;
     /* A fixed command line: no user input reaches the shell. */
     if (probe == NULL ||
         system("command -v arm-none-eabi-gcc >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
@@ -174,7 +176,8 @@ static void m4f_report(void)
         {
             (void)fclose(probe);
         }
-        printf("  Cortex-M4F figures: skipped (needs the source tree and arm-none-eabi-gcc)\n");
+        printf("  Cortex-M4F figures: skipped (needs the build tree's link to the sources and "
+               "arm-none-eabi-gcc)\n");
         return;
     }
     (void)fclose(probe);
@@ -190,7 +193,7 @@ static void m4f_report(void)
     {
         return;
     }
-    /* The script path comes from the build (AENL_SOURCE_DIR), the folder from mkdtemp. */
+    /* The script path comes from the build tree's link to the sources, the folder from mkdtemp. */
     FILE *p = popen(cmd, "r"); /* NOLINT(cert-env33-c) */
     if (p == NULL)
     {

@@ -55,6 +55,22 @@ static int file_exists(const char *p)
 }
 
 /* Curves of one channel (n samples): CSV + figure in the output folder. */
+/* The path of an example model shipped with aenl (share/aenl/examples); 0, or -1 after the error
+ * message. */
+static int example_path(const char *name, char *buf, size_t n)
+{
+    char rel[256];
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    if (snprintf(rel, sizeof(rel), "examples/%s", name) >= (int)sizeof(rel) ||
+        aenl_share_path(rel, buf, n, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg[0] != '\0' ? err.msg : "example name too long");
+        return -1;
+    }
+    return 0;
+}
+
 static int curves_of_array(const double *x, size_t n, const char *source, const char *channel,
                            const char *outdir, const char *stem, const char *label)
 {
@@ -173,14 +189,12 @@ static int model_verdict(aenl_identify_result_t *r, const char *csv, const char 
                          const char *truth_class, const char *truth_channel)
 {
     char base_ini[1200];
-    if (snprintf(base_ini, sizeof(base_ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, base_name) >=
-        (int)sizeof(base_ini))
-    {
-        aenl_cli_error(k_cmd, "%s: path too long", base_name);
-        return -1;
-    }
     aenl_err_t err;
     aenl_err_clear(&err);
+    if (example_path(base_name, base_ini, sizeof(base_ini)) != 0)
+    {
+        return -1;
+    }
     aenl_sim_model_t base;
     aenl_sim_run_t run;
     aenl_table_t t;
@@ -279,9 +293,11 @@ static int paper_case(const char *ini_name, const char *base_name, const char *c
                       const char *truth_class, int *hits, int *model_hits)
 {
     char ini[1200], csv[1200], png[1200];
-    if (snprintf(ini, sizeof(ini), "%s/tools/examples/%s", AENL_SOURCE_DIR, ini_name) >=
-            (int)sizeof(ini) ||
-        snprintf(csv, sizeof(csv), "%s/%s.csv", outdir, stem) >= (int)sizeof(csv) ||
+    if (example_path(ini_name, ini, sizeof(ini)) != 0)
+    {
+        return -1;
+    }
+    if (snprintf(csv, sizeof(csv), "%s/%s.csv", outdir, stem) >= (int)sizeof(csv) ||
         snprintf(png, sizeof(png), "%s/%s_timeseries.png", outdir, stem) >= (int)sizeof(png))
     {
         aenl_cli_error(k_cmd, "%s: output path too long", outdir);
@@ -348,8 +364,8 @@ int aenl_cmd_demo(int argc, char **argv)
             printf("usage: aenl demo [--out DIR] [--data DIR]\n\n"
                    "Runs the worked examples end to end and writes CSVs and figures to DIR\n"
                    "(default out/demo). --data (or $AENL_DATA_DIR) is the folder of measured\n"
-                   "records (default: a shared/data folder beside the source tree; the\n"
-                   "real-data examples are skipped when there is none).\n");
+                   "records that holds the Bristol flutter rig data set; without it the\n"
+                   "real-data example is skipped.\n");
             return AENL_EXIT_OK;
         }
         if (strcmp(argv[i], "--out") == 0)
@@ -372,11 +388,7 @@ int aenl_cmd_demo(int argc, char **argv)
             return AENL_EXIT_USAGE;
         }
     }
-    if (datadir == NULL)
-    {
-        datadir = AENL_SOURCE_DIR "/../shared/data";
-    }
-    else
+    if (datadir != NULL)
     {
         struct stat sb; /* a folder the user named must exist; the default one may be absent */
         if (stat(datadir, &sb) != 0 || !S_ISDIR(sb.st_mode))
@@ -430,10 +442,12 @@ int aenl_cmd_demo(int argc, char **argv)
     printf("Measured: Bristol pitch-heave flutter rig, LCO at 25.0 m/s (polynomial pitch "
            "stiffness)\n");
     char rec[1200];
-    const int rec_len = snprintf(rec, sizeof(rec),
-                                 "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
-                                 "17092018_CBC_V250_TowardsHB.csv",
-                                 datadir);
+    const int rec_len = datadir == NULL
+                            ? -1
+                            : snprintf(rec, sizeof(rec),
+                                       "%s/bristol_flutter_rig_pitch_heave/lco_sweep_17092018/"
+                                       "17092018_CBC_V250_TowardsHB.csv",
+                                       datadir);
     if (rec_len > 0 && rec_len < (int)sizeof(rec) && file_exists(rec))
     {
         printf("  %s\n", rec);
@@ -442,9 +456,14 @@ int aenl_cmd_demo(int argc, char **argv)
         failures += curves_of_file(rec, "heave_raw", outdir, "bristol_V250_heave",
                                    "Bristol rig heave, 25 m/s LCO") != 0;
     }
+    else if (datadir == NULL)
+    {
+        printf("  (skipped: no folder of measured records given; --data DIR or $AENL_DATA_DIR "
+               "names it)\n");
+    }
     else
     {
-        printf("  (skipped: %s not found; set --data or AENL_DATA_DIR)\n", rec);
+        printf("  (skipped: %s not found)\n", rec_len > 0 ? rec : datadir);
     }
     printf("%s: %s\n", failures ? "demo finished with errors" : "demo done", outdir);
     return failures ? AENL_EXIT_FAIL : AENL_EXIT_OK;

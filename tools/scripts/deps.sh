@@ -8,6 +8,7 @@ if [[ ${1:-all} == all ]]; then
   want+=(gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi)
   want+=(clang libclang-rt-14-dev valgrind) # run_fuzz.sh (libFuzzer runtime), run_valgrind.sh
   want+=(clang-tidy cppcheck)                # test_all.sh static analysis (AENL_STATIC_ANALYSIS)
+  want+=(man-db)                             # the install check reads the installed man page
 fi
 missing=()
 for p in "${want[@]}"; do

@@ -69,4 +69,14 @@ void aenl_outfile_abort(aenl_outfile_t *of);
 /** Remove every temporary still open (called at exit; also usable by a signal handler). */
 void aenl_outfile_abort_all(void);
 
+/**
+ * @brief The path of one of aenl's own files (`rel`: "plot/moments.gp", "examples/x.ini", a
+ *        folder such as "source") in the first of these folders that holds it:
+ *        $AENL_SHARE_DIR; share/aenl beside the executable's folder (BIN/../share/aenl, which
+ *        is where `cmake --install` puts them, so an installed tree can be moved anywhere;
+ *        the build tree has the same layout); the folder the build was configured to install
+ *        to. AENL_E_IO with a message naming the folders searched when none holds it.
+ */
+aenl_status_t aenl_share_path(const char *rel, char *buf, size_t n, aenl_err_t *err);
+
 #endif /* AENL_TOOLS_IO_H */

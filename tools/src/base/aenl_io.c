@@ -20,6 +20,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -544,4 +545,62 @@ void aenl_outfile_abort(aenl_outfile_t *of)
     }
     free(of->path);
     outfile_zero(of);
+}
+
+/* ---- aenl's own files ------------------------------------------------------------------------ */
+
+#ifndef AENL_SHARE_DIR
+#define AENL_SHARE_DIR "/usr/local/share/aenl"
+#endif
+
+/* BIN/../share/aenl for the running executable, or "" when /proc/self/exe cannot be read. */
+static void share_beside_exe(char *buf, size_t n)
+{
+    char exe[4096];
+    buf[0] = '\0';
+    const ssize_t len = readlink("/proc/self/exe", exe, sizeof(exe) - 1u);
+    if (len <= 0)
+    {
+        return;
+    }
+    exe[len] = '\0';
+    char *slash = strrchr(exe, '/');
+    if (slash == NULL)
+    {
+        return;
+    }
+    *slash = '\0';
+    const int w = snprintf(buf, n, "%s/../share/aenl", exe);
+    if (w < 0 || (size_t)w >= n)
+    {
+        buf[0] = '\0';
+    }
+}
+
+aenl_status_t aenl_share_path(const char *rel, char *buf, size_t n, aenl_err_t *err)
+{
+    char beside[4200];
+    share_beside_exe(beside, sizeof(beside));
+    const char *env = getenv("AENL_SHARE_DIR");
+    const char *dirs[3] = {env, beside, AENL_SHARE_DIR};
+    for (size_t i = 0; i < 3; ++i)
+    {
+        if (dirs[i] == NULL || dirs[i][0] == '\0')
+        {
+            continue;
+        }
+        struct stat sb;
+        const int len = snprintf(buf, n, "%s/%s", dirs[i], rel);
+        if (len > 0 && (size_t)len < n && stat(buf, &sb) == 0)
+        {
+            return AENL_OK;
+        }
+    }
+    aenl_err_set(err, "%s not found (looked in $AENL_SHARE_DIR = '%s', '%s' and '%s')", rel,
+                 env != NULL ? env : "", beside, AENL_SHARE_DIR);
+    if (n > 0)
+    {
+        buf[0] = '\0';
+    }
+    return AENL_E_IO;
 }

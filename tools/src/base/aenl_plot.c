@@ -63,23 +63,22 @@ int aenl_plot_available(void)
 aenl_status_t aenl_plot_script_path(const char *script, char *buf, size_t n, aenl_err_t *err)
 {
     const char *env = getenv("AENL_PLOT_DIR");
-    const char *dirs[3] = {env, AENL_SOURCE_DIR "/tools/plot", AENL_SHARE_DIR "/plot"};
-    for (size_t i = 0; i < 3; ++i)
+    if (env != NULL && env[0] != '\0')
     {
-        if (dirs[i] == NULL || dirs[i][0] == '\0')
-        {
-            continue;
-        }
-        const int len = snprintf(buf, n, "%s/%s.gp", dirs[i], script);
+        const int len = snprintf(buf, n, "%s/%s.gp", env, script);
         if (len > 0 && (size_t)len < n && file_exists(buf))
         {
             return AENL_OK;
         }
     }
-    aenl_err_set(err,
-                 "plot script '%s.gp' not found (looked in $AENL_PLOT_DIR, %s/tools/plot, %s/plot)",
-                 script, AENL_SOURCE_DIR, AENL_SHARE_DIR);
-    return AENL_E_ARG;
+    char rel[256];
+    const int len = snprintf(rel, sizeof(rel), "plot/%s.gp", script);
+    if (len < 0 || (size_t)len >= sizeof(rel))
+    {
+        aenl_err_set(err, "plot script name '%s' too long", script);
+        return AENL_E_ARG;
+    }
+    return aenl_share_path(rel, buf, n, err);
 }
 
 aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, size_t n_vars,

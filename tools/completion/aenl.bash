@@ -1,0 +1,20 @@
+# SPDX-License-Identifier: MIT
+# bash completion for aenl: subcommands, then the options that `aenl SUBCOMMAND --help` lists
+# (read from the installed binary, so the list is always the binary's own), then file names.
+_aenl() {
+  local cur=${COMP_WORDS[COMP_CWORD]}
+  if [[ $COMP_CWORD -eq 1 ]]; then
+    local subs
+    subs=$(aenl --help 2>/dev/null | awk '/^  [a-z]/ {print $1}')
+    mapfile -t COMPREPLY < <(compgen -W "$subs --help --version" -- "$cur")
+    return
+  fi
+  if [[ $cur == -* ]]; then
+    local opts
+    opts=$(aenl "${COMP_WORDS[1]}" --help 2>/dev/null | grep -o -- '--[a-z][a-z0-9-]*' | sort -u)
+    mapfile -t COMPREPLY < <(compgen -W "$opts --help" -- "$cur")
+    return
+  fi
+  mapfile -t COMPREPLY < <(compgen -f -- "$cur")
+}
+complete -o filenames -F _aenl aenl
