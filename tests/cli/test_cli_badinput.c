@@ -177,8 +177,23 @@ static void run_cases(const bad_case_t *cases, size_t n)
 typedef struct
 {
     const char *truncated, *binary, *empty, *header, *ragged, *nonnum, *allnan, *inf, *dup,
-        *nonmono, *reptime, *huge, *nantime;
+        *nonmono, *reptime, *huge, *nantime, *gap, *jitter;
 } csv_set_t;
+
+/* t,alpha,xi sampled at 0.01 s with a 1 s dropout after row 150 (gap) or with every other time
+ * 0.0015 s early (jitter, +-15 % of the step). */
+static const char *timed_csv(const char *name, int jitter)
+{
+    size_t pos = (size_t)snprintf(g_text, sizeof(g_text), "t,alpha,xi\n");
+    for (size_t i = 0; i < g_rows; ++i)
+    {
+        double t = 0.01 * (double)i;
+        t += jitter ? ((i % 2u) ? -0.0015 : 0.0) : (i > 150u ? 1.0 : 0.0);
+        pos += (size_t)snprintf(g_text + pos, sizeof(g_text) - pos, "%.4f,%.6f,%.6f\n", t,
+                                sin(30.0 * t) + 0.1 * sin(310.0 * t), 0.5 * cos(30.0 * t));
+    }
+    return put_file(name, g_text);
+}
 
 static csv_set_t make_csv_set(void)
 {
@@ -210,6 +225,8 @@ static csv_set_t make_csv_set(void)
     s.reptime = signal_csv("b_reptime.csv", "t,alpha,xi", 20, "0.19,0.1,0.2");
     s.huge = signal_csv("b_huge.csv", "t,alpha,xi", 30, "0.30,1e300,0.2");
     s.nantime = signal_csv("b_nantime.csv", "t,alpha,xi", 30, "nan,0.1,0.2");
+    s.gap = timed_csv("b_gap.csv", 0);
+    s.jitter = timed_csv("b_jitter.csv", 1);
     size_t pos = (size_t)snprintf(g_text, sizeof(g_text), "t,alpha,xi\n");
     for (int i = 0; i < 50; ++i)
     {
@@ -240,6 +257,14 @@ static void test_cli_badinput_moments(void)
         {"non-monotonic time", MOM(s.nonmono), "b_nonmono.csv: column 't', data row 21", NULL},
         {"repeated time", MOM(s.reptime), "b_reptime.csv: column 't', data row 21", NULL},
         {"NaN time", MOM(s.nantime), "b_nantime.csv: column 't', data row 31", NULL},
+        {"time gap", MOM(s.gap),
+         "b_gap.csv: column 't', data row 152: time step 1.01 where the record's step is 0.01 (a "
+         "gap)",
+         NULL},
+        {"time jitter", MOM(s.jitter),
+         "b_jitter.csv: column 't', data row 3: time step 0.0115 where the record's step is 0.0085 "
+         "(uneven steps)",
+         NULL},
         {"huge value", MOM(s.huge), "b_huge.csv: column 'alpha', data row 31", NULL},
         {"unknown option",
          {"moments", good, "--channel", "alpha", "--bogus", NULL},
@@ -290,6 +315,18 @@ static void test_cli_badinput_identify(void)
         {"non-monotonic time", IDN(s.nonmono), "b_nonmono.csv: column 't', data row 21", NULL},
         {"repeated time", IDN(s.reptime), "b_reptime.csv: column 't', data row 21", NULL},
         {"NaN time", IDN(s.nantime), "b_nantime.csv: column 't', data row 31", NULL},
+        {"time gap", IDN(s.gap),
+         "b_gap.csv: column 't', data row 152: time step 1.01 where the record's step is 0.01 (a "
+         "gap)",
+         NULL},
+        {"time jitter", IDN(s.jitter),
+         "b_jitter.csv: column 't', data row 3: time step 0.0115 where the record's step is 0.0085 "
+         "(uneven steps)",
+         NULL},
+        {"time gap, test",
+         {"identify", s.gap, "--method", "test", NULL},
+         "b_gap.csv: column 't', data row 152",
+         NULL},
         {"huge value", IDN(s.huge), "b_huge.csv: column 'alpha', data row 31", NULL},
         {"unknown channel",
          {"identify", good, "--channel", "nope", NULL},

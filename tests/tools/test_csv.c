@@ -820,11 +820,64 @@ static void test_share_path_order_and_error(void)
     TEST_ASSERT_EQUAL_INT(0, rmdir(dir));
 }
 
+/* Time column names: the bases t, time, tau, timestamp in any case, with a unit of time. */
+static void test_csv_time_names(void)
+{
+    const char *yes[] = {"t",        "T",      "time",       "Time [s]", "time_s",
+                         "t (s)",    "t(s)",   "TIMESTAMP",  "tau",      "time (ms)",
+                         "Time_sec", "t [us]", "timestamp_s"};
+    const char *no[] = {"theta",  "t_alpha", "timex", "tau2",     "alpha", "time [m]",
+                        "time (", "t []",    "",      "time_s_2", "tt",    "xi"};
+    for (size_t i = 0; i < sizeof(yes) / sizeof(yes[0]); ++i)
+    {
+        TEST_ASSERT_TRUE_MESSAGE(aenl_csv_is_time_name(yes[i]), yes[i]);
+    }
+    for (size_t i = 0; i < sizeof(no) / sizeof(no[0]); ++i)
+    {
+        TEST_ASSERT_FALSE_MESSAGE(aenl_csv_is_time_name(no[i]), no[i]);
+    }
+}
+
+/* Uniform sampling: exact steps and printed times rounded to 1e-5 s at 1024 Hz (steps 8 % apart)
+ * pass; a dropout and +-20 % jitter are caught at their row, with the step and the reference. */
+static void test_time_steps(void)
+{
+    aenl_time_steps_t s;
+    double step = 0.0;
+    double ref = 0.0;
+    memset(&s, 0, sizeof(s));
+    for (int k = 0; k < 30000; ++k)
+    {
+        const double t = floor((double)k / 1024.0 * 1e5 + 0.5) / 1e5;
+        TEST_ASSERT_TRUE(aenl_time_steps_take(&s, t, &step, &ref));
+    }
+    memset(&s, 0, sizeof(s));
+    int bad = -1;
+    for (int k = 0; k < 1000 && bad < 0; ++k)
+    {
+        const double t = 0.002 * (double)k + (k >= 500 ? 1.0 : 0.0);
+        bad = aenl_time_steps_take(&s, t, &step, &ref) ? -1 : k;
+    }
+    TEST_ASSERT_EQUAL_INT(500, bad);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.002, step);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.002, ref);
+    memset(&s, 0, sizeof(s));
+    bad = -1;
+    for (int k = 0; k < 1000 && bad < 0; ++k)
+    {
+        const double t = 0.002 * (double)k + ((k % 2) ? 0.0004 : 0.0);
+        bad = aenl_time_steps_take(&s, t, &step, &ref) ? -1 : k;
+    }
+    TEST_ASSERT_EQUAL_INT(2, bad);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_err_keeps_first_cause);
     RUN_TEST(test_share_path_order_and_error);
+    RUN_TEST(test_csv_time_names);
+    RUN_TEST(test_time_steps);
     RUN_TEST(test_table_round_trip_is_bit_exact);
     RUN_TEST(test_csv_writer_streams_rows);
     RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);

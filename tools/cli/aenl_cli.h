@@ -36,8 +36,11 @@ int aenl_cli_positional(const char *cmd, const char *arg, const char **slot, con
 /** The value after option argv[*i] (advancing *i), or NULL after printing "needs a value". */
 const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
 
-/** 1 for the names a time column goes by: t, t_s, time, time_s, tau. */
+/** 1 for the names a time column goes by (aenl_csv_is_time_name). */
 int aenl_cli_is_time_column(const char *name);
+/** The message for a time step that breaks uniform sampling (aenl_time_steps_take). */
+void aenl_cli_time_step_error(const char *cmd, const char *path, const char *column, size_t row,
+                              double step, double ref);
 /** Column of `channel` (or of the only non-time column when NULL); -1 after printing why. */
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
                            const char *channel);
@@ -47,9 +50,10 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
 
 /**
  * @brief Check a record before use: every time column (aenl_cli_is_time_column) holds finite,
- *        strictly increasing values, and column `col` (all non-time columns when col < 0) holds
- *        at least one finite value and none beyond +-AENL_CLI_MAX_ABS. On failure prints one
- *        message naming the file, the column and the data row, and returns -1; else 0.
+ *        strictly increasing, equally spaced values (within AENL_TIME_STEP_TOL), and column `col`
+ * (all non-time columns when col < 0) holds at least one finite value and none beyond
+ * +-AENL_CLI_MAX_ABS. On failure prints one message naming the file, the column and the data row,
+ * and returns -1; else 0.
  */
 int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *path, long col);
 

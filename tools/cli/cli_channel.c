@@ -15,6 +15,16 @@ int aenl_cli_is_time_column(const char *name)
     return aenl_csv_is_time_name(name);
 }
 
+void aenl_cli_time_step_error(const char *cmd, const char *path, const char *column, size_t row,
+                              double step, double ref)
+{
+    aenl_cli_error(cmd,
+                   "%s: column '%s', data row %zu: time step %.6g where the record's step is "
+                   "%.6g (%s): the samples are taken as equally spaced; cut the record there or "
+                   "resample it",
+                   path, column, row, step, ref, step > 1.5 * ref ? "a gap" : "uneven steps");
+}
+
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
                            const char *channel)
 {
@@ -62,6 +72,8 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
         const double *v = aenl_table_col(t, c);
         if (aenl_cli_is_time_column(t->names[c]))
         {
+            aenl_time_steps_t steps;
+            memset(&steps, 0, sizeof(steps));
             for (size_t r = 0; r < t->n_rows; ++r)
             {
                 if (isnan(v[r]))
@@ -76,6 +88,13 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
                                    "%s: column '%s', data row %zu: time %.10g does not increase "
                                    "(previous %.10g)",
                                    path, t->names[c], r + 1u, v[r], v[r - 1u]);
+                    return -1;
+                }
+                double step = 0.0;
+                double ref = 0.0;
+                if (!aenl_time_steps_take(&steps, v[r], &step, &ref))
+                {
+                    aenl_cli_time_step_error(cmd, path, t->names[c], r + 1u, step, ref);
                     return -1;
                 }
             }

@@ -88,7 +88,8 @@ static void help(void)
 #define MAX_TIME_COLS 4
 
 /* A source that forwards the CSV source's rows and checks what aenl_cli_check_record checks on a
- * table, row by row: every time column (aenl_csv_is_time_name) finite and strictly increasing,
+ * table, row by row: every time column (aenl_csv_is_time_name) finite, strictly increasing and
+ * equally spaced,
  * values within +-AENL_CLI_MAX_ABS, at least one finite and two distinct values per channel read,
  * at least one data row. It also counts the rows and keeps the time of the row last read (the
  * first time column, else the row index) for the time-series figure. */
@@ -101,6 +102,7 @@ typedef struct
     size_t rows;
     size_t n_time, t_col[MAX_TIME_COLS]; /* time columns of the file */
     double t_prev[MAX_TIME_COLS];
+    aenl_time_steps_t steps[MAX_TIME_COLS];
     double t_now;    /* time (or index) of the row last read */
     char t_name[64]; /* name of the first time column ("row" when there is none) */
     size_t *n_finite;
@@ -122,6 +124,7 @@ static aenl_status_t checked_open(void *ctx, aenl_err_t *err)
     const aenl_status_t st = c->inner->open(c->inner->ctx, err);
     c->failed |= (st != AENL_OK);
     c->n_time = 0;
+    memset(c->steps, 0, sizeof(c->steps));
     (void)snprintf(c->t_name, sizeof(c->t_name), "row");
     if (st == AENL_OK)
     {
@@ -197,6 +200,18 @@ static int check_time(checked_t *c, aenl_err_t *err)
                          "%s: column '%s', data row %zu: time %.10g does not increase (previous "
                          "%.10g)",
                          c->path, name, c->rows, t, c->t_prev[i]);
+            return -1;
+        }
+        double step = 0.0;
+        double ref = 0.0;
+        if (!aenl_time_steps_take(&c->steps[i], t, &step, &ref))
+        {
+            aenl_err_set(err,
+                         "%s: column '%s', data row %zu: time step %.6g where the record's step "
+                         "is %.6g (%s): the samples are taken as equally spaced; cut the record "
+                         "there or resample it",
+                         c->path, name, c->rows, step, ref,
+                         step > 1.5 * ref ? "a gap" : "uneven steps");
             return -1;
         }
         c->t_prev[i] = t;

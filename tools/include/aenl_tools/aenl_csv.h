@@ -36,8 +36,32 @@ unsigned long aenl_csv_line(const aenl_csv_t *csv);
 /** The path as given to aenl_csv_open. */
 const char *aenl_csv_path(const aenl_csv_t *csv);
 void aenl_csv_close(aenl_csv_t *csv);
-/** 1 for the names a time column goes by: t, t_s, time, time_s, tau. */
+/**
+ * 1 for the names a time column goes by: t, time, tau or timestamp, in any case, alone or with
+ * a unit of time (s, sec, secs, second, seconds, ms, us, ns) after '_' or in brackets, with or
+ * without a space ("t_s", "Time [s]", "time (ms)", "TIMESTAMP").
+ */
 int aenl_csv_is_time_name(const char *name);
+
+/** Largest relative departure of a time step from the record's step (gaps and jitter). */
+#define AENL_TIME_STEP_TOL 0.1
+
+/** Check of uniform sampling, one time value at a time (zero it before the first). */
+typedef struct aenl_time_steps
+{
+    double t0, t_prev; /* first and last value seen */
+    size_t k;          /* values seen */
+} aenl_time_steps_t;
+
+/**
+ * @brief Take the next time value t (finite, larger than the last). Returns 1 when its step
+ *        t − t_prev lies within AENL_TIME_STEP_TOL of the record's step so far, (t_prev −
+ *        t0) / (k − 1): a mean over every earlier step, so the rounding of printed times does
+ *        not accumulate in it. Returns 0 for a gap (a dropout, a missing sample) or jitter,
+ *        with the step and the reference in *step and *ref. Every value before the third is
+ *        accepted.
+ */
+int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *ref);
 
 /* ---- whole table in memory --------------------------------------------------------------- */
 

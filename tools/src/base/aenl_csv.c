@@ -903,15 +903,85 @@ void aenl_csv_writer_abort(aenl_csv_writer_t *w)
     }
 }
 
-int aenl_csv_is_time_name(const char *name)
+/* 1 when the first n characters of a equal b, ignoring ASCII case. */
+static int equal_nocase(const char *a, const char *b, size_t n)
 {
-    static const char *const k_time[] = {"t", "t_s", "time", "time_s", "tau"};
-    for (size_t i = 0; i < sizeof(k_time) / sizeof(k_time[0]); ++i)
+    for (size_t i = 0; i < n; ++i)
     {
-        if (strcmp(name, k_time[i]) == 0)
+        const int ca = (a[i] >= 'A' && a[i] <= 'Z') ? a[i] - 'A' + 'a' : a[i];
+        if (ca != b[i])
+        {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* 1 when the n characters at s name a unit of time (any case). */
+static int is_unit(const char *s, size_t n)
+{
+    static const char *const k_units[] = {"s",       "sec", "secs", "second",
+                                          "seconds", "ms",  "us",   "ns"};
+    for (size_t i = 0; i < sizeof(k_units) / sizeof(k_units[0]); ++i)
+    {
+        if (strlen(k_units[i]) == n && equal_nocase(s, k_units[i], n))
         {
             return 1;
         }
     }
     return 0;
+}
+
+int aenl_csv_is_time_name(const char *name)
+{
+    static const char *const k_time[] = {"timestamp", "time", "tau", "t"};
+    const size_t len = strlen(name);
+    for (size_t i = 0; i < sizeof(k_time) / sizeof(k_time[0]); ++i)
+    {
+        const size_t nb = strlen(k_time[i]);
+        if (len < nb || !equal_nocase(name, k_time[i], nb))
+        {
+            continue;
+        }
+        const char *rest = name + nb;
+        size_t nr = len - nb;
+        if (nr == 0)
+        {
+            return 1;
+        }
+        if (rest[0] == '_')
+        {
+            return is_unit(rest + 1, nr - 1u);
+        }
+        if (rest[0] == ' ')
+        {
+            rest++;
+            nr--;
+        }
+        if (nr >= 3 &&
+            ((rest[0] == '[' && rest[nr - 1u] == ']') || (rest[0] == '(' && rest[nr - 1u] == ')')))
+        {
+            return is_unit(rest + 1, nr - 2u);
+        }
+        return 0;
+    }
+    return 0;
+}
+
+int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *ref)
+{
+    int ok = 1;
+    if (s->k == 0)
+    {
+        s->t0 = t;
+    }
+    else if (s->k >= 2)
+    {
+        *step = t - s->t_prev;
+        *ref = (s->t_prev - s->t0) / (double)(s->k - 1u);
+        ok = fabs(*step - *ref) <= AENL_TIME_STEP_TOL * *ref;
+    }
+    s->t_prev = t;
+    s->k++;
+    return ok;
 }

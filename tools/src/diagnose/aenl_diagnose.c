@@ -793,12 +793,6 @@ static void spec_step(const spec_t *sp, double *step)
 
 /* ---- the record ----------------------------------------------------------------------------- */
 
-static int is_time_name(const char *s)
-{
-    return strcmp(s, "t") == 0 || strcmp(s, "t_s") == 0 || strcmp(s, "time") == 0 ||
-           strcmp(s, "time_s") == 0 || strcmp(s, "tau") == 0;
-}
-
 static aenl_status_t take_record(const aenl_table_t *t, const aenl_sim_run_t *run,
                                  aenl_diagnose_result_t *r, const char *const *names,
                                  aenl_err_t *err)
@@ -806,7 +800,7 @@ static aenl_status_t take_record(const aenl_table_t *t, const aenl_sim_run_t *ru
     long tc = -1;
     for (size_t c = 0; c < t->n_cols; ++c)
     {
-        if (is_time_name(t->names[c]))
+        if (aenl_csv_is_time_name(t->names[c]))
         {
             tc = (long)c;
             break;
