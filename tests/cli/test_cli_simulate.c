@@ -200,6 +200,33 @@ static void test_cli_option_conventions(void)
     TEST_ASSERT_EQUAL_size_t(0, r.n_out);
 }
 
+/* The figure's format follows the output's extension: PNG, SVG and PDF by their signatures. */
+static void test_cli_plot_format_from_extension(void)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
+    {
+        TEST_IGNORE_MESSAGE("gnuplot not installed");
+    }
+    const char *sim[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "fmt.csv", NULL};
+    cli_result_t r;
+    cli_run(&r, sim);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    const char *names[] = {"fmt.png", "fmt.svg", "fmt.PDF"};
+    const char *sig[] = {"\x89PNG", "<?xml", "%PDF"};
+    for (size_t i = 0; i < 3; ++i)
+    {
+        const char *plot[] = {"plot", "timeseries", "fmt.csv", "-o", names[i], NULL};
+        cli_run(&r, plot);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+        char path[600];
+        static char buf[1 << 20];
+        (void)snprintf(path, sizeof(path), "%s/%s", AENL_TEST_TMP_DIR, names[i]);
+        const size_t n = cli_slurp(path, buf, sizeof(buf));
+        TEST_ASSERT_TRUE_MESSAGE(n > 100, names[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(buf, sig[i], strlen(sig[i])), names[i]);
+    }
+}
+
 static void test_cli_simulate_same_seed_same_file(void)
 {
     const char *a1[] = {"simulate", EXAMPLES "paper_hysteresis_pitch.ini", "-o", "seed_a.csv",
@@ -306,6 +333,7 @@ int main(void)
     RUN_TEST(test_cli_simulate_writes_the_force_column);
     RUN_TEST(test_cli_version);
     RUN_TEST(test_cli_option_conventions);
+    RUN_TEST(test_cli_plot_format_from_extension);
     RUN_TEST(test_cli_simulate_same_seed_same_file);
     RUN_TEST(test_cli_simulate_bad_ini);
     RUN_TEST(test_cli_flutter_json);

@@ -224,6 +224,19 @@ int aenl_cmd_plot(int argc, char **argv)
             aenl_cli_error(k_cmd, "%s: a time series needs a time column, a channel and rows", in);
             return AENL_EXIT_USAGE;
         }
+        if (!aenl_cli_is_time_column(t.names[0]))
+        {
+            const int is_moments = aenl_table_find(&t, "lag") >= 0;
+            aenl_cli_error(k_cmd,
+                           "%s: the first column '%s' is not a time column (t, time, tau or "
+                           "timestamp, with or without a unit)%s",
+                           in, t.names[0],
+                           is_moments ? "; this looks like an `aenl moments` output: plot it "
+                                        "with `aenl plot moments`"
+                                      : "");
+            aenl_table_free(&t);
+            return AENL_EXIT_USAGE;
+        }
         const int bad = aenl_cli_check_record(k_cmd, &t, in, -1);
         aenl_table_free(&t);
         if (bad)

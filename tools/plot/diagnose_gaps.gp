@@ -3,7 +3,8 @@
 # replicate noise floor (README "Diagnose: the gap metric"), on a log scale.
 # Variables: in (gaps.csv), out (PNG); optional: title.
 if (!exists("title")) title = ''
-set terminal pngcairo size 800,500 enhanced font ',11'
+aenl_w = 800; aenl_h = 500; aenl_fs = 11
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

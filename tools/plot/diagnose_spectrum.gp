@@ -2,7 +2,8 @@
 # `aenl diagnose`: Welch power spectral density of one channel, measured, baseline and updated.
 # Variables: in (spectrum_<ch>.csv: f,measured,baseline,updated), out (PNG); optional: title.
 if (!exists("title")) title = ''
-set terminal pngcairo size 900,500 enhanced font ',11'
+aenl_w = 900; aenl_h = 500; aenl_fs = 11
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

@@ -6,7 +6,8 @@
 if (!exists("title")) title = ''
 hdr = system(sprintf("head -n 1 '%s' | tr -d '\\r' | tr ',' ' '", in))
 nch = (words(hdr) - 1) / 3
-set terminal pngcairo size 1000, (260 * nch + 80) enhanced font ',10'
+aenl_w = 1000; aenl_h = (260 * nch + 80); aenl_fs = 10
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

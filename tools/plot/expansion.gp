@@ -4,7 +4,8 @@
 # (velocity against position) below. Variables: in (CSV), out (PNG), title, xlabel.
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'
-set terminal pngcairo size 900,900 enhanced font ',11'
+aenl_w = 900; aenl_h = 900; aenl_fs = 11
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

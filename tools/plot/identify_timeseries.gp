@@ -9,7 +9,8 @@ if (!exists("ylabel")) ylabel = 'x'
 if (!exists("marks")) marks = ''
 if (!exists("per_bin")) per_bin = '1'
 if (!exists("tlabel")) tlabel = 'time'
-set terminal pngcairo size 1000,800 enhanced font ',11'
+aenl_w = 1000; aenl_h = 800; aenl_fs = 11
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

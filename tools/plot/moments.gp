@@ -5,7 +5,8 @@
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'
 if (!exists("marks")) marks = ''
-set terminal pngcairo size 900,900 enhanced font ',11'
+aenl_w = 900; aenl_h = 900; aenl_fs = 11
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile columnheaders

@@ -13,7 +13,8 @@ if (ncol < 2) { print sprintf("timeseries.gp: %s has no data columns", in); exit
 if (!exists("tcol_label")) tcol_label = word(hdr, 1)
 npanel = ncol - 1
 panel_h = (npanel > 4) ? 180 : 240
-set terminal pngcairo size width, (panel_h * npanel + 80) enhanced font ',10'
+aenl_w = width; aenl_h = (panel_h * npanel + 80); aenl_fs = 10
+load aenl_term_dir.'/terminal.gp'
 set output out
 set datafile separator comma
 set datafile commentschars '#'

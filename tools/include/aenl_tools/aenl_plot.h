@@ -26,14 +26,17 @@ typedef struct aenl_plot_var
 int aenl_plot_available(void);
 
 /**
- * @brief Run tools/plot/`script`.gp with the given variables, writing the figure to `out_path`.
- * @return AENL_OK; AENL_E_ARG for a value gnuplot could not take (a quote or newline in it) or an
- *         unknown script; AENL_E_IO when gnuplot is missing or fails (message has its stderr tail).
+ * @brief Run the gnuplot script plot/`script`.gp (aenl_share_path) with the given variables,
+ *        writing the figure to `out_path` as PNG, SVG or PDF after its extension (.png, .svg,
+ *        .pdf, any case; PNG for a path without one, such as "-" or a device).
+ * @return AENL_OK; AENL_E_ARG for a value gnuplot could not take (a quote or newline in it), an
+ *         unknown script or another extension; AENL_E_IO when gnuplot is missing or fails (message
+ * has its stderr tail).
  */
 aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, size_t n_vars,
                             const char *out_path, aenl_err_t *err);
 
-/** Path of tools/plot/`script`.gp into buf (size n). AENL_E_ARG when not found. */
+/** Path of plot/`script`.gp into buf (size n): $AENL_PLOT_DIR first, then aenl_share_path. */
 aenl_status_t aenl_plot_script_path(const char *script, char *buf, size_t n, aenl_err_t *err);
 
 #endif /* AENL_TOOLS_PLOT_H */

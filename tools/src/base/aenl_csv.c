@@ -17,6 +17,7 @@
 
 #include "aenl_tools/aenl_csv.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdint.h>
@@ -35,6 +36,7 @@ struct aenl_csv
     size_t n_cols;
     char **names;
     aenl_status_t failed; /* sticky: once a read failed, later calls fail too */
+    size_t data_rows;     /* data rows read so far */
 };
 
 /* ---- small helpers ------------------------------------------------------------------------- */
@@ -207,6 +209,15 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
     for (p = csv->line; *p != '\0'; ++p)
     {
         n += (*p == ',') ? 1U : 0U;
+    }
+    if (n == 1 && strpbrk(csv->line, ";\t") != NULL)
+    {
+        aenl_err_set(err,
+                     "%s:%lu: the header has no comma but a %s: aenl reads comma-separated values "
+                     "with '.' decimals (convert the file, e.g. a spreadsheet's CSV export with "
+                     "',' as separator)",
+                     csv->path, csv->line_no, strchr(csv->line, ';') != NULL ? "semicolon" : "tab");
+        return AENL_E_ARG;
     }
     csv->names = (char **)calloc(n, sizeof *csv->names);
     if (csv->names == NULL)
@@ -408,8 +419,11 @@ static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cel
     v = strtod(cell, &end);
     if (end == cell || *end != '\0' || isnan(v))
     {
-        aenl_err_set(err, "%s:%lu:%lu (%s): not a number '%.60s'", csv->path, csv->line_no,
-                     (unsigned long)(c + 1), csv->names[c], cell);
+        /* a word where the first data row starts is most often a row of units */
+        const int unit_row = csv->data_rows == 0 && c == 0 && isalpha((unsigned char)cell[0]);
+        aenl_err_set(err, "%s:%lu:%lu (%s): not a number '%.60s'%s", csv->path, csv->line_no,
+                     (unsigned long)(c + 1), csv->names[c], cell,
+                     unit_row ? " (a row of units? remove it or start it with '#')" : "");
         return AENL_E_ARG;
     }
     if (isinf(v))
@@ -509,6 +523,7 @@ int aenl_csv_next(aenl_csv_t *csv, double *row, aenl_err_t *err)
         csv->failed = st;
         return (int)st;
     }
+    csv->data_rows++;
     return 1;
 }
 

@@ -7,6 +7,7 @@
 
 #include "aenl_tools/aenl_plot.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
@@ -81,6 +82,30 @@ aenl_status_t aenl_plot_script_path(const char *script, char *buf, size_t n, aen
     return aenl_share_path(rel, buf, n, err);
 }
 
+/* The figure's format from the path's extension (any case): "png", "svg" or "pdf"; PNG for a
+ * path without one ("-", a device); NULL for another extension. */
+static const char *figure_format(const char *path)
+{
+    const char *base = strrchr(path, '/');
+    base = base != NULL ? base + 1 : path;
+    const char *dot = strrchr(base, '.');
+    if (dot == NULL || dot == base)
+    {
+        return "png";
+    }
+    static const char *const k_fmt[] = {"png", "svg", "pdf"};
+    for (size_t i = 0; i < 3; ++i)
+    {
+        if (strlen(dot + 1) == 3 && tolower((unsigned char)dot[1]) == k_fmt[i][0] &&
+            tolower((unsigned char)dot[2]) == k_fmt[i][1] &&
+            tolower((unsigned char)dot[3]) == k_fmt[i][2])
+        {
+            return k_fmt[i];
+        }
+    }
+    return NULL;
+}
+
 aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, size_t n_vars,
                             const char *out_path, aenl_err_t *err)
 {
@@ -104,6 +129,23 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
             return AENL_E_ARG;
         }
     }
+    const char *fmt = figure_format(out_path);
+    if (fmt == NULL)
+    {
+        aenl_err_set(err, "%s: a figure is written as .png, .svg or .pdf (from the extension)",
+                     out_path);
+        return AENL_E_ARG;
+    }
+    char term_dir[4096];
+    const char *slash = strrchr(gp, '/');
+    const size_t dir_len = slash != NULL ? (size_t)(slash - gp) : 1u;
+    if (dir_len >= sizeof(term_dir) || strchr(gp, '\'') != NULL)
+    {
+        aenl_err_set(err, "plot script path %s: too long or holds a quote", gp);
+        return AENL_E_ARG;
+    }
+    memcpy(term_dir, slash != NULL ? gp : ".", dir_len);
+    term_dir[dir_len] = '\0';
     aenl_outfile_t of;
     st = aenl_outfile_open(&of, out_path, err);
     if (st != AENL_OK)
@@ -137,7 +179,7 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         aenl_err_set(err, "%s: a figure's path must not hold a quote", out_path);
         return AENL_E_ARG;
     }
-    cap += strlen(gp_out) + 16;
+    cap += strlen(gp_out) + strlen(term_dir) + 64;
     char *expr = malloc(cap);
     if (expr == NULL)
     {
@@ -145,7 +187,8 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         aenl_err_set(err, "out of memory");
         return AENL_E_IO;
     }
-    size_t pos = (size_t)snprintf(expr, cap, "out='%s';", gp_out);
+    size_t pos = (size_t)snprintf(expr, cap, "out='%s';aenl_fmt='%s';aenl_term_dir='%s';", gp_out,
+                                  fmt, term_dir);
     for (size_t i = 0; i < n_vars; ++i)
     {
         pos += (size_t)snprintf(expr + pos, cap - pos, "%s='%s';", vars[i].name, vars[i].value);

@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_csv.h"
@@ -166,6 +167,17 @@ aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identif
 {
     memset(src, 0, sizeof(*src));
     memset(ctx, 0, sizeof(*ctx));
+    /* The pipeline reads the record more than once (the bandwidth, then the curves): a pipe or
+     * a terminal would give the second pass nothing, or the rest of the stream. */
+    struct stat sb;
+    if (path != NULL && stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
+    {
+        aenl_err_set(err,
+                     "%s: not a regular file: identify reads the record more than once, so save "
+                     "the stream to a file first (or use --method test, which reads it once)",
+                     path);
+        return AENL_E_ARG;
+    }
     aenl_csv_t *csv = NULL;
     aenl_status_t st = aenl_csv_open(&csv, path, err);
     if (st != AENL_OK)
