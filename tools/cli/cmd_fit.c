@@ -114,6 +114,119 @@ typedef struct
     double tol;
 } fit_args_t;
 
+/* Where the value of option `o` is kept as given; NULL when `o` is not such an option. */
+static const char **text_option(const char *o, fit_args_t *a)
+{
+    if (strcmp(o, "--thresholds") == 0)
+    {
+        return &a->thr;
+    }
+    if (strcmp(o, "--channels") == 0)
+    {
+        return &a->channels;
+    }
+    if (strcmp(o, "--freeze") == 0)
+    {
+        return &a->freeze;
+    }
+    if (strcmp(o, "-o") == 0)
+    {
+        return &a->out_ini;
+    }
+    if (strcmp(o, "--c-header") == 0)
+    {
+        return &a->out_h;
+    }
+    if (strcmp(o, "--name") == 0)
+    {
+        return &a->name;
+    }
+    return NULL;
+}
+
+/* 1 for the options whose value parse_setting reads. */
+static int is_setting(const char *o)
+{
+    return strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 || strcmp(o, "--tol") == 0 ||
+           strcmp(o, "--init") == 0;
+}
+
+/* The value v of --init, --states, --iter or --tol: 0, or -1 after printing what is wrong. */
+static int parse_setting(const char *o, const char *v, fit_args_t *a)
+{
+    if (strcmp(o, "--init") == 0)
+    {
+        if (strcmp(v, "arx") == 0)
+        {
+            a->init = AENL_EM_INIT_ARX;
+        }
+        else if (strcmp(v, "subspace") == 0)
+        {
+            a->init = AENL_EM_INIT_SUBSPACE;
+        }
+        else
+        {
+            aenl_cli_error(k_cmd, "--init: '%s' is not arx or subspace", v);
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--states") == 0)
+    {
+        if (aenl_cli_parse_long(k_cmd, "--states", v, 1, AENL_EM_MAX_X, &a->states) != 0)
+        {
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--iter") == 0)
+    {
+        if (aenl_cli_parse_long(k_cmd, "--iter", v, 0, 100000, &a->iter) != 0)
+        {
+            return -1;
+        }
+    }
+    else if (aenl_cli_parse_double(k_cmd, "--tol", v, &a->tol) != 0 || a->tol < 0.0)
+    {
+        if (a->tol < 0.0)
+        {
+            aenl_cli_error(k_cmd, "--tol must be >= 0");
+        }
+        return -1;
+    }
+    return 0;
+}
+
+/* 1 when `o` is a flag (an option without a value), set in a; 0 otherwise. */
+static int set_flag(const char *o, fit_args_t *a)
+{
+    int *flag = NULL;
+    if (strcmp(o, "--json") == 0)
+    {
+        flag = &a->json;
+    }
+    else if (strcmp(o, "--refine") == 0)
+    {
+        flag = &a->refine;
+    }
+    else if (strcmp(o, "--free-c") == 0)
+    {
+        flag = &a->free_c;
+    }
+    else if (strcmp(o, "--modes-from-data") == 0)
+    {
+        flag = &a->modes_from_data;
+    }
+    else if (strcmp(o, "--plain-em") == 0)
+    {
+        flag = &a->plain_em;
+    }
+    if (flag != NULL)
+    {
+        *flag = 1;
+    }
+    return flag != NULL;
+}
+
+/* 0 to go on, 1 after the help, -1 after printing what is wrong. */
 static int parse_args(int argc, char **argv, fit_args_t *a)
 {
     memset(a, 0, sizeof(*a));
@@ -121,105 +234,25 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
     for (int i = 1; i < argc; ++i)
     {
         const char *o = argv[i];
-        const char *v = NULL;
         if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0)
         {
             help();
             return 1;
         }
-        if (strcmp(o, "--thresholds") == 0 || strcmp(o, "--channels") == 0 ||
-            strcmp(o, "--freeze") == 0 || strcmp(o, "-o") == 0 || strcmp(o, "--c-header") == 0 ||
-            strcmp(o, "--name") == 0 || strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 ||
-            strcmp(o, "--tol") == 0 || strcmp(o, "--init") == 0)
+        const char **text = text_option(o, a);
+        if (text != NULL || is_setting(o))
         {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
+            if (v == NULL || (text == NULL && parse_setting(o, v, a) != 0))
             {
                 return -1;
             }
-            if (strcmp(o, "--thresholds") == 0)
+            if (text != NULL)
             {
-                a->thr = v;
-            }
-            else if (strcmp(o, "--channels") == 0)
-            {
-                a->channels = v;
-            }
-            else if (strcmp(o, "--freeze") == 0)
-            {
-                a->freeze = v;
-            }
-            else if (strcmp(o, "-o") == 0)
-            {
-                a->out_ini = v;
-            }
-            else if (strcmp(o, "--c-header") == 0)
-            {
-                a->out_h = v;
-            }
-            else if (strcmp(o, "--name") == 0)
-            {
-                a->name = v;
-            }
-            else if (strcmp(o, "--init") == 0)
-            {
-                if (strcmp(v, "arx") == 0)
-                {
-                    a->init = AENL_EM_INIT_ARX;
-                }
-                else if (strcmp(v, "subspace") == 0)
-                {
-                    a->init = AENL_EM_INIT_SUBSPACE;
-                }
-                else
-                {
-                    aenl_cli_error(k_cmd, "--init: '%s' is not arx or subspace", v);
-                    return -1;
-                }
-            }
-            else if (strcmp(o, "--states") == 0)
-            {
-                if (aenl_cli_parse_long(k_cmd, "--states", v, 1, AENL_EM_MAX_X, &a->states) != 0)
-                {
-                    return -1;
-                }
-            }
-            else if (strcmp(o, "--iter") == 0)
-            {
-                if (aenl_cli_parse_long(k_cmd, "--iter", v, 0, 100000, &a->iter) != 0)
-                {
-                    return -1;
-                }
-            }
-            else if (aenl_cli_parse_double(k_cmd, "--tol", v, &a->tol) != 0 || a->tol < 0.0)
-            {
-                if (a->tol < 0.0)
-                {
-                    aenl_cli_error(k_cmd, "--tol must be >= 0");
-                }
-                return -1;
+                *text = v;
             }
         }
-        else if (strcmp(o, "--json") == 0)
-        {
-            a->json = 1;
-        }
-        else if (strcmp(o, "--refine") == 0)
-        {
-            a->refine = 1;
-        }
-        else if (strcmp(o, "--free-c") == 0)
-        {
-            a->free_c = 1;
-        }
-        else if (strcmp(o, "--modes-from-data") == 0)
-        {
-            a->modes_from_data = 1;
-        }
-        else if (strcmp(o, "--plain-em") == 0)
-        {
-            a->plain_em = 1;
-        }
-        else if (aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
+        else if (!set_flag(o, a) && aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
         {
             return -1;
         }
@@ -466,6 +499,173 @@ static void print_text(const aenl_em_result_t *r, const char *data, const char *
     }
 }
 
+/* --thresholds CH:T1,T2,... into o; thr[cap] gets CH. 0, or -1 after printing what is wrong. */
+static int parse_thresholds(const char *s, aenl_em_opts_t *o, char *thr, size_t cap)
+{
+    const int thr_len = snprintf(thr, cap, "%s", s);
+    if (thr_len < 0 || (size_t)thr_len >= cap)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: value too long (at most %zu characters)", cap - 1);
+        return -1;
+    }
+    char *colon = strrchr(thr, ':');
+    if (colon == NULL || colon == thr)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: '%s' is not CH:T1[,T2,...]", s);
+        return -1;
+    }
+    *colon = '\0';
+    char *items[AENL_EM_MAX_MODES];
+    const int n_thr = split_list(colon + 1, items, AENL_EM_MAX_MODES - 1);
+    if (n_thr <= 0)
+    {
+        aenl_cli_error(k_cmd, "--thresholds: 1 to %d values after '%s:'", AENL_EM_MAX_MODES - 1,
+                       thr);
+        return -1;
+    }
+    o->n_thresholds = (size_t)n_thr;
+    for (int i = 0; i < n_thr; ++i)
+    {
+        if (aenl_cli_parse_double(k_cmd, "--thresholds", items[i], &o->thresholds[i]) != 0)
+        {
+            return -1;
+        }
+        if (i > 0 && !(o->thresholds[i] > o->thresholds[i - 1]))
+        {
+            aenl_cli_error(k_cmd, "--thresholds: values must ascend (%g then %g)",
+                           o->thresholds[i - 1], o->thresholds[i]);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The EM options of the command line; sw_name[cap] gets the switching channel's name. 0, or -1
+ * after printing what is wrong. */
+static int make_opts(const fit_args_t *a, aenl_em_opts_t *o, char *sw_name, size_t cap)
+{
+    aenl_em_opts_default(o);
+    if (a->freeze != NULL && parse_freeze(a->freeze, &o->freeze) != 0)
+    {
+        return -1;
+    }
+    if (a->free_c)
+    {
+        o->freeze &= ~AENL_EM_FREEZE_C;
+    }
+    if (parse_thresholds(a->thr, o, sw_name, cap) != 0)
+    {
+        return -1;
+    }
+    o->max_iter = (size_t)a->iter;
+    o->refine = a->refine;
+    o->modes_from_data = a->modes_from_data;
+    o->tol = a->tol;
+    o->plain_em = a->plain_em;
+    o->init = a->init;
+    return 0;
+}
+
+/* The outputs read from the record: y is n x n_out, row-major. names[i] is filled for i < n_out
+ * (== the fitted model's n_z, which print_json reads); the rest are NULL so that the analyser,
+ * which cannot see that equality through aenl_em_fit, sees no garbage. */
+typedef struct fit_record
+{
+    double *y;
+    size_t n, n_out;
+    const char *names[AENL_EM_MAX_X];
+} fit_record_t;
+
+/* Columns cols[0..n_out-1] of t into rec (rec->y allocated); an exit code. */
+static int copy_outputs(const aenl_table_t *t, const long *cols, size_t n_out, fit_record_t *rec)
+{
+    static char name_buf[AENL_EM_MAX_X][128];
+    rec->y = malloc(t->n_rows * n_out * sizeof(double));
+    if (rec->y == NULL)
+    {
+        aenl_cli_error(k_cmd, "out of memory");
+        return AENL_EXIT_FAIL;
+    }
+    rec->n = t->n_rows;
+    rec->n_out = n_out;
+    for (size_t i = 0; i < n_out; ++i)
+    {
+        /* display copy (t is freed before the fit): a name over 127 characters is shown cut */
+        (void)snprintf(name_buf[i], sizeof(name_buf[i]), "%s", t->names[cols[i]]);
+        rec->names[i] = name_buf[i];
+        const double *col = aenl_table_col(t, (size_t)cols[i]);
+        for (size_t k = 0; k < t->n_rows; ++k)
+        {
+            rec->y[k * n_out + i] = col[k];
+        }
+    }
+    return AENL_EXIT_OK;
+}
+
+/* The record's outputs, checked, into rec; the sample step, the switching output and the state
+ * count into o. An exit code. */
+static int read_record(const fit_args_t *a, const char *sw_name, aenl_em_opts_t *o,
+                       fit_record_t *rec, aenl_err_t *err)
+{
+    memset(rec, 0, sizeof(*rec));
+    aenl_table_t t;
+    if (aenl_table_read(a->data, &t, err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err->msg);
+        return AENL_EXIT_USAGE;
+    }
+    long cols[AENL_EM_MAX_X];
+    size_t n_out = 0, sw = 0;
+    double dt = 0.0;
+    int bad = t.n_rows < 2 || pick_outputs(&t, a, sw_name, cols, &n_out, &sw) != 0;
+    for (size_t i = 0; i < n_out && !bad; ++i)
+    {
+        bad = aenl_cli_check_record(k_cmd, &t, a->data, cols[i]) != 0; /* NaN time, huge, all NaN */
+    }
+    if (bad || n_out == 0 || time_step(&t, a->data, &dt) != 0)
+    {
+        if (t.n_rows < 2)
+        {
+            aenl_cli_error(k_cmd, "%s: fewer than 2 data rows", a->data);
+        }
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    o->dt = dt;
+    o->switch_channel = sw;
+    o->n_states = a->states > 0 ? (size_t)a->states : 4 * n_out;
+    const int rc = copy_outputs(&t, cols, n_out, rec);
+    aenl_table_free(&t);
+    return rc;
+}
+
+/* The model files asked for: the INI, then the C header; the INI is removed when the header
+ * fails (all or nothing). */
+static aenl_status_t write_model(const fit_args_t *a, const aenl_em_model_t *m, aenl_err_t *err)
+{
+    aenl_status_t st = AENL_OK;
+    if (a->out_ini != NULL)
+    {
+        st = aenl_em_write_ini(m, a->out_ini, err);
+    }
+    if (st == AENL_OK && a->out_h != NULL)
+    {
+        char ident_buf[128];
+        const char *ident = a->name; /* checked (identifier, length) by aenl_em_write_c_header */
+        if (ident == NULL)
+        {
+            ident_from_path(a->out_h, ident_buf, sizeof(ident_buf));
+            ident = ident_buf;
+        }
+        st = aenl_em_write_c_header(m, ident, a->out_h, err);
+        if (st != AENL_OK && a->out_ini != NULL && remove(a->out_ini) != 0)
+        {
+            aenl_cli_error(k_cmd, "could not remove %s: %s", a->out_ini, strerror(errno));
+        }
+    }
+    return st;
+}
+
 int aenl_cmd_fit(int argc, char **argv)
 {
     fit_args_t a;
@@ -475,139 +675,28 @@ int aenl_cmd_fit(int argc, char **argv)
         return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
     }
     aenl_em_opts_t o;
-    aenl_em_opts_default(&o);
-    if (a.freeze != NULL && parse_freeze(a.freeze, &o.freeze) != 0)
+    char sw_name[512];
+    if (make_opts(&a, &o, sw_name, sizeof(sw_name)) != 0)
     {
         return AENL_EXIT_USAGE;
     }
-    if (a.free_c)
-    {
-        o.freeze &= ~AENL_EM_FREEZE_C;
-    }
-    /* --thresholds CH:T1,T2,... */
-    char thr[512];
-    const int thr_len = snprintf(thr, sizeof(thr), "%s", a.thr);
-    if (thr_len < 0 || (size_t)thr_len >= sizeof(thr))
-    {
-        aenl_cli_error(k_cmd, "--thresholds: value too long (at most %zu characters)",
-                       sizeof(thr) - 1);
-        return AENL_EXIT_USAGE;
-    }
-    char *colon = strrchr(thr, ':');
-    if (colon == NULL || colon == thr)
-    {
-        aenl_cli_error(k_cmd, "--thresholds: '%s' is not CH:T1[,T2,...]", a.thr);
-        return AENL_EXIT_USAGE;
-    }
-    *colon = '\0';
-    char *items[AENL_EM_MAX_MODES];
-    const int n_thr = split_list(colon + 1, items, AENL_EM_MAX_MODES - 1);
-    if (n_thr <= 0)
-    {
-        aenl_cli_error(k_cmd, "--thresholds: 1 to %d values after '%s:'", AENL_EM_MAX_MODES - 1,
-                       thr);
-        return AENL_EXIT_USAGE;
-    }
-    o.n_thresholds = (size_t)n_thr;
-    for (int i = 0; i < n_thr; ++i)
-    {
-        if (aenl_cli_parse_double(k_cmd, "--thresholds", items[i], &o.thresholds[i]) != 0)
-        {
-            return AENL_EXIT_USAGE;
-        }
-        if (i > 0 && !(o.thresholds[i] > o.thresholds[i - 1]))
-        {
-            aenl_cli_error(k_cmd, "--thresholds: values must ascend (%g then %g)",
-                           o.thresholds[i - 1], o.thresholds[i]);
-            return AENL_EXIT_USAGE;
-        }
-    }
-    o.max_iter = (size_t)a.iter;
-    o.refine = a.refine;
-    o.modes_from_data = a.modes_from_data;
-    o.tol = a.tol;
-    o.plain_em = a.plain_em;
-    o.init = a.init;
-
     aenl_err_t err;
     aenl_err_clear(&err);
-    aenl_table_t t;
-    if (aenl_table_read(a.data, &t, &err) != AENL_OK)
+    fit_record_t rec;
+    const int rc = read_record(&a, sw_name, &o, &rec, &err);
+    if (rc != AENL_EXIT_OK)
     {
-        aenl_cli_error(k_cmd, "%s", err.msg);
-        return AENL_EXIT_USAGE;
+        return rc;
     }
-    long cols[AENL_EM_MAX_X];
-    size_t n_out = 0, sw = 0;
-    double dt = 0.0;
-    int bad = t.n_rows < 2 || pick_outputs(&t, &a, thr, cols, &n_out, &sw) != 0;
-    for (size_t i = 0; i < n_out && !bad; ++i)
-    {
-        bad = aenl_cli_check_record(k_cmd, &t, a.data, cols[i]) != 0; /* NaN time, huge, all NaN */
-    }
-    if (bad || n_out == 0 || time_step(&t, a.data, &dt) != 0)
-    {
-        if (t.n_rows < 2)
-        {
-            aenl_cli_error(k_cmd, "%s: fewer than 2 data rows", a.data);
-        }
-        aenl_table_free(&t);
-        return AENL_EXIT_USAGE;
-    }
-    o.dt = dt;
-    o.switch_channel = sw;
-    o.n_states = a.states > 0 ? (size_t)a.states : 4 * n_out;
-    /* filled for i < n_out (== r.model.n_z, which print_json reads); NULL-initialised so that
-     * the analyser, which cannot see that equality through aenl_em_fit, sees no garbage */
-    const char *names[AENL_EM_MAX_X] = {NULL};
-    static char name_buf[AENL_EM_MAX_X][128];
-    double *y = malloc(t.n_rows * n_out * sizeof(double));
-    if (y == NULL)
-    {
-        aenl_table_free(&t);
-        aenl_cli_error(k_cmd, "out of memory");
-        return AENL_EXIT_FAIL;
-    }
-    for (size_t i = 0; i < n_out; ++i)
-    {
-        /* display copy (t is freed before the fit): a name over 127 characters is shown cut */
-        (void)snprintf(name_buf[i], sizeof(name_buf[i]), "%s", t.names[cols[i]]);
-        names[i] = name_buf[i];
-        const double *col = aenl_table_col(&t, (size_t)cols[i]);
-        for (size_t k = 0; k < t.n_rows; ++k)
-        {
-            y[k * n_out + i] = col[k];
-        }
-    }
-    const size_t n = t.n_rows;
-    aenl_table_free(&t);
     aenl_em_result_t r;
-    aenl_status_t st = aenl_em_fit(y, n, n_out, &o, &r, &err);
-    free(y);
+    aenl_status_t st = aenl_em_fit(rec.y, rec.n, rec.n_out, &o, &r, &err);
+    free(rec.y);
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s: %s", a.data, err.msg);
         return AENL_EXIT_USAGE;
     }
-    if (a.out_ini != NULL)
-    {
-        st = aenl_em_write_ini(&r.model, a.out_ini, &err);
-    }
-    if (st == AENL_OK && a.out_h != NULL)
-    {
-        char ident_buf[128];
-        const char *ident = a.name; /* checked (identifier, length) by aenl_em_write_c_header */
-        if (ident == NULL)
-        {
-            ident_from_path(a.out_h, ident_buf, sizeof(ident_buf));
-            ident = ident_buf;
-        }
-        st = aenl_em_write_c_header(&r.model, ident, a.out_h, &err);
-        if (st != AENL_OK && a.out_ini != NULL && remove(a.out_ini) != 0) /* all or nothing */
-        {
-            aenl_cli_error(k_cmd, "could not remove %s: %s", a.out_ini, strerror(errno));
-        }
-    }
+    st = write_model(&a, &r.model, &err);
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
@@ -616,11 +705,11 @@ int aenl_cmd_fit(int argc, char **argv)
     }
     if (a.json)
     {
-        print_json(&r, a.data, names);
+        print_json(&r, a.data, rec.names);
     }
     else
     {
-        print_text(&r, a.data, names);
+        print_text(&r, a.data, rec.names);
     }
     aenl_em_result_free(&r);
     return AENL_EXIT_OK;
