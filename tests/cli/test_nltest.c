@@ -427,6 +427,88 @@ static void test_cli_bench_null(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "--level"), r.err);
 }
 
+/* ---- a measured force as a known input -------------------------------------------------------
+ * The 3-DOF section shaken in pitch by a multisine (the project's example of a ground test),
+ * the force written as a column: with the force given, the linear section is linear and the
+ * flap freeplay (half gap 1 deg) is found in beta with its gap. */
+
+#define MULTISINE_HEAD                                                                             \
+    "[model]\ntype = section3dof\nvelocity = 12\n\n"                                               \
+    "[excitation]\ntype = multisine\ndof = pitch\nrms_deg = 0.5\nf_min = 1\nf_max = 20\n"          \
+    "period = 4\nseed = 3\n\n[run]\nduration = 8\ndt = 0.002\n\n[noise]\nsnr = 10\nseed = 7\n"
+
+static const char *multisine_csv(const char *stem, int freeplay)
+{
+    static char csv[2][600];
+    char *out = csv[freeplay ? 1 : 0];
+    char ini_name[64];
+    (void)snprintf(ini_name, sizeof(ini_name), "%s.ini", stem);
+    (void)snprintf(out, 600, "%s.csv", stem);
+    const char *ini =
+        cli_file(ini_name, freeplay ? MULTISINE_HEAD
+                               "\n[flap]\nlaw = freeplay\ndelta_deg = 2\nalpha_f_deg = -1\n"
+                                    : MULTISINE_HEAD);
+    const char *sim[] = {"simulate", ini, "-o", out, NULL};
+    cli_result_t r;
+    cli_run(&r, sim);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    return out;
+}
+
+static void test_cli_identify_with_a_known_input(void)
+{
+    const char *lin = multisine_csv("ms_linear", 0);
+    const char *fp = multisine_csv("ms_freeplay", 1);
+    const char *lin_args[] = {"identify", lin,       "--method", "test",
+                              "--input",  "f_pitch", "--json",   NULL};
+    const char *fp_args[] = {"identify", fp, "--method", "test", "--input=f_pitch", "--json", NULL};
+    cli_result_t r;
+    cli_run(&r, lin_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cJSON *root = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r.out);
+    const cJSON *model = cJSON_GetObjectItem(root, "model");
+    const cJSON *inputs = cJSON_GetObjectItem(model, "inputs");
+    TEST_ASSERT_EQUAL_INT(1, cJSON_GetArraySize(inputs));
+    TEST_ASSERT_EQUAL_STRING("f_pitch", cJSON_GetArrayItem(inputs, 0)->valuestring);
+    TEST_ASSERT_EQUAL_INT(3, cJSON_GetArraySize(cJSON_GetObjectItem(root, "channels")));
+    TEST_ASSERT_EQUAL_STRING(
+        "linear", cJSON_GetObjectItem(cJSON_GetObjectItem(root, "verdict"), "class")->valuestring);
+    cJSON_Delete(root);
+    cli_run(&r, fp_args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    root = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r.out);
+    const cJSON *v = cJSON_GetObjectItem(root, "verdict");
+    TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItem(v, "class")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("beta", cJSON_GetObjectItem(v, "channel")->valuestring);
+    const cJSON *sp = cJSON_GetObjectItem(v, "switch_points");
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(sp));
+    printf("flap freeplay with the force given: %.5f %.5f rad (truth -0.01745 0.01745)\n",
+           cJSON_GetArrayItem(sp, 0)->valuedouble, cJSON_GetArrayItem(sp, 1)->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 2.0 * DEG, -DEG, cJSON_GetArrayItem(sp, 0)->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 2.0 * DEG, DEG, cJSON_GetArrayItem(sp, 1)->valuedouble);
+    cJSON_Delete(root);
+    /* usage: an unknown or time column, twice the same, the channel as input, no --method test */
+    const char *unknown[] = {"identify", lin, "--method", "test", "--input", "force", NULL};
+    const char *timecol[] = {"identify", lin, "--method", "test", "--input", "t", NULL};
+    const char *twice[] = {"identify", lin, "--method", "test", "--input", "f_pitch,f_pitch", NULL};
+    const char *as_channel[] = {"identify", lin,         "--method", "test", "--input",
+                                "f_pitch",  "--channel", "f_pitch",  NULL};
+    const char *moments[] = {"identify", lin, "--input", "f_pitch", NULL};
+    const char *const *cases[] = {unknown, timecol, twice, as_channel, moments};
+    const char *const words[] = {"no such column", "time column", "named twice", "also an --input",
+                                 "goes with --method test"};
+    for (size_t i = 0; i < 5; ++i)
+    {
+        cli_run(&r, cases[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+        TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+        TEST_ASSERT_EQUAL_INT(1, r.err_lines);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, words[i]), r.err);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -438,6 +520,7 @@ int main(void)
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
+    RUN_TEST(test_cli_identify_with_a_known_input);
     RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_cli_bench_null);
     RUN_TEST(test_nlt_linear_records_hold_the_level);

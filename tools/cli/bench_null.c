@@ -116,6 +116,7 @@ typedef struct
     long records, from;
     double level;
     int verbose;
+    int force_given; /* the forced records' force goes to the test as a known input */
 } null_args_t;
 
 static int parse(int argc, char **argv, null_args_t *a)
@@ -124,24 +125,33 @@ static int parse(int argc, char **argv, null_args_t *a)
     a->from = 0;
     a->level = 0.01;
     a->verbose = 0;
+    a->force_given = 0;
     for (int i = 1; i < argc; ++i)
     {
         const char *s = argv[i];
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0)
         {
-            printf("usage: aenl bench null [--records N] [--from K] [--level A] [--verbose]\n\n"
+            printf("usage: aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
+                   "                       [--force-given]\n\n"
                    "The level of `identify --method test` on %ld linear records of the\n"
                    "simulator (free decays, kicked decay trains, first-order and Dryden\n"
                    "turbulence, swept-sine and multisine forcing without the force given; both\n"
                    "models; no noise and SNR 10, 5, 3, 2): every nonlinear verdict is a false\n"
                    "positive. --records N runs records K..N-1 (--from K), --level A the test's\n"
-                   "level (0.01), --verbose a line per record. About 3 s a record.\n",
+                   "level (0.01), --verbose a line per record, --force-given the swept-sine\n"
+                   "and multisine records with their force as a known input (--input).\n"
+                   "About 3 s a record.\n",
                    N_RECORDS);
             return 1;
         }
         if (strcmp(s, "--verbose") == 0 || strcmp(s, "-v") == 0)
         {
             a->verbose = 1;
+            continue;
+        }
+        if (strcmp(s, "--force-given") == 0)
+        {
+            a->force_given = 1;
             continue;
         }
         const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
@@ -200,9 +210,27 @@ static int run_record(size_t i, const null_args_t *a, double *secs, int *reg, in
     aenl_nlt_opts_t o;
     aenl_nlt_opts_default(&o);
     o.level = a->level;
+    double *force = NULL;
+    const double *in[1] = {NULL};
+    if (a->force_given && run.force != AENL_SIM_FORCE_NONE)
+    {
+        force = (double *)malloc(n * sizeof(double));
+        if (force == NULL || aenl_sim_force_series(&run, n, force, &err) != AENL_OK)
+        {
+            printf("  record %zu: no force series: %s\n", i,
+                   force == NULL ? "out of memory" : err.msg);
+            free(force);
+            aenl_sim_result_free(&r);
+            return -1;
+        }
+        in[0] = force;
+        o.input = in;
+        o.n_input = 1;
+    }
     aenl_nlt_result_t res;
     const double t0 = now_s();
     const aenl_status_t st = aenl_nlt_run_columns(cols, n, nc, &o, &res, &err);
+    free(force);
     *secs = now_s() - t0;
     int out = -1;
     if (st != AENL_OK)
@@ -234,9 +262,10 @@ int aenl_bench_null(int argc, char **argv)
     {
         return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
     }
-    printf(
-        "level of identify --method test (level %g) on linear records: records %ld..%ld of %ld\n",
-        a.level, a.from, a.records - 1, N_RECORDS);
+    printf("level of identify --method test (level %g) on linear records: records %ld..%ld of "
+           "%ld%s\n",
+           a.level, a.from, a.records - 1, N_RECORDS,
+           a.force_given ? "; forced records with their force as a known input" : "");
     size_t cnt[N_REG][2][2] = {{{0}}}; /* [regime][noisy][nonlinear] */
     size_t failed = 0;
     double secs_all = 0.0;

@@ -35,7 +35,7 @@ static void help(void)
         "with other seeds), calibrates each candidate effect (freeplay, hysteresis, cubic and\n"
         "quintic polynomial, preload; every DOF whose baseline law is linear) by simulation,\n"
         "and names the one with the least penalised gap, or none.\n"
-        "DATA.csv: a time column (t, t_s, time, time_s or tau) and the model's channels by name\n"
+        "DATA.csv: a time column (t, time, tau or timestamp) and the model's channels by name\n"
         "(airfoil2dof: alpha, xi; section3dof: h, alpha, beta), in the model's units.\n\n"
         "--out DIR        write DIR/updated.ini (runs with `aenl simulate` as is), report.txt,\n"
         "                 gaps.csv, candidates.csv, curves_<ch>.csv, spectrum_<ch>.csv,\n"

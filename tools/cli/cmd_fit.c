@@ -28,7 +28,7 @@ static void help(void)
            "smoother, closed-form M-step), the mode s chosen by the thresholds on channel CH (the\n"
            "seed paper's freeplay: --thresholds alpha:ALPHA_F,ALPHA_F+DELTA). Every data column\n"
            "other than the time column is an output (or those of --channels, CH included).\n"
-           "The sample step comes from the time column (t, t_s, time, time_s or tau; uniform).\n"
+           "The sample step comes from the time column (t, time, tau or timestamp; uniform).\n"
            "Frequencies are |Im s|/(2 pi) with s = ln(lambda)/dt, in cycles per unit of the time\n"
            "column (Hz for seconds); damping = -Re s/|s|.\n"
            "Defaults: 4 states per output, 50 iterations, C = [I 0] fixed, thresholds as given.\n"
@@ -374,7 +374,7 @@ static int time_step(const aenl_table_t *t, const char *path, double *dt)
     }
     if (tc < 0)
     {
-        aenl_cli_error(k_cmd, "%s: no time column (t, t_s, time, time_s or tau)", path);
+        aenl_cli_error(k_cmd, "%s: no time column (t, time, tau or timestamp)", path);
         return -1;
     }
     const double *tv = aenl_table_col(t, (size_t)tc);

@@ -37,13 +37,15 @@ static void help(void)
     printf(
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
         "                     [--no-prefilter] [--forced] [--model BASE.ini]\n"
-        "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n\n"
+        "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n"
+        "                     [--input COL[,COL]]\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
         "channel that carries the nonlinearity. Every column is a channel except the time\n"
-        "column (t, t_s, time, time_s or tau: checked finite and increasing); the file is read\n"
-        "twice, one row at a time, never held whole.\n\n"
+        "column (t, time, tau or timestamp, with or without a unit: checked finite,\n"
+        "increasing and evenly spaced); the file is read twice, one row at a time, never held\n"
+        "whole.\n\n"
         "--json          one JSON object: file, verdict {class, channel, switch_points,\n"
         "                confidence}, channels [{name, class, switch_points, switch_point_std,\n"
         "                confidence, bandwidth, lags}] (docs/identify.md)\n"
@@ -75,7 +77,11 @@ static void help(void)
         "                named when its weight reaches 0.9, else 'undetermined' with the\n"
         "                candidate laws and their weights;\n"
         "                switching points come with 95 %% profile-likelihood intervals. The\n"
-        "                record is held in memory. See docs/identify-test.md\n\n"
+        "                record is held in memory. See docs/identify-test.md\n"
+        "--input COL[,COL]  (with --method test) the named columns are a measured excitation\n"
+        "                (a shaker's force, a gust vane): they drive the linear model as known\n"
+        "                inputs and are not tested; without them a swept or stepped sine is\n"
+        "                mispredicted and read as a law\n\n"
         "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
         "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
@@ -284,6 +290,7 @@ typedef struct
     int moments_only; /* an option that only the moments method takes was given */
     double level;     /* --level */
     int level_given;
+    const char *input; /* --input COL[,COL] */
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -329,6 +336,13 @@ static int parse_args(int argc, char **argv, args_t *a)
             else
             {
                 aenl_cli_error(k_cmd, "--method: '%s' is not a method (moments or test)", v);
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--input") == 0)
+        {
+            if ((a->input = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            {
                 return -1;
             }
         }
@@ -416,9 +430,14 @@ static int parse_args(int argc, char **argv, args_t *a)
         aenl_cli_error(k_cmd, "--level is the test's level: it goes with --method test");
         return -1;
     }
+    if (!a->by_test && a->input != NULL)
+    {
+        aenl_cli_error(k_cmd, "--input goes with --method test (the test takes known inputs)");
+        return -1;
+    }
     if (a->by_test && a->moments_only)
     {
-        aenl_cli_error(k_cmd, "--method test takes --channel, --json and --level only "
+        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --level and --input only "
                               "(--model, --plot, --bandwidth, --no-prefilter and --forced belong "
                               "to the moments method)");
         return -1;
@@ -1494,7 +1513,7 @@ int aenl_cmd_identify(int argc, char **argv)
     }
     if (a.by_test)
     {
-        return aenl_identify_by_test(a.data, a.channel, a.json, a.level);
+        return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level);
     }
     aenl_err_t err;
     aenl_err_clear(&err);

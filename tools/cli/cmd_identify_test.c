@@ -6,13 +6,72 @@
  */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "aenl_cli.h"
+#include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_nltest.h"
 
 static const char *const k_cmd = "identify";
 
-int aenl_identify_by_test(const char *path, const char *channel, int json, double level)
+/* The columns named in `list` (comma-separated) into in[]; their count, or -1 after the error
+ * message. */
+static long input_columns(const aenl_table_t *t, const char *path, const char *list, size_t *in)
+{
+    long n_in = 0;
+    const char *p = list;
+    while (p != NULL && *p != '\0')
+    {
+        const char *comma = strchr(p, ',');
+        const size_t len = comma != NULL ? (size_t)(comma - p) : strlen(p);
+        char name[256];
+        if (len == 0 || len >= sizeof(name))
+        {
+            aenl_cli_error(k_cmd, "--input: '%s' is not a list of column names", list);
+            return -1;
+        }
+        memcpy(name, p, len);
+        name[len] = '\0';
+        const long c = aenl_table_find(t, name);
+        if (c < 0 || aenl_cli_is_time_column(name))
+        {
+            aenl_cli_error(k_cmd, "%s: --input %s: %s", path, name,
+                           c < 0 ? "no such column" : "the time column is not an input");
+            return -1;
+        }
+        for (long k = 0; k < n_in; ++k)
+        {
+            if (in[k] == (size_t)c)
+            {
+                aenl_cli_error(k_cmd, "--input: %s named twice", name);
+                return -1;
+            }
+        }
+        if (n_in == AENL_EM_MAX_U)
+        {
+            aenl_cli_error(k_cmd, "--input: at most %d inputs", AENL_EM_MAX_U);
+            return -1;
+        }
+        in[n_in++] = (size_t)c;
+        p = comma != NULL ? comma + 1 : NULL;
+    }
+    return n_in;
+}
+
+static int is_input(const size_t *in, long n_in, size_t c)
+{
+    for (long k = 0; k < n_in; ++k)
+    {
+        if (in[k] == c)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
+                          double level)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -22,9 +81,18 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
+    size_t in[AENL_EM_MAX_U];
+    const long n_in = inputs != NULL ? input_columns(&t, path, inputs, in) : 0;
     long only = -1;
-    if (channel != NULL && (only = aenl_cli_pick_channel(k_cmd, &t, path, channel)) < 0)
+    if (n_in < 0 ||
+        (channel != NULL && (only = aenl_cli_pick_channel(k_cmd, &t, path, channel)) < 0))
     {
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
+    if (only >= 0 && is_input(in, n_in, (size_t)only))
+    {
+        aenl_cli_error(k_cmd, "--channel %s is also an --input", channel);
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
@@ -33,13 +101,14 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
-    /* the channels: every column but time, or the one named */
+    /* the channels: every column but time and the inputs, or the one named */
     size_t cols[AENL_NLT_MAX_CH];
     const char *names[AENL_NLT_MAX_CH];
     size_t nz = 0;
     for (size_t c = 0; c < t.n_cols; ++c)
     {
-        if (aenl_cli_is_time_column(t.names[c]) || (only >= 0 && (long)c != only))
+        if (aenl_cli_is_time_column(t.names[c]) || is_input(in, n_in, c) ||
+            (only >= 0 && (long)c != only))
         {
             continue;
         }
@@ -55,7 +124,7 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
     }
     if (nz == 0)
     {
-        aenl_cli_error(k_cmd, "%s: no data column (only time)", path);
+        aenl_cli_error(k_cmd, "%s: no channel left to test (only time and inputs)", path);
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
@@ -65,9 +134,18 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
     {
         chan[j] = t.data + cols[j] * n;
     }
+    const double *in_cols[AENL_EM_MAX_U];
+    const char *in_names[AENL_EM_MAX_U];
+    for (long k = 0; k < n_in; ++k)
+    {
+        in_cols[k] = t.data + in[k] * n;
+        in_names[k] = t.names[in[k]];
+    }
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);
     opts.level = level;
+    opts.input = n_in > 0 ? in_cols : NULL;
+    opts.n_input = (size_t)n_in;
     aenl_nlt_result_t res;
     const aenl_status_t st = aenl_nlt_run_columns(chan, n, nz, &opts, &res, &err);
     int rc = AENL_EXIT_OK;
@@ -78,7 +156,7 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
     }
     else if (json)
     {
-        if (aenl_nlt_print_json(stdout, &res, names, path) != AENL_OK)
+        if (aenl_nlt_print_json(stdout, &res, names, in_names, path) != AENL_OK)
         {
             aenl_cli_error(k_cmd, "out of memory while writing the JSON");
             rc = AENL_EXIT_FAIL;
@@ -86,7 +164,7 @@ int aenl_identify_by_test(const char *path, const char *channel, int json, doubl
     }
     else
     {
-        aenl_nlt_print_table(stdout, &res, names, path);
+        aenl_nlt_print_table(stdout, &res, names, in_names, path);
     }
     aenl_table_free(&t);
     return rc;

@@ -65,6 +65,7 @@
 
 #define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
 #define AENL_EM_MAX_X     32 /**< states */
+#define AENL_EM_MAX_U     4  /**< known inputs */
 
 /** Default opts.steady_tol: relative tolerance of the steady-state covariance reuse. */
 #define AENL_EM_STEADY_TOL 1e-10
@@ -90,6 +91,8 @@ typedef struct aenl_em_model
     double dt;                            /**< sample step (time unit of the data) */
     double *A;                            /**< n_modes * n_x * n_x */
     double *b;                            /**< n_modes * n_x */
+    size_t n_u;                           /**< known inputs (0: none) */
+    double *B;                            /**< n_modes * n_x * n_u: x_k += B u_{k-1} */
     double *Q;                            /**< n_modes * n_x * n_x */
     double *C;                            /**< n_z * n_x */
     double *R;                            /**< n_z * n_z */
@@ -116,6 +119,11 @@ typedef struct aenl_em_opts
     int plain_em;        /**< 1: plain EM iterations (default 0: SQUAREM-accelerated EM) */
     int init;            /**< AENL_EM_INIT_* (default AENL_EM_INIT_ARX) */
     size_t ssi_rows;     /**< subspace start: block rows i (default 0: 4 (n_x / n_z + 2)) */
+    const double *u;     /**< known inputs, n x n_u row-major, finite (NULL: none): u_k drives
+                              the transition k -> k+1, x_{k+1} = A x_k + B u_k + b + w_k. B is
+                              estimated with A and b (so A and b must not be frozen); the start
+                              is the delay-embedding regression with the inputs' lags */
+    size_t n_u;          /**< inputs in u (at most AENL_EM_MAX_U) */
     double steady_tol;   /**< steady-state covariance reuse: inside a run of constant mode, once
                               the filter (and smoother) covariance has converged to this relative
                               tolerance, the remaining steps reuse it instead of recomputing it
@@ -155,6 +163,10 @@ aenl_status_t aenl_em_model_alloc(aenl_em_model_t *m, size_t n_x, size_t n_z, si
 void aenl_em_model_free(aenl_em_model_t *m);
 /** Deep copy into a fresh model. */
 aenl_status_t aenl_em_model_copy(aenl_em_model_t *dst, const aenl_em_model_t *src, aenl_err_t *err);
+
+/** Give an allocated model n_u known inputs (B zero; at most AENL_EM_MAX_U). The INI and C-header
+ *  writers, aenl_em_loglik, aenl_em_simulate and aenl_em_to_skf refuse a model with inputs. */
+aenl_status_t aenl_em_model_set_inputs(aenl_em_model_t *m, size_t n_u, aenl_err_t *err);
 
 /**
  * @brief Identify the model from y (n x n_z row-major, NaN = missing sample).

@@ -66,6 +66,10 @@ typedef struct aenl_nlt_opts
     size_t n_states;   /**< states of the linear model (default 0: chosen by BIC among 4 and 6
                             per channel and 12, at most 12) */
     size_t em_iter;    /**< EM iterations of the linear fit (default 200) */
+    const double *const *input; /**< known inputs (a measured force), n_input columns of the
+                                     record's n samples (NULL: none): they drive the linear
+                                     model, x_{t+1} = A x_t + B u_t + b, and are not tested */
+    size_t n_input;             /**< at most AENL_EM_MAX_U */
 } aenl_nlt_opts_t;
 
 /** One channel: the test and, when it rejects, the laws. */
@@ -91,6 +95,7 @@ typedef struct aenl_nlt_channel
 typedef struct aenl_nlt_result
 {
     size_t n_channels, n_samples, n_states;
+    size_t n_inputs;   /**< known inputs the linear model took */
     size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
     double loglik;     /**< of the linear model */
     double level;      /**< the level used */
@@ -132,14 +137,15 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
  *        {states, samples, loglik, impulses}, verdict {class, channel, switch_points,
  * switch_point_lo, switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name,
  * class, statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis}, hardening,
- * switch_points, switch_point_lo, switch_point_hi}]. names: the channels.
+ * switch_points, switch_point_lo, switch_point_hi}], and inputs [names] when the model took
+ * known inputs. names: the channels; input_names: the inputs (NULL when there are none).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                                  const char *path);
+                                  const char *const *input_names, const char *path);
 
 /** The result as a table on `out` (what the JSON holds, for a reader). */
 void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                          const char *path);
+                          const char *const *input_names, const char *path);
 
 #endif /* AENL_TOOLS_NLTEST_H */

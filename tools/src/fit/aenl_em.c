@@ -153,12 +153,13 @@ aenl_status_t aenl_em_model_alloc(aenl_em_model_t *m, size_t n_x, size_t n_z, si
     m->dt = 1.0;
     m->A = calloc(n_modes * n_x * n_x, sizeof(double));
     m->b = calloc(n_modes * n_x, sizeof(double));
+    m->B = calloc(1, sizeof(double)); /* no input yet: aenl_em_model_set_inputs */
     m->Q = calloc(n_modes * n_x * n_x, sizeof(double));
     m->C = calloc(n_z * n_x, sizeof(double));
     m->R = calloc(n_z * n_z, sizeof(double));
     m->x0 = calloc(n_x, sizeof(double));
     m->P0 = calloc(n_x * n_x, sizeof(double));
-    if (!m->A || !m->b || !m->Q || !m->C || !m->R || !m->x0 || !m->P0)
+    if (!m->A || !m->b || !m->B || !m->Q || !m->C || !m->R || !m->x0 || !m->P0)
     {
         aenl_em_model_free(m);
         aenl_err_set(err, "out of memory");
@@ -175,6 +176,7 @@ void aenl_em_model_free(aenl_em_model_t *m)
     }
     free(m->A);
     free(m->b);
+    free(m->B);
     free(m->Q);
     free(m->C);
     free(m->R);
@@ -183,13 +185,42 @@ void aenl_em_model_free(aenl_em_model_t *m)
     memset(m, 0, sizeof(*m));
 }
 
+aenl_status_t aenl_em_model_set_inputs(aenl_em_model_t *m, size_t n_u, aenl_err_t *err)
+{
+    if (n_u > AENL_EM_MAX_U)
+    {
+        aenl_err_set(err, "at most %d inputs (got %zu)", AENL_EM_MAX_U, n_u);
+        return AENL_E_ARG;
+    }
+    double *B = calloc(n_u > 0 ? m->n_modes * m->n_x * n_u : 1u, sizeof(double));
+    if (B == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    free(m->B);
+    m->B = B;
+    m->n_u = n_u;
+    return AENL_OK;
+}
+
 aenl_status_t aenl_em_model_copy(aenl_em_model_t *dst, const aenl_em_model_t *src, aenl_err_t *err)
 {
-    const aenl_status_t st = aenl_em_model_alloc(dst, src->n_x, src->n_z, src->n_modes, err);
+    aenl_status_t st = aenl_em_model_alloc(dst, src->n_x, src->n_z, src->n_modes, err);
     if (st != AENL_OK)
     {
         return st;
     }
+    if (src->n_u > 0)
+    {
+        st = aenl_em_model_set_inputs(dst, src->n_u, err);
+        if (st != AENL_OK)
+        {
+            aenl_em_model_free(dst);
+            return st;
+        }
+    }
+    memcpy(dst->B, src->B, src->n_modes * src->n_x * src->n_u * sizeof(double));
     const size_t nx = src->n_x, nz = src->n_z, nm = src->n_modes;
     dst->switch_channel = src->switch_channel;
     memcpy(dst->thresholds, src->thresholds, sizeof(dst->thresholds));
@@ -208,6 +239,7 @@ static void model_assign(aenl_em_model_t *dst, const aenl_em_model_t *src)
 {
     const size_t nx = src->n_x, nz = src->n_z, nm = src->n_modes;
     memcpy(dst->thresholds, src->thresholds, sizeof(dst->thresholds));
+    memcpy(dst->B, src->B, nm * nx * src->n_u * sizeof(double));
     memcpy(dst->A, src->A, nm * nx * nx * sizeof(double));
     memcpy(dst->b, src->b, nm * nx * sizeof(double));
     memcpy(dst->Q, src->Q, nm * nx * nx * sizeof(double));
@@ -548,7 +580,10 @@ typedef struct
     /* statistics */
     double *S11, *S10, *S00, *s1, *s0, cnt[AENL_EM_MAX_MODES];
     double *Syx, *Sxx, *Syy, ny;
-    double *bE, *be; /* (n_modes+1)^2 * 2 buckets of nn and nx (see add_state_stats) */
+    const double *u; /* known inputs, n x nu (NULL: none) */
+    size_t nu;
+    double *S0u, *S1u, *Suu, *su; /* per mode: sum x_k u_k', x_{k+1} u_k', u_k u_k', u_k */
+    double *bE, *be;              /* (n_modes+1)^2 * 2 buckets of nn and nx (see add_state_stats) */
 } ws_t;
 
 static void ws_free(ws_t *w)
@@ -576,6 +611,10 @@ static void ws_free(ws_t *w)
     free(w->Syy);
     free(w->bE);
     free(w->be);
+    free(w->S0u);
+    free(w->S1u);
+    free(w->Suu);
+    free(w->su);
     memset(w, 0, sizeof(*w));
 }
 
@@ -631,6 +670,28 @@ static aenl_status_t ws_alloc(ws_t *w, const double *y, size_t n, size_t nx, siz
         }
         w->obs[k] = (unsigned char)ok;
     }
+    return AENL_OK;
+}
+
+/* Known inputs u (n x nu) for the workspace's E- and M-steps. */
+static aenl_status_t ws_set_inputs(ws_t *w, const double *u, size_t nu, aenl_err_t *err)
+{
+    if (nu == 0 || u == NULL)
+    {
+        return AENL_OK;
+    }
+    const size_t nm = w->nm, nx = w->nx;
+    w->S0u = calloc(nm * nx * nu, sizeof(double));
+    w->S1u = calloc(nm * nx * nu, sizeof(double));
+    w->Suu = calloc(nm * nu * nu, sizeof(double));
+    w->su = calloc(nm * nu, sizeof(double));
+    if (!w->S0u || !w->S1u || !w->Suu || !w->su)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    w->u = u;
+    w->nu = nu;
     return AENL_OK;
 }
 
@@ -881,6 +942,8 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
         else
         {
             const double *A = m->A + s * nn, *b = m->b + s * nx, *xo = w->xf + (k - 1) * nx;
+            const size_t nu = w->nu;
+            const double *B = m->B + s * nx * nu, *uo = nu > 0 ? w->u + (k - 1) * nu : NULL;
             for (size_t i = 0; i < nx; ++i)
             {
                 double acc = b[i];
@@ -888,6 +951,10 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
                 for (size_t j = 0; j < nx; ++j)
                 {
                     acc += Ai[j] * xo[j];
+                }
+                for (size_t p = 0; p < nu; ++p)
+                {
+                    acc += B[i * nu + p] * uo[p];
                 }
                 xp[i] = acc;
             }
@@ -1067,6 +1134,14 @@ static aenl_status_t rts_backward(ws_t *w)
     memset(w->bE, 0, nb * nn * sizeof(double));
     memset(w->be, 0, nb * nx * sizeof(double));
     w->ny = 0.0;
+    const size_t nu = w->nu;
+    if (nu > 0)
+    {
+        memset(w->S0u, 0, nm * nx * nu * sizeof(double));
+        memset(w->S1u, 0, nm * nx * nu * sizeof(double));
+        memset(w->Suu, 0, nm * nu * nu * sizeof(double));
+        memset(w->su, 0, nm * nu * sizeof(double));
+    }
     double *Ps1 = w->tmp, *Ps = Ps1 + nn, *Pc = Ps + nn, *dx = w->tmp + 10 * nn;
     memcpy(Ps1, w->Pf + (w->slot[n - 1] & 1u) * nn, nn * sizeof(double));
     add_state_stats(w, n - 1, w->xf + (n - 1) * nx, Ps1);
@@ -1134,6 +1209,27 @@ static aenl_status_t rts_backward(ws_t *w)
             }
         }
         w->cnt[s] += 1.0;
+        if (nu > 0) /* the inputs are known: only the means pair with them */
+        {
+            const double *uk = w->u + k * nu;
+            double *S0u = w->S0u + s * nx * nu, *S1u = w->S1u + s * nx * nu;
+            for (size_t i = 0; i < nx; ++i)
+            {
+                for (size_t p = 0; p < nu; ++p)
+                {
+                    S0u[i * nu + p] += xf[i] * uk[p];
+                    S1u[i * nu + p] += xs1[i] * uk[p];
+                }
+            }
+            for (size_t p = 0; p < nu; ++p)
+            {
+                for (size_t p2 = 0; p2 < nu; ++p2)
+                {
+                    w->Suu[s * nu * nu + p * nu + p2] += uk[p] * uk[p2];
+                }
+                w->su[s * nu + p] += uk[p];
+            }
+        }
         add_state_stats(w, k, xf, Psk);
         if (Psk == Ps)
         {
@@ -1168,7 +1264,8 @@ static int posv(double *G, double *B, size_t n, size_t m)
 
 static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
 {
-    const size_t nx = w->nx, nz = w->nz, nn = nx * nx, na = nx + 1;
+    /* regressors of x_{k+1}: (x_k, u_k, 1); the constant is the last, index nc */
+    const size_t nx = w->nx, nz = w->nz, nn = nx * nx, nu = w->nu, nc = nx + nu, na = nc + 1;
     double *G = malloc(na * na * sizeof(double)), *H = malloc(nx * na * sizeof(double));
     double *Gc = malloc(na * na * sizeof(double)), *X = malloc(na * nx * sizeof(double));
     double *W = malloc(nx * na * sizeof(double)), *T = malloc(nx * na * sizeof(double));
@@ -1194,11 +1291,27 @@ static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
                 G[i * na + j] = S00[i * nx + j];
                 H[i * na + j] = S10[i * nx + j];
             }
-            G[i * na + nx] = s0[i];
-            G[nx * na + i] = s0[i];
-            H[i * na + nx] = s1[i];
+            G[i * na + nc] = s0[i];
+            G[nc * na + i] = s0[i];
+            H[i * na + nc] = s1[i];
         }
-        G[nx * na + nx] = c;
+        for (size_t p = 0; p < nu; ++p)
+        {
+            const double *S0u = w->S0u + s * nx * nu, *S1u = w->S1u + s * nx * nu;
+            for (size_t i = 0; i < nx; ++i)
+            {
+                G[i * na + nx + p] = S0u[i * nu + p];
+                G[(nx + p) * na + i] = S0u[i * nu + p];
+                H[i * na + nx + p] = S1u[i * nu + p];
+            }
+            for (size_t q = 0; q < nu; ++q)
+            {
+                G[(nx + p) * na + nx + q] = w->Suu[s * nu * nu + p * nu + q];
+            }
+            G[(nx + p) * na + nc] = w->su[s * nu + p];
+            G[nc * na + nx + p] = w->su[s * nu + p];
+        }
+        G[nc * na + nc] = c;
         double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
         const int fa = (freeze & AENL_EM_FREEZE_A) != 0, fb = (freeze & AENL_EM_FREEZE_B) != 0;
         if (!fa && !fb)
@@ -1216,13 +1329,18 @@ static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
                 st = AENL_E_NOT_PD;
                 goto done;
             }
+            double *B = m->B + s * nx * nu;
             for (size_t i = 0; i < nx; ++i)
             {
                 for (size_t j = 0; j < nx; ++j)
                 {
                     A[i * nx + j] = X[j * nx + i];
                 }
-                b[i] = X[nx * nx + i];
+                for (size_t p = 0; p < nu; ++p)
+                {
+                    B[i * nu + p] = X[(nx + p) * nx + i];
+                }
+                b[i] = X[nc * nx + i];
             }
         }
         else if (fa && !fb)
@@ -1263,14 +1381,19 @@ static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
         }
         if (!(freeze & AENL_EM_FREEZE_Q))
         {
-            /* Q = (S11 - W H' - H W' + W G W') / c with W = [A b] */
+            /* Q = (S11 - W H' - H W' + W G W') / c with W = [A B b] */
+            const double *B = m->B + s * nx * nu;
             for (size_t i = 0; i < nx; ++i)
             {
                 for (size_t j = 0; j < nx; ++j)
                 {
                     W[i * na + j] = A[i * nx + j];
                 }
-                W[i * na + nx] = b[i];
+                for (size_t p = 0; p < nu; ++p)
+                {
+                    W[i * na + nx + p] = B[i * nu + p];
+                }
+                W[i * na + nc] = b[i];
             }
             mm(T, W, G, nx, na, na); /* W G */
             for (size_t i = 0; i < nx; ++i)
@@ -1387,10 +1510,13 @@ static double y_at(const double *y, size_t nz, long k, size_t r)
  * (nx regressors, 1), H: na x nout): at least 2 na transitions, a tiny ridge against collinear
  * regressors, then the solve in place of G (Cholesky when G is a Gram matrix, LU when it pairs
  * instruments with regressors). X receives the coefficients (na x nout). */
+/* Regressors of the delay-embedding start at most: outputs, inputs' lags, the constant. */
+#define LS_MAX_A (AENL_EM_MAX_X + AENL_EM_MAX_X * AENL_EM_MAX_U + 1)
+
 static aenl_status_t mode_regression(double *G, const double *H, size_t na, size_t nout, double cnt,
                                      size_t s, int symmetric, double *X, aenl_err_t *err)
 {
-    const size_t nx = na - 1u;
+    const size_t nx = na - 1u; /* regressors before the constant */
     if (cnt < (double)(2 * na))
     {
         aenl_err_set(err,
@@ -1416,7 +1542,7 @@ static aenl_status_t mode_regression(double *G, const double *H, size_t na, size
     }
     else
     {
-        lapack_int piv[AENL_EM_MAX_X + 1];
+        lapack_int piv[LS_MAX_A];
         info = LAPACKE_dgesv(LAPACK_ROW_MAJOR, (lapack_int)na, (lapack_int)nout, G, (lapack_int)na,
                              piv, X, (lapack_int)nout);
     }
@@ -1431,9 +1557,10 @@ static aenl_status_t mode_regression(double *G, const double *H, size_t na, size
 static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w,
                              aenl_em_model_t *m, int use_iv, aenl_err_t *err)
 {
-    const size_t nx = m->n_x, na = nx + 1, nm = m->n_modes, nn = nx * nx;
-    const size_t p = (nx + nz - 1) / nz; /* embedding depth */
-    double zeta[AENL_EM_MAX_X + 1];
+    const size_t p = (m->n_x + nz - 1) / nz; /* embedding depth */
+    const size_t nu = w->nu, nl = p * nu;    /* the inputs' lags 0 .. p-1 */
+    const size_t nx = m->n_x, nc = nx + nl, na = nc + 1, nm = m->n_modes, nn = nx * nx;
+    double zeta[LS_MAX_A];
     double *G = calloc(na * na, sizeof(double)), *H = calloc(na * nz, sizeof(double));
     double *z = calloc(na, sizeof(double)), *res = calloc(nz * nz, sizeof(double));
     double *pooled = calloc(nz, sizeof(double)), *X = malloc(na * nz * sizeof(double));
@@ -1476,7 +1603,11 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             {
                 continue;
             }
-            z[nx] = 1.0;
+            for (size_t i = 0; i < nl; ++i) /* u_{k-j}, j = i / nu */
+            {
+                z[nx + i] = y_at(w->u, nu, (long)k - (long)(i / nu), i % nu);
+            }
+            z[nc] = 1.0;
             /* instruments: the same embedding p samples earlier (independent of the noise in
              * the regressors and in y_{k+1}); plain least squares when use_iv is 0 */
             for (size_t i = 0; i < nx && ok; ++i)
@@ -1488,7 +1619,11 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             {
                 continue;
             }
-            zeta[nx] = 1.0;
+            for (size_t i = 0; i < nl; ++i) /* the inputs are their own instruments */
+            {
+                zeta[nx + i] = z[nx + i];
+            }
+            zeta[nc] = 1.0;
             add_outer(G, zeta, z, na, 0);
             for (size_t i = 0; i < na; ++i)
             {
@@ -1504,6 +1639,7 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             goto done;
         }
         double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
+        double *B = m->B + s * nx * nu;
         memset(A, 0, nn * sizeof(double));
         memset(b, 0, nx * sizeof(double));
         memset(Q, 0, nn * sizeof(double));
@@ -1513,7 +1649,7 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             {
                 A[r * nx + j] = X[j * nz + r];
             }
-            b[r] = X[nx * nz + r];
+            b[r] = X[nc * nz + r];
         }
         /* residual covariance: (Syy - X' H - H' X + X' G X)/cnt computed directly */
         memset(res, 0, nz * nz * sizeof(double));
@@ -1536,6 +1672,10 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
                 for (size_t j = 0; j < nx; ++j)
                 {
                     acc -= A[r * nx + j] * z[j];
+                }
+                for (size_t i = 0; i < nl; ++i)
+                {
+                    acc -= X[(nx + i) * nz + r] * y_at(w->u, nu, (long)k - (long)(i / nu), i % nu);
                 }
                 e[r] = acc;
                 ok = isfinite(acc);
@@ -1571,6 +1711,10 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             if (i + nz < nx)
             {
                 A[i * nx + i + nz] = 1.0;
+            }
+            for (size_t q = 0; q < nu; ++q) /* input lag j enters block j */
+            {
+                B[i * nu + q] = X[(nx + j * nu + q) * nz + r];
             }
         }
     }
@@ -1967,7 +2111,8 @@ done:
 static aenl_status_t start_model(const double *y, size_t n, size_t nz, const ws_t *w,
                                  aenl_em_model_t *m, const aenl_em_opts_t *o, aenl_err_t *err)
 {
-    if (o->init != AENL_EM_INIT_SUBSPACE)
+    /* the subspace start is output-only: with inputs, the regression that takes their lags */
+    if (o->init != AENL_EM_INIT_SUBSPACE || w->nu > 0)
     {
         return ls_init(y, n, nz, w, m, !o->no_iv, err);
     }
@@ -2067,15 +2212,17 @@ static size_t param_arrays(const aenl_em_model_t *m, double **p, size_t *len)
     len[4] = nz * nz;
     p[5] = m->x0;
     len[5] = nx;
-    return 6;
+    p[6] = m->B;
+    len[6] = nm * nx * m->n_u;
+    return 7;
 }
 
 /* |r|^2 and |v|^2 of the SQUAREM step from t0, t1 = F(t0), t2 = F(t1). */
 static void squarem_norms(const aenl_em_model_t *t0, const aenl_em_model_t *t1,
                           const aenl_em_model_t *t2, double *rr, double *vv)
 {
-    double *p0[6], *p1[6], *p2[6];
-    size_t len[6];
+    double *p0[7], *p1[7], *p2[7];
+    size_t len[7];
     const size_t na = param_arrays(t0, p0, len);
     (void)param_arrays(t1, p1, len);
     (void)param_arrays(t2, p2, len);
@@ -2097,8 +2244,8 @@ static void squarem_norms(const aenl_em_model_t *t0, const aenl_em_model_t *t1,
 static void squarem_point(aenl_em_model_t *out, const aenl_em_model_t *t0,
                           const aenl_em_model_t *t1, const aenl_em_model_t *t2, double a)
 {
-    double *p0[6], *p1[6], *p2[6], *po[6];
-    size_t len[6];
+    double *p0[7], *p1[7], *p2[7], *po[7];
+    size_t len[7];
     const size_t na = param_arrays(t0, p0, len);
     (void)param_arrays(t1, p1, len);
     (void)param_arrays(t2, p2, len);
@@ -2333,6 +2480,25 @@ static aenl_status_t check_opts(const aenl_em_opts_t *o, size_t n, size_t nz, ae
         aenl_err_set(err, "%zu samples are too few for %zu states", n, nx);
         return AENL_E_ARG;
     }
+    if (o->n_u > AENL_EM_MAX_U || (o->n_u > 0 && o->u == NULL))
+    {
+        aenl_err_set(err, "inputs: at most %d, with their values (got %zu)", AENL_EM_MAX_U, o->n_u);
+        return AENL_E_ARG;
+    }
+    if (o->n_u > 0 && (o->freeze & (AENL_EM_FREEZE_A | AENL_EM_FREEZE_B)) != 0)
+    {
+        aenl_err_set(err, "inputs are estimated with A and b: neither may be frozen");
+        return AENL_E_ARG;
+    }
+    for (size_t k = 0; k < n * o->n_u; ++k)
+    {
+        if (!isfinite(o->u[k]))
+        {
+            aenl_err_set(err, "input %zu, sample %zu: not a finite number (an input has no gaps)",
+                         k % o->n_u + 1u, k / o->n_u + 1u);
+            return AENL_E_ARG;
+        }
+    }
     return AENL_OK;
 }
 
@@ -2435,11 +2601,21 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
     {
         return st;
     }
+    st = aenl_em_model_set_inputs(m, opts->n_u, err);
+    if (st != AENL_OK)
+    {
+        aenl_em_model_free(m);
+        return st;
+    }
     m->switch_channel = opts->switch_channel;
     m->dt = opts->dt;
     memcpy(m->thresholds, opts->thresholds, opts->n_thresholds * sizeof(double));
     ws_t w;
     st = ws_alloc(&w, y, n, nx, n_z, nm, err);
+    if (st == AENL_OK)
+    {
+        st = ws_set_inputs(&w, opts->u, opts->n_u, err);
+    }
     w.steady_tol = opts->steady_tol;
     double *u = (st == AENL_OK) ? malloc(n * sizeof(double)) : NULL;
     res->loglik = (st == AENL_OK) ? calloc(opts->max_iter + 1, sizeof(double)) : NULL;
@@ -2514,8 +2690,21 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
         aenl_err_set(err, "NULL argument or no data");
         return AENL_E_ARG;
     }
+    if (opts->n_u != m->n_u || (m->n_u > 0 && opts->u == NULL))
+    {
+        aenl_err_set(err, "the model has %zu inputs, the options give %zu", m->n_u, opts->n_u);
+        return AENL_E_ARG;
+    }
     ws_t w;
     aenl_status_t st = ws_alloc(&w, y, n, m->n_x, m->n_z, m->n_modes, err);
+    if (st == AENL_OK)
+    {
+        st = ws_set_inputs(&w, opts->u, opts->n_u, err);
+        if (st != AENL_OK)
+        {
+            ws_free(&w);
+        }
+    }
     if (st != AENL_OK)
     {
         return st;
@@ -2547,9 +2736,25 @@ void aenl_em_result_free(aenl_em_result_t *res)
     memset(res, 0, sizeof(*res));
 }
 
+/* The functions below read or write models without inputs (the INI, the C header, the
+ * onboard filter and the simulator have no input term). */
+static int has_inputs(const aenl_em_model_t *m, const char *what, aenl_err_t *err)
+{
+    if (m != NULL && m->n_u > 0)
+    {
+        aenl_err_set(err, "%s: the model has known inputs, which %s does not take", what, what);
+        return 1;
+    }
+    return 0;
+}
+
 aenl_status_t aenl_em_loglik(const aenl_em_model_t *m, const double *y, size_t n, const double *u,
                              double *ll, aenl_err_t *err)
 {
+    if (has_inputs(m, "aenl_em_loglik", err))
+    {
+        return AENL_E_ARG;
+    }
     if (m == NULL || y == NULL || ll == NULL || n == 0)
     {
         aenl_err_set(err, "NULL argument or no data");
@@ -2656,6 +2861,10 @@ aenl_status_t aenl_em_modal(const aenl_em_model_t *m, size_t mode, aenl_em_eig_t
 aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, size_t n,
                                double *y_out, aenl_err_t *err)
 {
+    if (has_inputs(m, "aenl_em_simulate", err))
+    {
+        return AENL_E_ARG;
+    }
     if (m == NULL || y_out == NULL)
     {
         aenl_err_set(err, "simulate: NULL argument");
@@ -2701,6 +2910,10 @@ aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, s
 
 aenl_status_t aenl_em_to_skf(const aenl_em_model_t *m, aenl_skf_model_t *out, aenl_err_t *err)
 {
+    if (has_inputs(m, "aenl_em_to_skf", err))
+    {
+        return AENL_E_ARG;
+    }
     if (m == NULL || out == NULL)
     {
         aenl_err_set(err, "NULL argument");
@@ -2773,6 +2986,10 @@ static void write_row(FILE *fp, const char *key, const double *v, size_t n)
 
 aenl_status_t aenl_em_write_ini(const aenl_em_model_t *m, const char *path, aenl_err_t *err)
 {
+    if (has_inputs(m, "aenl_em_write_ini", err))
+    {
+        return AENL_E_ARG;
+    }
     aenl_outfile_t of;
     aenl_status_t st = aenl_outfile_open(&of, path, err);
     if (st != AENL_OK)
@@ -2839,6 +3056,10 @@ static void c_matrix(FILE *fp, const char *indent, const double *a, size_t n, si
 aenl_status_t aenl_em_write_c_header(const aenl_em_model_t *m, const char *name, const char *path,
                                      aenl_err_t *err)
 {
+    if (has_inputs(m, "aenl_em_write_c_header", err))
+    {
+        return AENL_E_ARG;
+    }
     if (m == NULL || name == NULL || path == NULL)
     {
         aenl_err_set(err, "NULL argument");

@@ -494,8 +494,8 @@ aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_e
         return AENL_E_DIM;
     }
     /* factor of the scaled nuisance block with a ridge, as in nlt_fit_subset */
-    double sc[(1 + NLT_MAX_X) * NLT_MAX_X];
-    size_t nidx[(1 + NLT_MAX_X) * NLT_MAX_X];
+    double sc[NLT_NUIS_MAX * NLT_MAX_X];
+    size_t nidx[NLT_NUIS_MAX * NLT_MAX_X];
     for (size_t i = 0; i < nn; ++i)
     {
         nidx[i] = i;

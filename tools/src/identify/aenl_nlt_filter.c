@@ -394,6 +394,10 @@ aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
             {
                 s += m->A[i * nx + l] * xf[l];
             }
+            for (size_t p = 0; p < k->n_in; ++p)
+            {
+                s += m->B[i * k->n_in + p] * k->in[t * k->n_in + p];
+            }
             x[i] = s;
         }
     }

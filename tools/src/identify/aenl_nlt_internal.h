@@ -18,6 +18,7 @@
 #define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
 #define NLT_IMPULSE_LEVEL 1e-4  /* upper tail of a whitened innovation taken for an impulse */
 #define NLT_ROW_BLOCK     32    /* samples whose regression rows update G together */
+#define NLT_NUIS_MAX      (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
 
 typedef struct
 {
@@ -30,6 +31,8 @@ typedef struct
     double *F;           /* slots x nx x nx: A (I - K C) */
     double *WC;          /* slots x nz x nx: S^{-1/2} C */
     size_t n_slots, cap_slots;
+    const double *in; /* n x n_in known inputs (scaled), NULL when none */
+    size_t n_in;
     double ee;   /* sum of squared whitened innovations */
     size_t rows; /* innovations used (samples x channels) */
 } kf_t;

@@ -320,7 +320,9 @@ typedef struct
     const aenl_em_model_t *m;
     size_t n, nz, nx;
     double scale[AENL_NLT_MAX_CH];
-    double *one, *lin, *dsg, *work; /* n each; work: 4 n for stage 1 */
+    double *one, *lin, *dsg, *work;      /* n each; work: 4 n for stage 1 */
+    const double *in_col[AENL_EM_MAX_U]; /* the scaled inputs, one series each */
+    size_t n_in;
     double lnrows;
 } run_t;
 
@@ -355,13 +357,17 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     }
     /* Nuisance: an offset and a perturbation of A along every filtered state (the first-order
      * change of the fitted linear model, so its estimation error is not taken for a law). */
-    const double *g[1 + NLT_MAX_X + NLT_STAGE1_LAWS];
-    int full[1 + NLT_MAX_X + NLT_STAGE1_LAWS];
+    const double *g[NLT_NUIS_MAX + NLT_STAGE1_LAWS];
+    int full[NLT_NUIS_MAX + NLT_STAGE1_LAWS];
     size_t ns = 0;
     g[ns++] = rn->one;
     for (size_t i = 0; i < nx; ++i)
     {
         g[ns++] = rn->kf->xs + i * n;
+    }
+    for (size_t p = 0; p < rn->n_in; ++p) /* and B perturbed along every input */
+    {
+        g[ns++] = rn->in_col[p];
     }
     const size_t n_nuis = ns;
     g[ns++] = u2;
@@ -379,12 +385,12 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
         nlt_design_free(&d);
         return st;
     }
-    size_t idx[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
+    size_t idx[(NLT_NUIS_MAX + NLT_STAGE1_LAWS) * NLT_MAX_X];
     for (size_t i = 0; i < d.ncols; ++i)
     {
         idx[i] = i;
     }
-    double beta[(1 + NLT_MAX_X + NLT_STAGE1_LAWS) * NLT_MAX_X];
+    double beta[(NLT_NUIS_MAX + NLT_STAGE1_LAWS) * NLT_MAX_X];
     const double red_n = nlt_fit_subset(&d, idx, n_nuis * nx, NULL);
     const double red_f = nlt_fit_subset(&d, idx, d.ncols, beta);
     const size_t ncols = d.ncols;
@@ -594,13 +600,17 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     s2_series_t ser;
     memset(&ser, 0, sizeof(ser));
     /* the same nuisance as the test: an offset and A perturbed along every filtered state */
-    const double *nuis[1 + NLT_MAX_X];
+    const double *nuis[NLT_NUIS_MAX];
     nuis[0] = rn->one;
     for (size_t i = 0; i < nx; ++i)
     {
         nuis[1u + i] = rn->kf->xs + i * n;
     }
-    const size_t n_nuis = 1u + nx;
+    for (size_t p = 0; p < rn->n_in; ++p)
+    {
+        nuis[1u + nx + p] = rn->in_col[p];
+    }
+    const size_t n_nuis = 1u + nx + rn->n_in;
     if (s2_build(&ser, rn->lin, rn->dsg, n, nuis, n_nuis, knots, nk) != 0)
     {
         s2_free(&ser);
@@ -845,6 +855,28 @@ static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const ae
         aenl_err_set(err, "aenl_nlt_run: options out of range");
         return AENL_E_ARG;
     }
+    if (opts->n_input > AENL_EM_MAX_U || (opts->n_input > 0 && opts->input == NULL))
+    {
+        aenl_err_set(err, "the test takes at most %d inputs", AENL_EM_MAX_U);
+        return AENL_E_ARG;
+    }
+    for (size_t p = 0; p < opts->n_input; ++p)
+    {
+        for (size_t t = 0; opts->input[p] != NULL && t < n; ++t)
+        {
+            if (!isfinite(opts->input[p][t]))
+            {
+                aenl_err_set(err, "sample %lu of input %lu is missing: an input has no gaps",
+                             (unsigned long)t + 1u, (unsigned long)p + 1u);
+                return AENL_E_ARG;
+            }
+        }
+        if (opts->input[p] == NULL)
+        {
+            aenl_err_set(err, "aenl_nlt_run: input %lu is NULL", (unsigned long)p + 1u);
+            return AENL_E_ARG;
+        }
+    }
     return AENL_OK;
 }
 
@@ -883,10 +915,13 @@ static size_t state_candidates(const aenl_nlt_opts_t *opts, size_t n, size_t m, 
  * noise-free record drives R to a singular matrix) fails EM part way: the fit then stops
  * earlier, at a valid iterate. */
 static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx, size_t iters,
-                                aenl_em_result_t *em, aenl_err_t *err)
+                                const double *in, size_t n_in, aenl_em_result_t *em,
+                                aenl_err_t *err)
 {
     aenl_em_opts_t eo;
     aenl_em_opts_default(&eo);
+    eo.u = in;
+    eo.n_u = n_in;
     eo.n_states = nx;
     eo.n_thresholds = 0;
     eo.max_iter = iters;
@@ -907,12 +942,12 @@ static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx,
 /* The order by the Bayesian information criterion over the candidates: -2 log-likelihood plus
  * ln(samples) per parameter the data can tell apart. A state-space model is known only up to a
  * change of state basis, so its identifiable parameters are those of the innovations form in a
- * canonical basis: 2 nx m (the dynamics and the gain), m (m + 1) / 2 (the innovation covariance)
- * and m (the offset). An order too small for the record's dynamics (aerodynamic lags, start-up
+ * canonical basis: 2 nx m (the dynamics and the gain), m (m + 1) / 2 (the innovation covariance),
+ * m (the offset) and nx per known input (B). An order too small for the record's dynamics (aerodynamic lags, start-up
  * transients) leaves a misfit that the test would take for a law. */
 static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, const size_t *cand,
-                                      size_t n_cand, size_t iters, aenl_em_result_t *best,
-                                      aenl_err_t *err)
+                                      size_t n_cand, size_t iters, const double *in, size_t n_in,
+                                      aenl_em_result_t *best, aenl_err_t *err)
 {
     double bic_best = INFINITY;
     aenl_status_t st_last = AENL_E_NUMERIC;
@@ -922,7 +957,7 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
         aenl_em_result_t em;
         aenl_err_t e2;
         aenl_err_clear(&e2);
-        st_last = fit_linear(ys, n, m, cand[c], iters, &em, &e2);
+        st_last = fit_linear(ys, n, m, cand[c], iters, in, n_in, &em, &e2);
         if (st_last != AENL_OK)
         {
             aenl_err_set(err, "%s", e2.msg);
@@ -930,7 +965,7 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
         }
         const double nx = (double)cand[c];
         const double dm = (double)m;
-        const double k = 2.0 * nx * dm + 0.5 * dm * (dm + 1.0) + dm;
+        const double k = 2.0 * nx * dm + 0.5 * dm * (dm + 1.0) + dm + nx * (double)n_in;
         const double bic = -2.0 * em.loglik_final + k * log((double)n);
         if (bic < bic_best)
         {
@@ -1036,9 +1071,54 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
             ys[t * n_ch + j] = col[j][t * stride] / rn.scale[j];
         }
     }
+    /* the known inputs, scaled like the channels: row-major for the fit and the filter, one
+     * series each for the regressions */
+    const size_t n_in = opts->n_input;
+    double *in = n_in > 0 ? (double *)malloc(n * n_in * sizeof(double)) : NULL;
+    if (n_in > 0 && in == NULL)
+    {
+        free(ys);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    double *in_col = n_in > 0 ? (double *)malloc(n * n_in * sizeof(double)) : NULL;
+    st = (n_in > 0 && in_col == NULL) ? AENL_E_DIM : AENL_OK;
+    if (st != AENL_OK)
+    {
+        aenl_err_set(err, "out of memory");
+    }
+    for (size_t p = 0; p < n_in && st == AENL_OK; ++p)
+    {
+        double sum = 0.0;
+        double ss = 0.0;
+        for (size_t t = 0; t < n; ++t)
+        {
+            sum += opts->input[p][t];
+            ss += opts->input[p][t] * opts->input[p][t];
+        }
+        const double mean = sum / (double)n;
+        const double var = (ss - (double)n * mean * mean) / (double)(n - 1u);
+        if (!(var > 0.0))
+        {
+            aenl_err_set(err, "input %lu is constant", (unsigned long)p + 1u);
+            st = AENL_E_ARG;
+            break;
+        }
+        const double sd = sqrt(var);
+        for (size_t t = 0; t < n; ++t)
+        {
+            in[t * n_in + p] = opts->input[p][t] / sd;
+            in_col[p * n + t] = opts->input[p][t] / sd;
+        }
+        rn.in_col[p] = in_col + p * n;
+    }
+    rn.n_in = n_in;
     aenl_em_result_t em;
     memset(&em, 0, sizeof(em));
-    st = fit_linear_order(ys, n, n_ch, cand, n_cand, opts->em_iter, &em, err);
+    if (st == AENL_OK)
+    {
+        st = fit_linear_order(ys, n, n_ch, cand, n_cand, opts->em_iter, in, n_in, &em, err);
+    }
     const size_t nx = em.model.n_x;
     rn.nx = nx;
     kf_t kf;
@@ -1046,6 +1126,8 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
     kf.n = n;
     kf.nz = n_ch;
     kf.nx = nx;
+    kf.in = in;
+    kf.n_in = n_in;
     if (st == AENL_OK)
     {
         st = nlt_kf_run(&kf, &em.model, ys, NULL, NULL, err);
@@ -1069,6 +1151,7 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
     res->n_channels = n_ch;
     res->n_samples = n;
     res->n_states = nx;
+    res->n_inputs = n_in;
     res->level = opts->level;
     res->loglik = em.loglik_final;
     res->rows = (double)kf.rows;
@@ -1129,6 +1212,8 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
     free(rn.lin);
     free(rn.dsg);
     free(rn.work);
+    free(in);
+    free(in_col);
     nlt_kf_free(&kf);
     aenl_em_result_free(&em);
     return st;

@@ -144,7 +144,7 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
 }
 
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                                  const char *path)
+                                  const char *const *input_names, const char *path)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON *model = cJSON_CreateObject();
@@ -160,6 +160,21 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         bad |= add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
         bad |= add(model, "loglik", num(r->loglik));
         bad |= add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
+        if (r->n_inputs > 0 && input_names != NULL)
+        {
+            cJSON *ins = cJSON_CreateArray();
+            bad |= ins == NULL;
+            for (size_t p = 0; ins != NULL && p < r->n_inputs; ++p)
+            {
+                cJSON *nm = cJSON_CreateString(input_names[p]);
+                bad |= nm == NULL;
+                if (nm != NULL)
+                {
+                    cJSON_AddItemToArray(ins, nm);
+                }
+            }
+            bad |= add(model, "inputs", ins);
+        }
         bad |= add(root, "model", model);
         model = NULL;
         bad |= add(root, "verdict", json_verdict(r, names));
@@ -198,8 +213,17 @@ static void print_points(FILE *out, const aenl_nlt_channel_t *c)
 }
 
 void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                          const char *path)
+                          const char *const *input_names, const char *path)
 {
+    if (r->n_inputs > 0 && input_names != NULL)
+    {
+        (void)fprintf(out, "known input%s:", r->n_inputs == 1 ? "" : "s");
+        for (size_t p = 0; p < r->n_inputs; ++p)
+        {
+            (void)fprintf(out, " %s", input_names[p]);
+        }
+        (void)fprintf(out, " (they drive the linear model and are not tested)\n");
+    }
     (void)fprintf(out,
                   "%s: %lu samples, %lu channels; linear state-space model with %lu states "
                   "(%lu impulses)\n"
