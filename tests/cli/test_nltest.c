@@ -461,7 +461,8 @@ static void test_cli_identify_with_a_known_input(void)
     const char *fp = multisine_csv("ms_freeplay", 1);
     const char *lin_args[] = {"identify", lin,       "--method", "test",
                               "--input",  "f_pitch", "--json",   NULL};
-    const char *fp_args[] = {"identify", fp, "--method", "test", "--input=f_pitch", "--json", NULL};
+    const char *fp_args[] = {"identify", fp,           "--method", "test", "--input=f_pitch",
+                             "--json",   "--controls", "4",        NULL};
     cli_result_t r;
     cli_run(&r, lin_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -482,6 +483,11 @@ static void test_cli_identify_with_a_known_input(void)
     const cJSON *v = cJSON_GetObjectItem(root, "verdict");
     TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItem(v, "class")->valuestring);
     TEST_ASSERT_EQUAL_STRING("beta", cJSON_GetObjectItem(v, "channel")->valuestring);
+    /* linear controls (the fitted linear model driven by the same force): none reaches beta */
+    TEST_ASSERT_EQUAL_INT(4, cJSON_GetObjectItem(root, "controls")->valueint);
+    const cJSON *beta = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "channels"), 2);
+    TEST_ASSERT_EQUAL_INT(0, cJSON_GetObjectItem(beta, "control_exceed")->valueint);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.2, cJSON_GetObjectItem(beta, "control_p")->valuedouble);
     const cJSON *sp = cJSON_GetObjectItem(v, "switch_points");
     TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(sp));
     printf("flap freeplay with the force given: %.5f %.5f rad (truth -0.01745 0.01745)\n",
@@ -496,10 +502,18 @@ static void test_cli_identify_with_a_known_input(void)
     const char *as_channel[] = {"identify", lin,         "--method", "test", "--input",
                                 "f_pitch",  "--channel", "f_pitch",  NULL};
     const char *moments[] = {"identify", lin, "--input", "f_pitch", NULL};
-    const char *const *cases[] = {unknown, timecol, twice, as_channel, moments};
-    const char *const words[] = {"no such column", "time column", "named twice", "also an --input",
-                                 "goes with --method test"};
-    for (size_t i = 0; i < 5; ++i)
+    const char *controls[] = {"identify", lin, "--controls", "3", NULL};
+    const char *bad_controls[] = {"identify", lin, "--method", "test", "--controls", "0", NULL};
+    const char *const *cases[] = {unknown, timecol,  twice,       as_channel,
+                                  moments, controls, bad_controls};
+    const char *const words[] = {"no such column",
+                                 "time column",
+                                 "named twice",
+                                 "also an --input",
+                                 "goes with --method test",
+                                 "goes with --method test",
+                                 "--controls"};
+    for (size_t i = 0; i < 7; ++i)
     {
         cli_run(&r, cases[i]);
         TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);

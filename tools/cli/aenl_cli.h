@@ -74,7 +74,7 @@ int aenl_cmd_identify(int argc, char **argv);
 /** `aenl identify --method test` on `path` (only `channel` when not NULL; JSON when json):
  *  the likelihood-based test at family-wise `level` (tools/cli/cmd_identify_test.c). */
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level);
+                          double level, size_t n_controls);
 /** `aenl diagnose` (tools/cli/cmd_diagnose.c). */
 int aenl_cmd_diagnose(int argc, char **argv);
 /** `aenl bench diagnose` (tools/cli/bench_diagnose.c). */

@@ -38,7 +38,7 @@ static void help(void)
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
         "                     [--no-prefilter] [--forced] [--model BASE.ini]\n"
         "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n"
-        "                     [--input COL[,COL]]\n\n"
+        "                     [--input COL[,COL]] [--controls N]\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
@@ -66,7 +66,8 @@ static void help(void)
         "                verdict (the record alone's is printed beside it); when the baseline\n"
         "                fits within its noise, or nothing explains the misfit, the record's own\n"
         "                verdict stands. The record is then also held in memory, and the test\n"
-        "                runs a few hundred simulations of it (seconds to minutes)\n\n"
+        "                runs a few hundred simulations of it (seconds to minutes)\n\n");
+    printf(
         "--method test   the likelihood-based test instead of the conditional moments: a\n"
         "                linear state-space model of all channels is fitted by maximum\n"
         "                likelihood, and each channel is tested for a structural law acting\n"
@@ -81,7 +82,11 @@ static void help(void)
         "--input COL[,COL]  (with --method test) the named columns are a measured excitation\n"
         "                (a shaker's force, a gust vane): they drive the linear model as known\n"
         "                inputs and are not tested; without them a swept or stepped sine is\n"
-        "                mispredicted and read as a law\n\n"
+        "                mispredicted and read as a law\n"
+        "--controls N    (with --method test) also test N linear controls: records simulated\n"
+        "                from the fitted linear model, driven by the same inputs, with its\n"
+        "                noise; per channel, how many reach the record's statistic and the\n"
+        "                p-value that gives (each control costs about one more run)\n\n"
         "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
         "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
         "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
@@ -291,6 +296,7 @@ typedef struct
     double level;     /* --level */
     int level_given;
     const char *input; /* --input COL[,COL] */
+    long controls;     /* --controls N */
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -336,6 +342,14 @@ static int parse_args(int argc, char **argv, args_t *a)
             else
             {
                 aenl_cli_error(k_cmd, "--method: '%s' is not a method (moments or test)", v);
+                return -1;
+            }
+        }
+        else if (strcmp(o, "--controls") == 0)
+        {
+            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
+                aenl_cli_parse_long(k_cmd, "--controls", v, 1, 999, &a->controls) != 0)
+            {
                 return -1;
             }
         }
@@ -430,6 +444,11 @@ static int parse_args(int argc, char **argv, args_t *a)
         aenl_cli_error(k_cmd, "--level is the test's level: it goes with --method test");
         return -1;
     }
+    if (!a->by_test && a->controls > 0)
+    {
+        aenl_cli_error(k_cmd, "--controls goes with --method test (linear controls of the test)");
+        return -1;
+    }
     if (!a->by_test && a->input != NULL)
     {
         aenl_cli_error(k_cmd, "--input goes with --method test (the test takes known inputs)");
@@ -437,7 +456,8 @@ static int parse_args(int argc, char **argv, args_t *a)
     }
     if (a->by_test && a->moments_only)
     {
-        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --level and --input only "
+        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --level, --input and "
+                              "--controls only "
                               "(--model, --plot, --bandwidth, --no-prefilter and --forced belong "
                               "to the moments method)");
         return -1;
@@ -1513,7 +1533,8 @@ int aenl_cmd_identify(int argc, char **argv)
     }
     if (a.by_test)
     {
-        return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level);
+        return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level,
+                                     (size_t)a.controls);
     }
     aenl_err_t err;
     aenl_err_clear(&err);

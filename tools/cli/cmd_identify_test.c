@@ -71,7 +71,7 @@ static int is_input(const size_t *in, long n_in, size_t c)
 }
 
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level)
+                          double level, size_t n_controls)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -146,6 +146,7 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     opts.level = level;
     opts.input = n_in > 0 ? in_cols : NULL;
     opts.n_input = (size_t)n_in;
+    opts.n_controls = n_controls;
     aenl_nlt_result_t res;
     const aenl_status_t st = aenl_nlt_run_columns(chan, n, nz, &opts, &res, &err);
     int rc = AENL_EXIT_OK;

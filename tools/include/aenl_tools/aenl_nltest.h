@@ -42,6 +42,7 @@
 #define AENL_TOOLS_NLTEST_H
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 #include "aenl/aenl_classifier.h"
@@ -70,6 +71,10 @@ typedef struct aenl_nlt_opts
                                      record's n samples (NULL: none): they drive the linear
                                      model, x_{t+1} = A x_t + B u_t + b, and are not tested */
     size_t n_input;             /**< at most AENL_EM_MAX_U */
+    size_t n_controls;          /**< linear controls (default 0: none): records simulated from the
+                                     fitted linear model, driven by the same inputs, with Gaussian
+                                     noise of the fitted covariances, each tested like the record */
+    uint64_t control_seed;      /**< their noise (default 1) */
 } aenl_nlt_opts_t;
 
 /** One channel: the test and, when it rejects, the laws. */
@@ -90,6 +95,8 @@ typedef struct aenl_nlt_channel
     double points[AENL_NLT_MAX_POINTS];   /**< ascending, in the channel's unit */
     double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
     double point_hi[AENL_NLT_MAX_POINTS];
+    size_t control_exceed; /**< linear controls whose statistic reaches this channel's */
+    double control_p;      /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
 } aenl_nlt_channel_t;
 
 typedef struct aenl_nlt_result
@@ -97,6 +104,7 @@ typedef struct aenl_nlt_result
     size_t n_channels, n_samples, n_states;
     size_t n_inputs;   /**< known inputs the linear model took */
     size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
+    size_t n_controls; /**< linear controls tested (those that could not be fitted are left out) */
     double loglik;     /**< of the linear model */
     double level;      /**< the level used */
     double rows;       /**< regression rows (samples x channels) */
@@ -137,8 +145,10 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
  *        {states, samples, loglik, impulses}, verdict {class, channel, switch_points,
  * switch_point_lo, switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name,
  * class, statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis}, hardening,
- * switch_points, switch_point_lo, switch_point_hi}], and inputs [names] when the model took
- * known inputs. names: the channels; input_names: the inputs (NULL when there are none).
+ * switch_points, switch_point_lo, switch_point_hi}], model.inputs [names] when the model took
+ * known inputs, and controls (their number) with each channel's control_exceed and control_p
+ * when linear controls were run. names: the channels; input_names: the inputs (NULL when there are
+ * none).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_stats.h"
 #include "aenl_nlt_internal.h"
 
@@ -295,6 +296,7 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
     opts->min_weight = 0.9;
     opts->n_states = 0;
     opts->em_iter = 200;
+    opts->control_seed = 1u;
 }
 
 const char *aenl_nlt_law_name(aenl_nlt_law_t law)
@@ -943,8 +945,8 @@ static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx,
  * ln(samples) per parameter the data can tell apart. A state-space model is known only up to a
  * change of state basis, so its identifiable parameters are those of the innovations form in a
  * canonical basis: 2 nx m (the dynamics and the gain), m (m + 1) / 2 (the innovation covariance),
- * m (the offset) and nx per known input (B). An order too small for the record's dynamics (aerodynamic lags, start-up
- * transients) leaves a misfit that the test would take for a law. */
+ * m (the offset) and nx per known input (B). An order too small for the record's dynamics
+ * (aerodynamic lags, start-up transients) leaves a misfit that the test would take for a law. */
 static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, const size_t *cand,
                                       size_t n_cand, size_t iters, const double *in, size_t n_in,
                                       aenl_em_result_t *best, aenl_err_t *err)
@@ -989,9 +991,150 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
 
 /* The run on channels col[j], sample t at col[j][t * stride]: row-major records and separate
  * columns both enter without a copy (the run makes its own scaled one). */
+/* Lower Cholesky factor of the symmetric positive semi-definite S (n x n) into L, with a ridge of
+ * 1e-12 of its trace for a singular S (a noise-free direction). 0, or -1 when it fails. */
+static int chol_psd(const double *S, size_t n, double *L)
+{
+    double tr = 0.0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        tr += S[i * n + i];
+    }
+    memcpy(L, S, n * n * sizeof(double));
+    for (size_t i = 0; i < n; ++i)
+    {
+        L[i * n + i] += 1e-12 * fmax(tr, 1e-300);
+        for (size_t j = i + 1u; j < n; ++j)
+        {
+            L[i * n + j] = 0.0;
+        }
+    }
+    return LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, L, (lapack_int)n) == 0 ? 0 : -1;
+}
+
+/* One record of the fitted linear model m (the run's scaled units) into y (n_ch columns of n),
+ * driven by the inputs in (n x n_in, row-major), with Gaussian process noise Lq z and
+ * measurement noise Lr z. */
+static void simulate_control(const aenl_em_model_t *m, const double *in, size_t n_in,
+                             const double *Lq, const double *Lr, aenl_rng_t *g, size_t n,
+                             double *const *y)
+{
+    const size_t nx = m->n_x;
+    const size_t nz = m->n_z;
+    double x[NLT_MAX_X];
+    double z[NLT_MAX_X];
+    memcpy(x, m->x0, nx * sizeof(double));
+    for (size_t t = 0; t < n; ++t)
+    {
+        for (size_t r = 0; r < nz; ++r)
+        {
+            z[r] = aenl_rng_gauss(g);
+        }
+        for (size_t r = 0; r < nz; ++r)
+        {
+            double v = 0.0;
+            for (size_t c = 0; c <= r; ++c)
+            {
+                v += Lr[r * nz + c] * z[c];
+            }
+            for (size_t i = 0; i < nx; ++i)
+            {
+                v += m->C[r * nx + i] * x[i];
+            }
+            y[r][t] = v;
+        }
+        double xn[NLT_MAX_X];
+        for (size_t i = 0; i < nx; ++i)
+        {
+            z[i] = aenl_rng_gauss(g);
+        }
+        for (size_t i = 0; i < nx; ++i)
+        {
+            double v = m->b[i];
+            for (size_t l = 0; l < nx; ++l)
+            {
+                v += m->A[i * nx + l] * x[l];
+            }
+            for (size_t p = 0; p < n_in; ++p)
+            {
+                v += m->B[i * n_in + p] * in[t * n_in + p];
+            }
+            for (size_t l = 0; l <= i; ++l)
+            {
+                v += Lq[i * nx + l] * z[l];
+            }
+            xn[i] = v;
+        }
+        memcpy(x, xn, nx * sizeof(double));
+    }
+}
+
 static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
                                  const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
-                                 aenl_err_t *err)
+                                 aenl_err_t *err, int stats_only);
+
+/* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
+ * run's scaled inputs), each tested like the record; a channel's control p-value is the share
+ * of controls (the record counted among them) whose statistic reaches the record's: the test's
+ * null distribution for this record's length, model and inputs, without the asymptotics. A
+ * control whose linear model cannot be fitted is left out. */
+static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
+                                     const double *const *in_col, size_t n, size_t n_ch,
+                                     const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                     aenl_err_t *err)
+{
+    const size_t nx = m->n_x;
+    double Lq[NLT_MAX_X * NLT_MAX_X];
+    double Lr[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
+    if (chol_psd(m->Q, nx, Lq) != 0 || chol_psd(m->R, n_ch, Lr) != 0)
+    {
+        aenl_err_set(err, "the linear model's noise covariances are not positive: no controls");
+        return AENL_E_NUMERIC;
+    }
+    double *buf = (double *)malloc(n * n_ch * sizeof(double));
+    if (buf == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    double *y[AENL_NLT_MAX_CH];
+    for (size_t j = 0; j < n_ch; ++j)
+    {
+        y[j] = buf + j * n;
+    }
+    aenl_nlt_opts_t o = *opts;
+    o.n_controls = 0;
+    o.input = m->n_u > 0 ? in_col : NULL;
+    aenl_rng_t g;
+    for (size_t b = 0; b < opts->n_controls; ++b)
+    {
+        aenl_rng_seed(&g, opts->control_seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
+        simulate_control(m, in, m->n_u, Lq, Lr, &g, n, y);
+        aenl_nlt_result_t rc;
+        aenl_err_t e2;
+        aenl_err_clear(&e2);
+        if (run_strided((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1) != AENL_OK)
+        {
+            continue;
+        }
+        res->n_controls++;
+        for (size_t j = 0; j < n_ch; ++j)
+        {
+            res->ch[j].control_exceed += rc.ch[j].stat >= res->ch[j].stat ? 1u : 0u;
+        }
+    }
+    free(buf);
+    for (size_t j = 0; j < n_ch; ++j)
+    {
+        res->ch[j].control_p =
+            (1.0 + (double)res->ch[j].control_exceed) / (1.0 + (double)res->n_controls);
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                                 const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                 aenl_err_t *err, int stats_only)
 {
     int cols_ok = col != NULL;
     for (size_t j = 0; cols_ok && j < n_ch && j < AENL_NLT_MAX_CH; ++j)
@@ -1178,7 +1321,8 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
         }
         c->nonlinear = c->p < opts->level / (double)n_ch;
         pmin = fmin(pmin, c->p);
-        if (c->nonlinear)
+        c->control_p = 1.0;
+        if (c->nonlinear && !stats_only)
         {
             st = stage2(&rn, j, dir, s2, c, err);
             /* every channel's statistic has the same degrees of freedom: the largest is the
@@ -1208,6 +1352,10 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
             res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
         }
     }
+    if (st == AENL_OK && opts->n_controls > 0)
+    {
+        st = linear_controls(&em.model, in, rn.in_col, n, n_ch, opts, res, err);
+    }
     free(rn.one);
     free(rn.lin);
     free(rn.dsg);
@@ -1227,12 +1375,12 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     {
         col[j] = y + j;
     }
-    return run_strided(y != NULL ? col : NULL, n_ch, n, n_ch, opts, res, err);
+    return run_strided(y != NULL ? col : NULL, n_ch, n, n_ch, opts, res, err, 0);
 }
 
 aenl_status_t aenl_nlt_run_columns(const double *const *cols, size_t n, size_t n_ch,
                                    const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
                                    aenl_err_t *err)
 {
-    return run_strided(cols, 1, n, n_ch, opts, res, err);
+    return run_strided(cols, 1, n, n_ch, opts, res, err, 0);
 }

@@ -60,7 +60,7 @@ static int add_points(cJSON *o, const aenl_nlt_channel_t *c)
     return bad;
 }
 
-static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name)
+static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t n_controls)
 {
     cJSON *o = cJSON_CreateObject();
     if (o == NULL)
@@ -86,6 +86,11 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name)
     bad |= add(o, "hardening",
                poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
     bad |= add_points(o, c);
+    if (n_controls > 0)
+    {
+        bad |= add(o, "control_exceed", cJSON_CreateNumber((double)c->control_exceed));
+        bad |= add(o, "control_p", num(c->control_p));
+    }
     if (bad)
     {
         cJSON_Delete(o);
@@ -177,10 +182,14 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         }
         bad |= add(root, "model", model);
         model = NULL;
+        if (r->n_controls > 0)
+        {
+            bad |= add(root, "controls", cJSON_CreateNumber((double)r->n_controls));
+        }
         bad |= add(root, "verdict", json_verdict(r, names));
         for (size_t j = 0; j < r->n_channels && !bad; ++j)
         {
-            cJSON *c = json_channel(&r->ch[j], names[j]);
+            cJSON *c = json_channel(&r->ch[j], names[j], r->n_controls);
             bad |= c == NULL;
             if (c != NULL)
             {
@@ -232,8 +241,9 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                   path, (unsigned long)r->n_samples, (unsigned long)r->n_channels,
                   (unsigned long)r->n_states, (unsigned long)r->n_impulses, r->level,
                   r->level / (double)r->n_channels);
-    (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s\n", "channel", "chi-square", "dof", "p-value",
-                  "class", "weights poly/freeplay/hyst");
+    (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s%s\n", "channel", "chi-square", "dof",
+                  "p-value", "class", "weights poly/freeplay/hyst",
+                  r->n_controls > 0 ? "  controls >= (p)" : "");
     for (size_t j = 0; j < r->n_channels; ++j)
     {
         const aenl_nlt_channel_t *c = &r->ch[j];
@@ -243,6 +253,12 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
         if (c->nonlinear)
         {
             (void)fprintf(out, " %.3f/%.3f/%.3f", c->weight[0], c->weight[1], c->weight[2]);
+        }
+        if (r->n_controls > 0)
+        {
+            (void)fprintf(out, "%s  %lu/%lu (%.3g)", c->nonlinear ? "" : "                  ",
+                          (unsigned long)c->control_exceed, (unsigned long)r->n_controls,
+                          c->control_p);
         }
         (void)fprintf(out, "\n");
     }
