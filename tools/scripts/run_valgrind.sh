@@ -70,6 +70,12 @@ vg 0 "identify (--json, given h, no prefilter)" identify long.csv --json --chann
 # The likelihood-based test on the record's first 2 000 samples (a minute under memcheck).
 head -n 2001 long.csv >short.csv
 vg 0 "identify --method test --json" identify short.csv --method test --json
+# ... with a known input and a linear control (a 2 s shaker record of one channel)
+awk '/^[ \t]*duration[ \t]*=/ { print "duration = 2"; next } { print }' \
+  "$root/tools/examples/section3dof_multisine.ini" >ms.ini
+"$aenl" simulate ms.ini -o ms.csv >/dev/null
+vg 0 "identify --method test --input --controls" identify ms.csv --method test --input f_pitch \
+  --channel beta --controls 1 --json
 have_gnuplot=0
 command -v gnuplot >/dev/null && have_gnuplot=1
 if ((have_gnuplot)); then

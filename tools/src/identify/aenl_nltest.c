@@ -1069,9 +1069,17 @@ static void simulate_control(const aenl_em_model_t *m, const double *in, size_t 
     }
 }
 
-static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
-                                 const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
-                                 aenl_err_t *err, int stats_only);
+/* What a run hands on to its linear controls: the fitted model and the scaled inputs. */
+typedef struct
+{
+    aenl_em_result_t em;
+    double *in;     /* n x n_in, row-major */
+    double *in_col; /* n_in series of n */
+} kept_t;
+
+static aenl_status_t run_core(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                              const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res, aenl_err_t *err,
+                              int stats_only, kept_t *keep);
 
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
  * run's scaled inputs), each tested like the record; a channel's control p-value is the share
@@ -1113,7 +1121,7 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
         aenl_nlt_result_t rc;
         aenl_err_t e2;
         aenl_err_clear(&e2);
-        if (run_strided((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1) != AENL_OK)
+        if (run_core((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1, NULL) != AENL_OK)
         {
             continue;
         }
@@ -1132,9 +1140,11 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     return AENL_OK;
 }
 
-static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
-                                 const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
-                                 aenl_err_t *err, int stats_only)
+/* The test of a record (stage 2 too unless stats_only). With keep, a successful run hands its
+ * fitted model and scaled inputs over instead of freeing them. */
+static aenl_status_t run_core(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                              const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res, aenl_err_t *err,
+                              int stats_only, kept_t *keep)
 {
     int cols_ok = col != NULL;
     for (size_t j = 0; cols_ok && j < n_ch && j < AENL_NLT_MAX_CH; ++j)
@@ -1352,18 +1362,45 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
             res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
         }
     }
-    if (st == AENL_OK && opts->n_controls > 0)
-    {
-        st = linear_controls(&em.model, in, rn.in_col, n, n_ch, opts, res, err);
-    }
     free(rn.one);
     free(rn.lin);
     free(rn.dsg);
     free(rn.work);
+    nlt_kf_free(&kf);
+    if (keep != NULL && st == AENL_OK)
+    {
+        keep->em = em;
+        keep->in = in;
+        keep->in_col = in_col;
+        return st;
+    }
     free(in);
     free(in_col);
-    nlt_kf_free(&kf);
     aenl_em_result_free(&em);
+    return st;
+}
+
+/* The test of a record, then its linear controls when the options ask for them. */
+static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                                 const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
+                                 aenl_err_t *err)
+{
+    kept_t keep;
+    memset(&keep, 0, sizeof(keep));
+    const int controls = opts != NULL && opts->n_controls > 0;
+    aenl_status_t st = run_core(col, stride, n, n_ch, opts, res, err, 0, controls ? &keep : NULL);
+    if (st == AENL_OK && controls)
+    {
+        const double *in_cols[AENL_EM_MAX_U] = {NULL};
+        for (size_t p = 0; p < keep.em.model.n_u; ++p)
+        {
+            in_cols[p] = keep.in_col + p * n;
+        }
+        st = linear_controls(&keep.em.model, keep.in, in_cols, n, n_ch, opts, res, err);
+    }
+    free(keep.in);
+    free(keep.in_col);
+    aenl_em_result_free(&keep.em);
     return st;
 }
 
@@ -1375,12 +1412,12 @@ aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nl
     {
         col[j] = y + j;
     }
-    return run_strided(y != NULL ? col : NULL, n_ch, n, n_ch, opts, res, err, 0);
+    return run_strided(y != NULL ? col : NULL, n_ch, n, n_ch, opts, res, err);
 }
 
 aenl_status_t aenl_nlt_run_columns(const double *const *cols, size_t n, size_t n_ch,
                                    const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
                                    aenl_err_t *err)
 {
-    return run_strided(cols, 1, n, n_ch, opts, res, err, 0);
+    return run_strided(cols, 1, n, n_ch, opts, res, err);
 }
