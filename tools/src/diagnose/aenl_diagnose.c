@@ -1411,60 +1411,85 @@ static aenl_status_t baseline_noise(ctx_t *x, const aenl_sim_model_t *base, aenl
     return AENL_OK;
 }
 
-static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model_t *base,
-                              const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
-                              aenl_diagnose_result_t *r, aenl_err_t *err)
+/* What one diagnosis carries from stage to stage (diagnose). */
+typedef struct
 {
-    if (run->force != AENL_SIM_FORCE_NONE)
+    ctx_t x;
+    const aenl_sim_model_t *base;
+    const aenl_diagnose_opts_t *opts;
+    spec_t sp[AENL_DIAGNOSE_MAX_CAND]; /* the candidates */
+    size_t n_sp;
+    size_t order[AENL_DIAGNOSE_MAX_CAND]; /* the candidates by ascending best gap */
+    floor_t fl_base;                      /* the baseline's floor */
+    floor_t fl_cand[N_FLOOR_CAND]; /* the contenders' floors, kept for the named one's after */
+    double common, common_same;    /* the common floors: other excitation, the noise alone */
+    double rv[2];                  /* the pooled relative variances (pool_rv) and their count */
+    size_t n_rv[2];
+} diag_t;
+
+/* The candidates run over the record's length, so a sweep or multisine rebuilt from the INI
+ * would not be the force the record was driven by. */
+static aenl_status_t check_unforced(const aenl_sim_run_t *run, aenl_err_t *err)
+{
+    if (run->force == AENL_SIM_FORCE_NONE)
     {
-        /* The candidates run over the record's length, so a sweep or multisine rebuilt from the
-         * INI would not be the force the record was driven by. */
-        aenl_err_set(err,
-                     "the baseline's [excitation] is a %s: the model-based test does not "
-                     "take a forced excitation (it would rebuild the force over the "
-                     "record's length instead of using the measured one)",
-                     run->force == AENL_SIM_FORCE_SWEEP ? "sweep" : "multisine");
-        return AENL_E_ARG;
+        return AENL_OK;
     }
-    const double t0 = now_s();
-    size_t n_ch = 0;
-    const char *const *names = aenl_diagnose_channel_names(base->type, &n_ch);
-    r->n_channels = n_ch;
+    aenl_err_set(err,
+                 "the baseline's [excitation] is a %s: the model-based test does not "
+                 "take a forced excitation (it would rebuild the force over the "
+                 "record's length instead of using the measured one)",
+                 run->force == AENL_SIM_FORCE_SWEEP ? "sweep" : "multisine");
+    return AENL_E_ARG;
+}
+
+/* Take the record and set up the simulations under its conditions (d->x): its length, no
+ * noise of the simulator's own, the runaway bounds, the baseline's noise (baseline_noise). */
+static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const aenl_sim_run_t *run,
+                               const char *const *names, aenl_diagnose_result_t *r, aenl_err_t *err)
+{
     aenl_status_t st = take_record(measured, run, r, names, err);
     if (st != AENL_OK)
     {
         return st;
     }
     const size_t n = r->n_samples;
-    ctx_t x;
-    memset(&x, 0, sizeof(x));
-    x.run = *run;
-    x.run.duration = (double)(n - 1u) * run->dt;
-    x.run.snr = 0.0;
-    x.n = n;
-    x.n_ch = n_ch;
-    x.res = r;
-    x.noise_seed = opts->noise_seed;
-    x.verbose = opts->verbose;
-    for (size_t c = 0; c < n_ch; ++c)
+    ctx_t *x = &d->x;
+    x->run = *run;
+    x->run.duration = (double)(n - 1u) * run->dt;
+    x->run.snr = 0.0;
+    x->n = n;
+    x->n_ch = r->n_channels;
+    x->res = r;
+    x->noise_seed = d->opts->noise_seed;
+    x->verbose = d->opts->verbose;
+    for (size_t c = 0; c < x->n_ch; ++c)
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
-        x.bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
+        x->bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
     }
     aenl_err_t e;
     aenl_err_clear(&e);
-    if (aenl_sim_validate(base, &x.run, &e) != AENL_OK)
+    if (aenl_sim_validate(d->base, &x->run, &e) != AENL_OK)
     {
         aenl_err_set(err, "baseline model: %s", e.msg);
         return AENL_E_ARG;
     }
-    st = baseline_noise(&x, base, err);
+    st = baseline_noise(x, d->base, err);
     if (st != AENL_OK)
     {
         return st;
     }
-    r->run = x.run;
-    /* Measured signatures; the PSD arrays are strided by the largest Welch segment. */
+    r->run = x->run;
+    return AENL_OK;
+}
+
+/* The result's PSD and time-series buffers for its n_ch channels (the PSD arrays strided by the
+ * largest Welch segment) and the per-element floor scratch *elem (the caller frees it). */
+static aenl_status_t alloc_buffers(aenl_diagnose_result_t *r, size_t n_ch, double **elem,
+                                   aenl_err_t *err)
+{
+    const size_t n = r->n_samples;
     size_t seg_max = 0;
     for (size_t c = 0; c < n_ch; ++c)
     {
@@ -1476,13 +1501,24 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     r->psd_upd = calloc(n_ch * r->n_bins, sizeof(double));
     r->y_base = malloc(n_ch * n * sizeof(double));
     r->y_upd = malloc(n_ch * n * sizeof(double));
-    double *elem = malloc(n_ch * (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE * sizeof(double));
-    if (!r->psd_meas || !r->psd_base || !r->psd_upd || !r->y_base || !r->y_upd || !elem)
+    *elem = malloc(n_ch * (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE * sizeof(double));
+    if (!r->psd_meas || !r->psd_base || !r->psd_upd || !r->y_base || !r->y_upd || !*elem)
     {
-        free(elem);
+        free(*elem);
+        *elem = NULL;
         aenl_err_set(err, "out of memory (diagnosis buffers)");
         return AENL_E_DIM;
     }
+    return AENL_OK;
+}
+
+/* The measured signatures of the n_ch channels named `names`; an error for a channel whose
+ * record is not finite. */
+static aenl_status_t measured_sigs(aenl_diagnose_result_t *r, const char *const *names, size_t n_ch,
+                                   aenl_err_t *err)
+{
+    const size_t n = r->n_samples;
+    aenl_status_t st = AENL_OK;
     for (size_t c = 0; c < n_ch && st == AENL_OK; ++c)
     {
         st = aenl_diagnose_signature(r->y_meas + c * n, n, &r->chan[c], &r->sig_meas[c],
@@ -1493,49 +1529,69 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             st = AENL_E_ARG;
         }
     }
-    /* Baseline: gap, floor and the significant disagreements. */
-    floor_t fl_base;
+    return st;
+}
+
+/* The measured signatures and the baseline's: its gap, its floor and the significant
+ * disagreements, over the n_ch channels named `names`. */
+static aenl_status_t measure_baseline(diag_t *d, const char *const *names, size_t n_ch,
+                                      aenl_err_t *err)
+{
+    ctx_t *x = &d->x;
+    aenl_diagnose_result_t *r = x->res;
+    double *elem = NULL;
+    aenl_status_t st = alloc_buffers(r, n_ch, &elem, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    st = measured_sigs(r, names, n_ch, err);
     if (st == AENL_OK)
     {
-        st = sim_sig(&x, base, 0, r->sig_base, r->y_base, r->psd_base, err);
+        st = sim_sig(x, d->base, 0, r->sig_base, r->y_base, r->psd_base, err);
     }
     if (st == AENL_OK)
     {
-        r->gap_before[n_ch] = gap_of(&x, r->sig_meas, r->sig_base, r->gap_before, r->fam_before);
-        st = floor_of(&x, base, r->sig_base, opts->n_replicates, &fl_base, elem, err);
+        r->gap_before[n_ch] = gap_of(x, r->sig_meas, r->sig_base, r->gap_before, r->fam_before);
+        st = floor_of(x, d->base, r->sig_base, d->opts->n_replicates, &d->fl_base, elem, err);
     }
     if (st != AENL_OK)
     {
         free(elem);
         return st;
     }
-    memcpy(r->floor_before, fl_base.ch, sizeof(r->floor_before));
-    set_sig(r, &fl_base, r->fam_before, r->sig_before);
-    add_disagreements(r, elem, opts->report_ratio);
+    memcpy(r->floor_before, d->fl_base.ch, sizeof(r->floor_before));
+    set_sig(r, &d->fl_base, r->fam_before, r->sig_before);
+    add_disagreements(r, elem, d->opts->report_ratio);
     free(elem);
-    progress(&x, "baseline %s%s gap %.4g", "", "", r->gap_before[n_ch]);
+    progress(x, "baseline %s%s gap %.4g", "", "", r->gap_before[n_ch]);
+    return AENL_OK;
+}
 
-    /* Candidates: every effect on every DOF whose baseline law is linear. */
-    spec_t sp[AENL_DIAGNOSE_MAX_CAND];
-    size_t n_sp = 0;
+/* The candidates: every effect on every DOF whose baseline law is linear. */
+static void make_specs(diag_t *d)
+{
+    const aenl_sim_model_t *base = d->base;
+    const aenl_diagnose_result_t *r = d->x.res;
     const size_t n_dof = base->type == AENL_SIM_AIRFOIL2DOF ? 2u : 3u;
     const aenl_diagnose_effect_t effects[] = {AENL_DIAGNOSE_FREEPLAY, AENL_DIAGNOSE_HYSTERESIS,
                                               AENL_DIAGNOSE_POLYNOMIAL, AENL_DIAGNOSE_POLYNOMIAL,
                                               AENL_DIAGNOSE_PRELOAD};
     const unsigned n_par[] = {2, 3, 1, 2, 1};
-    for (size_t d = 0; d < n_dof; ++d)
+    d->n_sp = 0;
+    for (size_t dof = 0; dof < n_dof; ++dof)
     {
-        if (base->law[d].kind != AENL_SIM_LAW_LINEAR)
+        if (base->law[dof].kind != AENL_SIM_LAW_LINEAR)
         {
             continue;
         }
-        const size_t c = aenl_diagnose_dof_channel(base->type, (aenl_sim_dof_t)d);
+        const size_t c = aenl_diagnose_dof_channel(base->type, (aenl_sim_dof_t)dof);
         for (size_t k = 0; k < sizeof(n_par) / sizeof(n_par[0]); ++k)
         {
-            spec_t *s = &sp[n_sp++];
+            spec_t *s = &d->sp[d->n_sp++];
             memset(s, 0, sizeof(*s));
             s->effect = effects[k];
-            s->dof = (aenl_sim_dof_t)d;
+            s->dof = (aenl_sim_dof_t)dof;
             s->n_par = n_par[k];
             s->s = signal_std(&r->chan[c]);
             s->m = r->chan[c].mean;
@@ -1545,35 +1601,76 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
             s->best = HUGE_VAL;
         }
     }
-    st = run_candidates(&x, base, sp, n_sp, opts, err);
+}
+
+/* Calibrate the candidates (grid, then Nelder-Mead: run_candidates), then the contenders' fits
+ * once more (a fresh simplex: stage 3), so that the choice between them weighs their laws, not
+ * how far each simplex got; d->order ranks them after. */
+static aenl_status_t fit_candidates(diag_t *d, aenl_err_t *err)
+{
+    aenl_status_t st = run_candidates(&d->x, d->base, d->sp, d->n_sp, d->opts, err);
     if (st != AENL_OK)
     {
         return st;
     }
-    /* The contenders' fits once more (a fresh simplex: stage 3), so that the choice between
-     * them weighs their laws, not how far each simplex got; then their floors, the common
-     * yardstick and the penalised choice. */
-    size_t order[AENL_DIAGNOSE_MAX_CAND];
-    order_by_best(sp, n_sp, order);
-    for (size_t i = 0; i < n_sp && i < N_FLOOR_CAND; ++i)
+    order_by_best(d->sp, d->n_sp, d->order);
+    for (size_t i = 0; i < d->n_sp && i < N_FLOOR_CAND; ++i)
     {
-        st = restart(&x, base, &sp[order[i]], opts, err);
+        st = restart(&d->x, d->base, &d->sp[d->order[i]], d->opts, err);
         if (st != AENL_OK)
         {
             return st;
         }
     }
-    order_by_best(sp, n_sp, order);
-    double common = r->floor_before[n_ch], common_same = fl_base.same;
-    floor_t fl_cand[N_FLOOR_CAND]; /* the contenders' floors, kept for the named one's after */
-    memset(fl_cand, 0, sizeof(fl_cand));
-    double rv[2] = {0.0, 0.0};
-    size_t n_rv[2] = {0, 0};
-    pool_rv(&fl_base, rv, n_rv);
-    r->n_cand = n_sp;
-    for (size_t i = 0; i < n_sp; ++i)
+    order_by_best(d->sp, d->n_sp, d->order);
+    return AENL_OK;
+}
+
+/* The floor of contender i (law cd->law) into d->fl_cand[i], cd->floor and cd->bounded; the
+ * common floors and the pooled relative variances take it in. */
+static aenl_status_t contender_floor(diag_t *d, size_t i, aenl_diagnose_cand_t *cd, aenl_err_t *err)
+{
+    const size_t n_ch = d->x.n_ch;
+    floor_t *const fl_c = &d->fl_cand[i];
+    aenl_sim_model_t m = *d->base;
+    m.law[cd->dof] = cd->law;
+    aenl_diagnose_sig_t *ms = malloc(n_ch * sizeof(*ms));
+    if (ms == NULL)
     {
-        const spec_t *s = &sp[order[i]];
+        aenl_err_set(err, "out of memory (signatures)");
+        return AENL_E_DIM;
+    }
+    aenl_status_t st = sim_sig(&d->x, &m, 0, ms, NULL, NULL, err);
+    if (st == AENL_OK)
+    {
+        st = floor_of(&d->x, &m, ms, d->opts->n_replicates, fl_c, NULL, err);
+    }
+    free(ms);
+    cd->floor = st == AENL_OK ? fl_c->ch[n_ch] : 0.0;
+    cd->bounded = st == AENL_OK ? fl_c->bounded : 1.0;
+    d->common = fmax(d->common, cd->floor);
+    d->common_same = st == AENL_OK ? fmax(d->common_same, fl_c->same) : d->common_same;
+    if (st == AENL_OK)
+    {
+        pool_rv(fl_c, d->rv, d->n_rv);
+    }
+    return st;
+}
+
+/* The result's candidates, best gap first, and the floors of the best N_FLOOR_CAND: the
+ * common yardstick of the choice. */
+static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
+{
+    aenl_diagnose_result_t *r = d->x.res;
+    d->common = r->floor_before[d->x.n_ch];
+    d->common_same = d->fl_base.same;
+    memset(d->fl_cand, 0, sizeof(d->fl_cand));
+    pool_rv(&d->fl_base, d->rv, d->n_rv);
+    r->n_cand = d->n_sp;
+    aenl_status_t st = AENL_OK;
+    for (size_t i = 0; i < d->n_sp; ++i)
+    {
+        const spec_t *s = &d->sp[d->order[i]];
         aenl_diagnose_cand_t *cd = &r->cand[i];
         cd->effect = s->effect;
         cd->dof = s->dof;
@@ -1581,81 +1678,68 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         spec_law(s, s->theta, &cd->law);
         cd->gap = sqrt(s->best);
         cd->n_evals = s->n_evals;
-        cd->refined = i < opts->n_refine;
+        cd->refined = i < d->opts->n_refine;
         cd->score = HUGE_VAL;
         cd->bounded = 1.0;
         if (i < N_FLOOR_CAND && st == AENL_OK)
         {
-            floor_t *const fl_c = &fl_cand[i];
-            aenl_sim_model_t m = *base;
-            m.law[s->dof] = cd->law;
-            aenl_diagnose_sig_t *ms = malloc(n_ch * sizeof(*ms));
-            if (ms == NULL)
-            {
-                aenl_err_set(err, "out of memory (signatures)");
-                return AENL_E_DIM;
-            }
-            st = sim_sig(&x, &m, 0, ms, NULL, NULL, err);
-            if (st == AENL_OK)
-            {
-                st = floor_of(&x, &m, ms, opts->n_replicates, fl_c, NULL, err);
-            }
-            free(ms);
-            cd->floor = st == AENL_OK ? fl_c->ch[n_ch] : 0.0;
-            cd->bounded = st == AENL_OK ? fl_c->bounded : 1.0;
-            common = fmax(common, cd->floor);
-            common_same = st == AENL_OK ? fmax(common_same, fl_c->same) : common_same;
-            if (st == AENL_OK)
-            {
-                pool_rv(fl_c, rv, n_rv);
-            }
+            st = contender_floor(d, i, cd, err);
         }
     }
-    if (st != AENL_OK)
+    return st;
+}
+
+/* The scale of the floor the record follows. The replicates differ in their excitation
+ * (turbulence) and noise; a record driven by the main run's own excitation (a known input, or a
+ * simulation with the model's seed) differs from the right model by its noise only, a smaller
+ * floor. Which of the two scales the record follows shows in the best gap, baseline's or a
+ * candidate's (*g_min): nearer (in ratio) to the floor of the noise alone, the record shares
+ * the excitation; so too when it is more than none_ratio times below the floor of other
+ * turbulence, which no model can be against a record of other turbulence (a model that misses
+ * by a bias b has gap^2 about floor^2 + b^2: where no candidate reaches the truth, the best gap
+ * can be far from both floors). Then the scores are in units of that floor. In the larger one
+ * every candidate that fits within it would score alike: on gust records with hysteresis
+ * (delta 0.0019, alpha_f 0 in flap) the hysteresis' gap is 0.016 and a freeplay's 0.035, both
+ * far inside the common floor 0.082. */
+static void choose_scale(diag_t *d, double *g_min)
+{
+    aenl_diagnose_result_t *r = d->x.res;
+    double common = fmax(d->common, AENL_DIAGNOSE_MIN_FLOOR);
+    const double common_same = fmax(d->common_same, AENL_DIAGNOSE_MIN_FLOOR);
+    double g = r->gap_before[d->x.n_ch];
+    for (size_t i = 0; i < d->n_sp; ++i)
     {
-        return st;
-    }
-    common = fmax(common, AENL_DIAGNOSE_MIN_FLOOR);
-    common_same = fmax(common_same, AENL_DIAGNOSE_MIN_FLOOR);
-    /* The replicates differ in their excitation (turbulence) and noise; a record driven by the
-     * main run's own excitation (a known input, or a simulation with the model's seed) differs
-     * from the right model by its noise only, a smaller floor. Which of the two scales the record
-     * follows shows in the best gap, baseline's or a candidate's: nearer (in ratio) to the floor
-     * of the noise alone, the record shares the excitation; so too when it is more than
-     * none_ratio times below the floor of other turbulence, which no model can be against a
-     * record of other turbulence (a model that misses by a bias b has gap^2 about floor^2 + b^2:
-     * where no candidate reaches the truth, the best gap can be far from both floors). Then the
-     * scores are in units of that floor. In the larger one every candidate that fits within it
-     * would score alike: on the suite's gust records with hysteresis (delta 0.0019, alpha_f 0 in
-     * flap) the hysteresis' gap was 0.016 and a freeplay's 0.035, both far inside the common
-     * floor 0.082. */
-    double g_min = r->gap_before[n_ch];
-    for (size_t i = 0; i < n_sp; ++i)
-    {
-        g_min = r->cand[i].bounded > 0.0 ? fmin(g_min, r->cand[i].gap) : g_min;
+        g = r->cand[i].bounded > 0.0 ? fmin(g, r->cand[i].gap) : g;
     }
     r->floor_same = common_same;
-    r->excitation_shared = common_same < common && (g_min * g_min < common_same * common ||
-                                                    g_min * opts->none_ratio < common);
+    r->excitation_shared =
+        common_same < common && (g * g < common_same * common || g * d->opts->none_ratio < common);
     if (r->excitation_shared)
     {
         common = common_same;
     }
     r->common_floor = common;
-    /* The scores in chi-square units: the gap squared over the floor's squared is about
-     * chi-square over its degrees of freedom M, whose relative variance 2 / M the replicate pairs
-     * measure (pooled over the floors in the scale the record follows). A parameter fitted to the
-     * record takes about one unit of chi-square off (penalty 2: Akaike's), whatever M; in units of
-     * the floor squared that is 2 / M. On the suite's gust records with other turbulence M came
-     * out 8 to 75 (10 to 90 %; median 21), so the fixed 0.5 a parameter in units of the floor
-     * squared used before was 4 to 38 units: it named a freeplay on gust records whose hysteresis
-     * fitted better by less (159, 167, 189, 219). No spread to measure (every run alike: no
-     * noise, no turbulence): M from the baseline's runs given a nominal noise (nominal_rv). */
-    const int k_rv = r->excitation_shared ? 1 : 0;
+    *g_min = g;
+}
+
+/* The gap's degrees of freedom M (2 / the relative variance of the squared gaps). The gap
+ * squared over the floor's squared is about chi-square over M, whose relative variance 2 / M
+ * the replicate pairs measure (pooled over the floors in the scale the record follows). A
+ * parameter fitted to the record takes about one unit of chi-square off (penalty 2: Akaike's),
+ * whatever M; in units of the floor squared that is 2 / M. On gust records with other
+ * turbulence M comes out 8 to 75 (10 to 90 %; median 21), so a fixed 0.5 a parameter in units
+ * of the floor squared would be 4 to 38 units: it names a freeplay on gust records whose
+ * hysteresis fits better by less. No spread to measure (every run alike: no noise, no
+ * turbulence): M from the baseline's runs given a nominal noise (nominal_rv). */
+static aenl_status_t gap_dof(diag_t *d, double *m_rep, aenl_err_t *err)
+{
+    const int k_rv = d->x.res->excitation_shared ? 1 : 0;
+    double *const rv = d->rv;
+    size_t *const n_rv = d->n_rv;
     if (!(n_rv[k_rv] > 0u && rv[k_rv] > 0.0))
     {
         double rv_nom = (double)NAN;
-        st = nominal_rv(&x, base, opts->n_replicates, &rv_nom, err);
+        const aenl_status_t st = nominal_rv(&d->x, d->base, d->opts->n_replicates, &rv_nom, err);
         if (st != AENL_OK)
         {
             return st;
@@ -1663,35 +1747,61 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         rv[k_rv] = isfinite(rv_nom) ? rv_nom : 0.0;
         n_rv[k_rv] = isfinite(rv_nom) ? 1u : 0u;
     }
-    const double m_rep =
-        n_rv[k_rv] > 0u && rv[k_rv] > 0.0 ? 2.0 * (double)n_rv[k_rv] / rv[k_rv] : 1.0;
-    /* Quasi-likelihood (QAIC): when even the best law misses the record beyond its floor, by a
-     * bias, the squared gap's spread grows with that bias, and a difference between two such
-     * misfits is worth less than the replicates' spread says. The chi-square is divided by the
-     * dispersion, the best's (gap / F)^2 when above 1. Where every run is alike (F the least
-     * floor) that leaves M (gap / best gap)^2 + penalty, M measured at the nominal noise: with M
-     * 1 there, the suite's noise-free decay 158 named a preload 1.7 times the freeplay's gap (by
-     * 0.13); with the measured 48 the freeplay wins by 88 (docs/diagnose.md). */
+    *m_rep = n_rv[k_rv] > 0u && rv[k_rv] > 0.0 ? 2.0 * (double)n_rv[k_rv] / rv[k_rv] : 1.0;
+    return AENL_OK;
+}
+
+/* The scores in chi-square units and the best candidate (*best; n_sp when there is none).
+ * Quasi-likelihood (QAIC): when even the best law misses the record beyond its floor, by a bias,
+ * the squared gap's spread grows with that bias, and a difference between two such misfits is
+ * worth less than the replicates' spread says. The chi-square is divided by the dispersion, the
+ * best's (gap / F)^2 when above 1. Where every run is alike (F the least floor) that leaves
+ * M (gap / best gap)^2 + penalty, M measured at the nominal noise: with M 1 there, a noise-free
+ * decay with a freeplay names a preload 1.7 times the freeplay's gap (by 0.13); with the
+ * measured 48 the freeplay wins by 88 (docs/diagnose.md). */
+static aenl_status_t score_candidates(diag_t *d, size_t *best, aenl_err_t *err)
+{
+    aenl_diagnose_result_t *r = d->x.res;
+    double g_min = 0.0, m_rep = 1.0;
+    choose_scale(d, &g_min);
+    const aenl_status_t st = gap_dof(d, &m_rep, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const double common = r->common_floor;
     r->dispersion = fmax(1.0, (g_min / common) * (g_min / common));
     r->m_eff = m_rep / r->dispersion;
     /* The gap's own test of the best law, at the summaries' level (0.1 %): M (gap / F)^2 within
      * the 99.9 % point of chi-square with M degrees of freedom. */
     r->gap_accepts = m_rep * r->dispersion <= chi2_quantile_999(m_rep);
-    size_t best = n_sp;
-    for (size_t i = 0; i < n_sp; ++i)
+    *best = d->n_sp;
+    for (size_t i = 0; i < d->n_sp; ++i)
     {
         aenl_diagnose_cand_t *cd = &r->cand[i];
         /* a candidate none of whose runs stayed bounded cannot be the record's model */
         cd->score = cd->bounded > 0.0 ? r->m_eff * (cd->gap / common) * (cd->gap / common) +
-                                            opts->penalty * cd->n_params - 2.0 * log(cd->bounded)
+                                            d->opts->penalty * cd->n_params - 2.0 * log(cd->bounded)
                                       : HUGE_VAL;
-        if (best == n_sp || cd->score < r->cand[best].score)
+        if (*best == d->n_sp || cd->score < r->cand[*best].score)
         {
-            best = i;
+            *best = i;
         }
     }
-    /* The baseline's floor in the scale the record follows. */
-    r->base_floor = r->excitation_shared ? fl_base.same : r->floor_before[n_ch];
+    return AENL_OK;
+}
+
+/* Name the missing effect, cand[best], or none: beyond none_ratio times the baseline's floor
+ * (in the scale the record follows) by the gap, or within it where the summaries reject the
+ * baseline (test_baseline), a candidate that takes 30 % off the baseline's gap is named
+ * (name_law). *moved: 1 when the summary fit moved the named law from the one whose floor was
+ * measured. */
+static aenl_status_t name_effect(diag_t *d, size_t best, int *moved, aenl_err_t *err)
+{
+    aenl_diagnose_result_t *r = d->x.res;
+    const aenl_diagnose_opts_t *opts = d->opts;
+    const size_t n_ch = d->x.n_ch, n_sp = d->n_sp;
+    r->base_floor = r->excitation_shared ? d->fl_base.same : r->floor_before[n_ch];
     const double sig_total = r->gap_before[n_ch] / fmax(r->base_floor, AENL_DIAGNOSE_MIN_FLOOR);
     r->explained = 1;
     r->chosen = n_sp;
@@ -1699,12 +1809,12 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     r->rival_chi2 = (double)NAN;
     r->effect = AENL_DIAGNOSE_NONE;
     r->dof = AENL_SIM_DOF_PITCH;
-    r->updated = *base;
+    r->updated = *d->base;
     int name_one = sig_total > opts->none_ratio;
-    int moved = 0; /* the summary fit moved the named law from the one whose floor it has */
+    *moved = 0;
     if (!name_one && opts->summary_records > 0u)
     {
-        st = test_baseline(&x, base, opts, r, err);
+        const aenl_status_t st = test_baseline(&d->x, d->base, opts, r, err);
         if (st != AENL_OK)
         {
             return st;
@@ -1715,45 +1825,46 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
          * disagree. */
         name_one = aenl_diagnose_baseline_agrees(r) == 0;
     }
-    if (name_one && best < n_sp)
+    if (!name_one || best >= n_sp)
     {
-        if (r->cand[best].gap < 0.7 * r->gap_before[n_ch])
-        {
-            st = name_law(&x, base, opts, best, &moved, err);
-            if (st != AENL_OK)
-            {
-                return st;
-            }
-        }
-        else
-        {
-            /* beyond the floor and nothing takes 30 % off: unexplained; within it (named only
-             * on the summaries' word): none stands */
-            r->explained = sig_total <= opts->none_ratio;
-        }
+        return AENL_OK;
     }
-    /* After: the updated model under the main seeds, and its floor. */
-    st = sim_sig(&x, &r->updated, 0, r->sig_upd, r->y_upd, r->psd_upd, err);
+    if (r->cand[best].gap < 0.7 * r->gap_before[n_ch])
+    {
+        return name_law(&d->x, d->base, opts, best, moved, err);
+    }
+    /* beyond the floor and nothing takes 30 % off: unexplained; within it (named only on the
+     * summaries' word): none stands */
+    r->explained = sig_total <= opts->none_ratio;
+    return AENL_OK;
+}
+
+/* After: the updated model under the main seeds, its gap and its floor: the named candidate's
+ * as measured among the contenders, unless the summary fit has moved its law (or it was not
+ * among them): then its own floor again. */
+static aenl_status_t measure_updated(diag_t *d, int moved, aenl_err_t *err)
+{
+    aenl_diagnose_result_t *r = d->x.res;
+    const size_t n_ch = d->x.n_ch, n_sp = d->n_sp;
+    aenl_status_t st = sim_sig(&d->x, &r->updated, 0, r->sig_upd, r->y_upd, r->psd_upd, err);
     if (st != AENL_OK)
     {
         return st;
     }
-    r->gap_after[n_ch] = gap_of(&x, r->sig_meas, r->sig_upd, r->gap_after, r->fam_after);
+    r->gap_after[n_ch] = gap_of(&d->x, r->sig_meas, r->sig_upd, r->gap_after, r->fam_after);
     if (r->chosen < n_sp)
     {
         r->cand[r->chosen].gap = r->gap_after[n_ch]; /* its final law */
     }
-    /* The named candidate's floor: as measured among the contenders, unless the summary fit has
-     * moved its law (or it was not among them): then its own floor again. */
-    const floor_t *fl_after = &fl_base;
+    const floor_t *fl_after = &d->fl_base;
     floor_t fl_extra;
     if (r->chosen < N_FLOOR_CAND && !moved)
     {
-        fl_after = &fl_cand[r->chosen];
+        fl_after = &d->fl_cand[r->chosen];
     }
     else if (r->chosen < n_sp)
     {
-        st = floor_of(&x, &r->updated, r->sig_upd, opts->n_replicates, &fl_extra, NULL, err);
+        st = floor_of(&d->x, &r->updated, r->sig_upd, d->opts->n_replicates, &fl_extra, NULL, err);
         if (st != AENL_OK)
         {
             return st;
@@ -1764,8 +1875,14 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     }
     memcpy(r->floor_after, fl_after->ch, sizeof(r->floor_after));
     set_sig(r, fl_after, r->fam_after, r->sig_after);
-    /* Measurement SNR of the record against the updated model's clean response. */
-    for (size_t c = 0; c < n_ch; ++c)
+    return AENL_OK;
+}
+
+/* Measurement SNR of the record against the updated model's clean response (r->y_upd). */
+static void measurement_snr(aenl_diagnose_result_t *r)
+{
+    const size_t n = r->n_samples;
+    for (size_t c = 0; c < r->n_channels; ++c)
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
         double m = 0.0, v = 0.0;
@@ -1784,9 +1901,61 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
         v = v / (double)n - ch->noise_sd * ch->noise_sd;
         r->snr[c] = (ok && v > 0.0 && ch->noise_sd > 0.0) ? sqrt(v) / ch->noise_sd : 0.0;
     }
-    r->n_sims = x.n_sims;
-    r->seconds = now_s() - t0;
-    return AENL_OK;
+}
+
+static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model_t *base,
+                              const aenl_sim_run_t *run, const aenl_diagnose_opts_t *opts,
+                              aenl_diagnose_result_t *r, aenl_err_t *err)
+{
+    aenl_status_t st = check_unforced(run, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const double t0 = now_s();
+    size_t n_ch = 0;
+    const char *const *names = aenl_diagnose_channel_names(base->type, &n_ch);
+    r->n_channels = n_ch;
+    diag_t dg;
+    memset(&dg, 0, sizeof(dg));
+    diag_t *const d = &dg;
+    d->base = base;
+    d->opts = opts;
+    st = setup_ctx(d, measured, run, names, r, err);
+    if (st == AENL_OK)
+    {
+        st = measure_baseline(d, names, n_ch, err);
+    }
+    if (st == AENL_OK)
+    {
+        make_specs(d);
+        st = fit_candidates(d, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = rank_candidates(d, err);
+    }
+    size_t best = 0;
+    if (st == AENL_OK)
+    {
+        st = score_candidates(d, &best, err);
+    }
+    int moved = 0; /* the summary fit moved the named law from the one whose floor it has */
+    if (st == AENL_OK)
+    {
+        st = name_effect(d, best, &moved, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = measure_updated(d, moved, err);
+    }
+    if (st == AENL_OK)
+    {
+        measurement_snr(r);
+        r->n_sims = d->x.n_sims;
+        r->seconds = now_s() - t0;
+    }
+    return st;
 }
 
 int aenl_diagnose_baseline_agrees(const aenl_diagnose_result_t *r)

@@ -613,11 +613,10 @@ static aenl_status_t screen_row(void *ctx, const double *row, aenl_err_t *err)
     return AENL_OK;
 }
 
-/**
- * Set up one channel after pass 1: period, pre-filter, lags, range, bandwidth, grid, moments.
- */
-static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_identify_opts_t *opts,
-                                aenl_identify_channel_t *out, aenl_err_t *err)
+/* The channel's pass-1 description: sample counts, noise, dominant period and how sustained the
+ * oscillation is; an error for a channel with fewer than two finite samples or a constant one. */
+static aenl_status_t chan_describe(const id_chan_t *c, const char *name,
+                                   aenl_identify_channel_t *out, aenl_err_t *err)
 {
     if (c->n < 2u)
     {
@@ -640,7 +639,15 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
                                   (size_t)floor(ID_SUSTAINED_PERIODS * out->period + 0.5))
                          : 0.0;
     out->bw_method = -1;
-    /* pre-filter */
+    return AENL_OK;
+}
+
+/* The pre-filter at ID_CUTOFF_CYCLES / period (none without a period, or when that is not below
+ * 0.4 of the sample rate), and the samples its start-up transient spoils. */
+static aenl_status_t chan_prefilter(id_chan_t *c, const char *name,
+                                    const aenl_identify_opts_t *opts, aenl_identify_channel_t *out,
+                                    aenl_err_t *err)
+{
     c->cutoff = 0.0;
     if (opts->prefilter && out->period > 0.0)
     {
@@ -661,7 +668,14 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
         c->settle = (size_t)ceil(4.0 / c->cutoff);
     }
     out->prefilter = c->cutoff;
-    /* lags */
+    return AENL_OK;
+}
+
+/* The classification lags (from the period, or up to 16 without one); an error when the
+ * channel is too short for the longest of them. */
+static aenl_status_t chan_lags(const id_chan_t *c, const char *name, aenl_identify_channel_t *out,
+                               aenl_err_t *err)
+{
     out->n_lags = make_lags(out->period > 0.0 ? out->period / ID_LAG_DIV : 16.0, out->lags);
     const size_t need = (size_t)out->lags[out->n_lags - 1u] + c->settle + 64u;
     if (c->n < need)
@@ -671,7 +685,14 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
                      name, c->n, need, (unsigned)out->lags[out->n_lags - 1u]);
         return AENL_E_ARG;
     }
-    /* the block, filtered as pass 2 will, gives the range and the bandwidth */
+    return AENL_OK;
+}
+
+/* The block filtered as pass 2 will filter it (*y, the caller frees it; NaN while the filter
+ * settles) and its finite range [*lo, *hi]: they give the range and the bandwidth. */
+static aenl_status_t chan_filtered_block(const id_chan_t *c, const char *name, double **y_out,
+                                         double *lo_out, double *hi_out, aenl_err_t *err)
+{
     double *y = malloc((c->n_block > 0 ? c->n_block : 1u) * sizeof(double));
     if (y == NULL)
     {
@@ -701,13 +722,18 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
         aenl_err_set(err, "channel %s: constant signal after the pre-filter's start-up", name);
         return AENL_E_ARG;
     }
-    /* The grid covers the whole record (pass 1's raw range less three noise standard deviations
-     * each side, where the filtered signal cannot reach), not only the block: a record whose
-     * amplitude grows or sweeps after the block still falls on the grid. */
-    const double margin = 3.0 * out->noise_std; /* the raw extremes are mostly noise beyond */
-    lo = c->lo + margin < lo ? c->lo + margin : lo;
-    hi = c->hi - margin > hi ? c->hi - margin : hi;
-    const double range = hi - lo;
+    *y_out = y;
+    *lo_out = lo;
+    *hi_out = hi;
+    return AENL_OK;
+}
+
+/* The kernel bandwidth: the one given, else cross-validated on the filtered block y and kept
+ * within one node per bandwidth over `range` for ID_MIN_GRID .. ID_MAX_GRID nodes. */
+static aenl_status_t chan_bandwidth(const id_chan_t *c, const double *y, double range,
+                                    const aenl_identify_opts_t *opts, aenl_identify_channel_t *out,
+                                    aenl_err_t *err)
+{
     double h = opts->bandwidth;
     if (h > 0.0)
     {
@@ -720,7 +746,6 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
             aenl_bw_select(y, c->n_block, out->lags, out->n_lags, NULL, &bw, err);
         if (st != AENL_OK)
         {
-            free(y);
             return st;
         }
         h = bw.h;
@@ -729,10 +754,18 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
         h = h < range / (ID_MAX_GRID - 2) ? range / (ID_MAX_GRID - 2) : h;
         h = h > range / (ID_MIN_GRID - 2) ? range / (ID_MIN_GRID - 2) : h;
     }
-    free(y);
     out->bandwidth = h;
-    /* grid: the block's filtered range plus one bandwidth each side, spacing h */
-    double n_nodes = floor(range / h) + 3.0;
+    return AENL_OK;
+}
+
+/* The classification moments (symmetric lags, both directions) on the grid [lo - h, hi + h] of
+ * spacing h, and the display moments (the paper's forward lags 1, 10, 30 that the record is
+ * long enough for) on the same grid. */
+static aenl_status_t chan_moments(id_chan_t *c, const char *name, double lo, double hi,
+                                  aenl_identify_channel_t *out, aenl_err_t *err)
+{
+    const double h = out->bandwidth;
+    double n_nodes = floor((hi - lo) / h) + 3.0;
     if (n_nodes > (double)AENL_CLASSIFIER_MAX_NODES)
     {
         n_nodes = (double)AENL_CLASSIFIER_MAX_NODES;
@@ -783,6 +816,45 @@ static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_ident
         return AENL_E_ARG;
     }
     return AENL_OK;
+}
+
+/**
+ * Set up one channel after pass 1: period, pre-filter, lags, range, bandwidth, grid, moments.
+ */
+static aenl_status_t chan_setup(id_chan_t *c, const char *name, const aenl_identify_opts_t *opts,
+                                aenl_identify_channel_t *out, aenl_err_t *err)
+{
+    aenl_status_t st = chan_describe(c, name, out, err);
+    if (st == AENL_OK)
+    {
+        st = chan_prefilter(c, name, opts, out, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = chan_lags(c, name, out, err);
+    }
+    double *y = NULL, lo = 0.0, hi = 0.0;
+    if (st == AENL_OK)
+    {
+        st = chan_filtered_block(c, name, &y, &lo, &hi, err);
+    }
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    /* The grid covers the whole record (pass 1's raw range less three noise standard deviations
+     * each side, where the filtered signal cannot reach), not only the block: a record whose
+     * amplitude grows or sweeps after the block still falls on the grid. */
+    const double margin = 3.0 * out->noise_std; /* the raw extremes are mostly noise beyond */
+    lo = c->lo + margin < lo ? c->lo + margin : lo;
+    hi = c->hi - margin > hi ? c->hi - margin : hi;
+    st = chan_bandwidth(c, y, hi - lo, opts, out, err);
+    free(y);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    return chan_moments(c, name, lo, hi, out, err);
 }
 
 /**
@@ -1317,6 +1389,226 @@ static double verdict_confidence(const aenl_identify_result_t *out)
     return any ? conf : 0.0;
 }
 
+/* The options in effect (the defaults when opts is NULL) into *o; an error when out of range. */
+static aenl_status_t run_opts(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
+                              aenl_identify_opts_t *o, aenl_err_t *err)
+{
+    aenl_identify_opts_default(o);
+    if (opts != NULL)
+    {
+        *o = *opts;
+    }
+    if (!isfinite(o->bandwidth) || o->bandwidth < 0.0 || o->cv_max < 256u ||
+        o->channel >= (long)src->n_cols)
+    {
+        aenl_err_set(err, "identify: bad options (bandwidth %g, cv_max %zu, channel %ld)",
+                     o->bandwidth, o->cv_max, o->channel);
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+/* The run's per-channel state, the result's channels and each channel's pass-1 block; `row` is
+ * the caller's row buffer, checked here with the rest. */
+static aenl_status_t run_alloc(id_run_t *run, const double *row, aenl_identify_result_t *out,
+                               aenl_err_t *err)
+{
+    const aenl_identify_opts_t *o = run->opts;
+    run->col = calloc(run->n_ch, sizeof(size_t));
+    run->ch = calloc(run->n_ch, sizeof(id_chan_t));
+    out->ch = calloc(run->n_ch, sizeof(aenl_identify_channel_t));
+    if (run->col == NULL || run->ch == NULL || row == NULL || out->ch == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    out->n_channels = run->n_ch;
+    for (size_t k = 0; k < run->n_ch; ++k)
+    {
+        run->col[k] = o->channel >= 0 ? (size_t)o->channel : k;
+        out->ch[k].explained_by = -1;
+        run->ch[k].block = malloc(o->cv_max * sizeof(double));
+        if (run->ch[k].block == NULL)
+        {
+            aenl_err_set(err, "out of memory");
+            return AENL_E_IO;
+        }
+    }
+    return AENL_OK;
+}
+
+/* The passes over the source: pass 1 (counts, range, the block), the channels' set-up and the
+ * regression's, pass 2 (the moments, the regression) and, with the regression, the impulse
+ * screen (passes 3 and 4). */
+static aenl_status_t run_passes(id_run_t *run, double *row, aenl_identify_result_t *out,
+                                aenl_err_t *err)
+{
+    const aenl_identify_source_t *src = run->src;
+    aenl_status_t st = for_rows(src, row, pass1_row, run, err);
+    for (size_t k = 0; k < run->n_ch && st == AENL_OK; ++k)
+    {
+        st = chan_setup(&run->ch[k], src->names[run->col[k]], run->opts, &out->ch[k], err);
+    }
+    if (st == AENL_OK)
+    {
+        st = rfs_setup(run, out, err);
+        for (size_t k = 0; k < run->n_ch && run->rfs != NULL; ++k)
+        {
+            out->ch[k].dither_std = run->rfs_dither[k];
+        }
+    }
+    if (st == AENL_OK)
+    {
+        st = for_rows(src, row, pass2_row, run, err);
+    }
+    if (st == AENL_OK && run->rfs != NULL)
+    {
+        st = rfs_screen(run, row, out, err);
+    }
+    return st;
+}
+
+/* The core classifier's configuration for channel ch: the lag expansion's order and, behind a
+ * pre-filter, the correlation the filter gives white noise at the lags. */
+static void classifier_cfg(const id_chan_t *ch, const aenl_identify_channel_t *c,
+                           aenl_classifier_cfg_t *cc)
+{
+    aenl_classifier_cfg_default(cc);
+    cc->taylor_order = ID_TAYLOR_ORDER;
+    if (ch->cutoff > 0.0)
+    {
+        double rho[AENL_MOMENTS_MAX_LAGS] = {0.0};
+        cc->use_noise_acf = (uint8_t)filter_acf(&ch->filter, c->lags, c->n_lags, rho);
+        for (uint16_t i = 0; i < c->n_lags; ++i)
+        {
+            cc->noise_acf[i] = rho[i];
+        }
+    }
+}
+
+/* Classify channel k (the core classifier, the regression's analysis when it ran) and export its
+ * curves. *cls is the classifier, allocated at the first call (large at host capacities: not on
+ * the stack); the caller frees it. */
+static aenl_status_t classify_channel(const id_run_t *run, size_t k, aenl_classifier_t **cls,
+                                      aenl_identify_result_t *out, aenl_err_t *err)
+{
+    aenl_identify_channel_t *c = &out->ch[k];
+    const id_chan_t *ch = &run->ch[k];
+    aenl_classifier_cfg_t cc;
+    classifier_cfg(ch, c, &cc);
+    if (*cls == NULL)
+    {
+        *cls = malloc(sizeof(**cls));
+    }
+    if (*cls == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    if (aenl_classifier_init(*cls, &cc) != AENL_OK ||
+        aenl_classifier_update(*cls, ch->mom) != AENL_OK)
+    {
+        aenl_err_set(err, "channel %s: classifier rejected the estimator", c->name);
+        return AENL_E_ARG;
+    }
+    c->onboard = *aenl_classifier_result(*cls);
+    c->res = c->onboard;
+    c->kurtosis = ch->s2 > 0.0 ? ch->n2 * ch->s4 / (ch->s2 * ch->s2) : 0.0;
+    c->evidence = c->res.cls > AENL_CLASS_LINEAR ? c->res.evidence : 0.0;
+    aenl_status_t st = AENL_OK;
+    if (run->rfs != NULL)
+    {
+        st = aenl_rfs_analyse(run->rfs, k, &c->rfs, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = chan_export(ch, c, cc.taylor_order, err);
+    }
+    return st;
+}
+
+/* Classify every channel (classify_channel). */
+static aenl_status_t classify_channels(const id_run_t *run, aenl_identify_result_t *out,
+                                       aenl_err_t *err)
+{
+    aenl_classifier_t *cls = NULL;
+    aenl_status_t st = AENL_OK;
+    for (size_t k = 0; k < run->n_ch && st == AENL_OK; ++k)
+    {
+        st = classify_channel(run, k, &cls, out, err);
+    }
+    free(cls);
+    return st;
+}
+
+/* The core classifier's verdict: the nonlinear channel with the largest evidence; with none,
+ * linear when some channel is linear, else insufficient. */
+static void core_verdict(aenl_identify_result_t *out)
+{
+    out->verdict = -1;
+    out->verdict_class = AENL_CLASS_INSUFFICIENT;
+    double best = 0.0;
+    for (size_t k = 0; k < out->n_channels; ++k)
+    {
+        const aenl_identify_channel_t *c = &out->ch[k];
+        if (c->res.cls == AENL_CLASS_LINEAR && out->verdict < 0)
+        {
+            out->verdict_class = AENL_CLASS_LINEAR;
+        }
+        if (c->res.cls > AENL_CLASS_LINEAR && c->evidence > best)
+        {
+            best = c->evidence;
+            out->verdict = (long)k;
+            out->verdict_class = c->res.cls;
+        }
+    }
+}
+
+/* The verdict and its confidence: the regression's where it decides (combine_verdicts), else the
+ * core classifier's, or the polynomial of a limit cycle (limit_cycle_verdict). */
+static aenl_status_t run_verdict(const id_run_t *run, aenl_identify_result_t *out, aenl_err_t *err)
+{
+    if (run->rfs != NULL)
+    {
+        const aenl_status_t st = explain_away(run->rfs, out, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+    }
+    int named_by_cycle = 0; /* which rule named the verdict */
+    const int named_by_rfs = combine_verdicts(out, run->rfs != NULL);
+    if (!named_by_rfs)
+    {
+        core_verdict(out);
+        named_by_cycle = limit_cycle_verdict(out, run->opts->forced);
+    }
+    if (out->verdict >= 0 && !named_by_cycle)
+    {
+        out->verdict_share = evidence_share(out, named_by_rfs);
+    }
+    out->verdict_confidence = verdict_confidence(out);
+    return AENL_OK;
+}
+
+/* Everything the run holds (not the result). */
+static void run_free(id_run_t *run)
+{
+    for (size_t k = 0; run->ch != NULL && k < run->n_ch; ++k)
+    {
+        chan_free(&run->ch[k]);
+    }
+    aenl_rfs_free(run->rfs);
+    aenl_rfs_free(run->rfs_again);
+    aenl_impulse_free(run->imp);
+    free(run->rfs_filter);
+    free(run->rfs_row);
+    free(run->rfs_res);
+    free(run->rfs_kept);
+    free(run->ch);
+    free(run->col);
+}
+
 aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_identify_opts_t *opts,
                                 aenl_identify_result_t *out, aenl_err_t *err)
 {
@@ -1328,168 +1620,31 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
     memset(out, 0, sizeof(*out));
     out->limit_cycle = -1;
     aenl_identify_opts_t o;
-    aenl_identify_opts_default(&o);
-    if (opts != NULL)
+    aenl_status_t st = run_opts(src, opts, &o, err);
+    if (st != AENL_OK)
     {
-        o = *opts;
-    }
-    if (!isfinite(o.bandwidth) || o.bandwidth < 0.0 || o.cv_max < 256u ||
-        o.channel >= (long)src->n_cols)
-    {
-        aenl_err_set(err, "identify: bad options (bandwidth %g, cv_max %zu, channel %ld)",
-                     o.bandwidth, o.cv_max, o.channel);
-        return AENL_E_ARG;
+        return st;
     }
     id_run_t run;
     memset(&run, 0, sizeof(run));
     run.src = src;
     run.opts = &o;
     run.n_ch = o.channel >= 0 ? 1u : src->n_cols;
-    run.col = calloc(run.n_ch, sizeof(size_t));
-    run.ch = calloc(run.n_ch, sizeof(id_chan_t));
     double *row = calloc(src->n_cols, sizeof(double));
-    out->ch = calloc(run.n_ch, sizeof(aenl_identify_channel_t));
-    aenl_classifier_t *cls = NULL;
-    aenl_status_t st = AENL_OK;
-    int named_by_cycle = 0, named_by_rfs = 0; /* which rule named the verdict */
-    if (run.col == NULL || run.ch == NULL || row == NULL || out->ch == NULL)
+    st = run_alloc(&run, row, out, err);
+    if (st == AENL_OK)
     {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_IO;
-        goto done;
-    }
-    out->n_channels = run.n_ch;
-    for (size_t k = 0; k < run.n_ch; ++k)
-    {
-        run.col[k] = o.channel >= 0 ? (size_t)o.channel : k;
-        out->ch[k].explained_by = -1;
-        run.ch[k].block = malloc(o.cv_max * sizeof(double));
-        if (run.ch[k].block == NULL)
-        {
-            aenl_err_set(err, "out of memory");
-            st = AENL_E_IO;
-            goto done;
-        }
-    }
-    st = for_rows(src, row, pass1_row, &run, err);
-    for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
-    {
-        st = chan_setup(&run.ch[k], src->names[run.col[k]], &o, &out->ch[k], err);
+        st = run_passes(&run, row, out, err);
     }
     if (st == AENL_OK)
     {
-        st = rfs_setup(&run, out, err);
-        for (size_t k = 0; k < run.n_ch && run.rfs != NULL; ++k)
-        {
-            out->ch[k].dither_std = run.rfs_dither[k];
-        }
+        st = classify_channels(&run, out, err);
     }
     if (st == AENL_OK)
     {
-        st = for_rows(src, row, pass2_row, &run, err);
+        st = run_verdict(&run, out, err);
     }
-    if (st == AENL_OK && run.rfs != NULL)
-    {
-        st = rfs_screen(&run, row, out, err);
-    }
-    for (size_t k = 0; k < run.n_ch && st == AENL_OK; ++k)
-    {
-        aenl_identify_channel_t *c = &out->ch[k];
-        aenl_classifier_cfg_t cc;
-        aenl_classifier_cfg_default(&cc);
-        cc.taylor_order = ID_TAYLOR_ORDER;
-        if (run.ch[k].cutoff > 0.0)
-        {
-            double rho[AENL_MOMENTS_MAX_LAGS] = {0.0};
-            cc.use_noise_acf = (uint8_t)filter_acf(&run.ch[k].filter, c->lags, c->n_lags, rho);
-            for (uint16_t i = 0; i < c->n_lags; ++i)
-            {
-                cc.noise_acf[i] = rho[i];
-            }
-        }
-        if (cls == NULL)
-        {
-            cls = malloc(sizeof(*cls)); /* large (host capacities): not on the stack */
-        }
-        if (cls == NULL)
-        {
-            aenl_err_set(err, "out of memory");
-            st = AENL_E_IO;
-            break;
-        }
-        if (aenl_classifier_init(cls, &cc) != AENL_OK ||
-            aenl_classifier_update(cls, run.ch[k].mom) != AENL_OK)
-        {
-            aenl_err_set(err, "channel %s: classifier rejected the estimator", c->name);
-            st = AENL_E_ARG;
-            break;
-        }
-        c->onboard = *aenl_classifier_result(cls);
-        c->res = c->onboard;
-        c->kurtosis =
-            run.ch[k].s2 > 0.0 ? run.ch[k].n2 * run.ch[k].s4 / (run.ch[k].s2 * run.ch[k].s2) : 0.0;
-        c->evidence = c->res.cls > AENL_CLASS_LINEAR ? c->res.evidence : 0.0;
-        if (run.rfs != NULL)
-        {
-            st = aenl_rfs_analyse(run.rfs, k, &c->rfs, err);
-        }
-        if (st == AENL_OK)
-        {
-            st = chan_export(&run.ch[k], c, cc.taylor_order, err);
-        }
-    }
-    if (st == AENL_OK && run.rfs != NULL)
-    {
-        st = explain_away(run.rfs, out, err);
-    }
-    if (st == AENL_OK)
-    {
-        named_by_rfs = combine_verdicts(out, run.rfs != NULL);
-    }
-    if (st == AENL_OK && !named_by_rfs)
-    {
-        out->verdict = -1;
-        out->verdict_class = AENL_CLASS_INSUFFICIENT;
-        double best = 0.0;
-        for (size_t k = 0; k < run.n_ch; ++k)
-        {
-            const aenl_identify_channel_t *c = &out->ch[k];
-            if (c->res.cls == AENL_CLASS_LINEAR && out->verdict < 0)
-            {
-                out->verdict_class = AENL_CLASS_LINEAR;
-            }
-            if (c->res.cls > AENL_CLASS_LINEAR && c->evidence > best)
-            {
-                best = c->evidence;
-                out->verdict = (long)k;
-                out->verdict_class = c->res.cls;
-            }
-        }
-        named_by_cycle = limit_cycle_verdict(out, o.forced);
-    }
-    if (st == AENL_OK)
-    {
-        if (out->verdict >= 0 && !named_by_cycle)
-        {
-            out->verdict_share = evidence_share(out, named_by_rfs);
-        }
-        out->verdict_confidence = verdict_confidence(out);
-    }
-done:
-    for (size_t k = 0; run.ch != NULL && k < run.n_ch; ++k)
-    {
-        chan_free(&run.ch[k]);
-    }
-    free(cls);
-    aenl_rfs_free(run.rfs);
-    aenl_rfs_free(run.rfs_again);
-    aenl_impulse_free(run.imp);
-    free(run.rfs_filter);
-    free(run.rfs_row);
-    free(run.rfs_res);
-    free(run.rfs_kept);
-    free(run.ch);
-    free(run.col);
+    run_free(&run);
     free(row);
     if (st != AENL_OK)
     {

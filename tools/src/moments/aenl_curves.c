@@ -318,15 +318,19 @@ aenl_status_t aenl_curves_compute(const double *x, size_t n, const aenl_curves_o
     return st;
 }
 
-static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
-                                    aenl_curves_t *out, aenl_err_t *err)
+/* The finite samples' range: every one and the central 99.8 %, and how many there are. */
+typedef struct
 {
-    memset(out, 0, sizeof(*out));
-    aenl_status_t st = check_opts(opts, err);
-    if (st != AENL_OK)
-    {
-        return st;
-    }
+    size_t n_fin;
+    double lo_all, hi_all; /**< the extreme finite samples */
+    double lo_q, hi_q;     /**< the QUANTILE_LO and 1 - QUANTILE_LO quantiles */
+} curves_range_t;
+
+/* The range of x's finite samples; an error when there is none, the signal is constant or too
+ * short for the longest lag. */
+static aenl_status_t signal_range(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                  curves_range_t *rg, aenl_err_t *err)
+{
     size_t n_fin = 0;
     for (size_t i = 0; i < n; ++i)
     {
@@ -356,10 +360,13 @@ static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves
         }
     }
     qsort(sorted, n_fin, sizeof(double), aenl_cmp_double);
-    const double lo_all = sorted[0], hi_all = sorted[n_fin - 1u];
-    const double lo_q = aenl_quantile_sorted(sorted, n_fin, QUANTILE_LO);
-    const double hi_q = aenl_quantile_sorted(sorted, n_fin, 1.0 - QUANTILE_LO);
+    rg->n_fin = n_fin;
+    rg->lo_all = sorted[0];
+    rg->hi_all = sorted[n_fin - 1u];
+    rg->lo_q = aenl_quantile_sorted(sorted, n_fin, QUANTILE_LO);
+    rg->hi_q = aenl_quantile_sorted(sorted, n_fin, 1.0 - QUANTILE_LO);
     free(sorted);
+    const double lo_all = rg->lo_all, hi_all = rg->hi_all;
     if (!(hi_all > lo_all) || !(hi_all - lo_all > 1e-12 * (fabs(hi_all) + fabs(lo_all))))
     {
         aenl_err_set(err,
@@ -372,72 +379,89 @@ static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves
         aenl_err_set(err, "%zu finite samples are too few for lag %u", n_fin, (unsigned)max_lag);
         return AENL_E_ARG;
     }
+    return AENL_OK;
+}
 
-    aenl_moments_cfg_t cfg;
-    memset(&cfg, 0, sizeof(cfg));
-    cfg.x_min = opts->grid_given ? opts->x_min : lo_q;
-    cfg.x_max = opts->grid_given ? opts->x_max : hi_q;
-    if (!(cfg.x_max > cfg.x_min))
+/* The estimator's configuration: the grid over the quantiles unless given (over the whole range
+ * when the quantiles coincide), the bandwidth given or cross-validated (out->bw_method). */
+static aenl_status_t estimator_cfg(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                   const curves_range_t *rg, aenl_moments_cfg_t *cfg,
+                                   aenl_curves_t *out, aenl_err_t *err)
+{
+    memset(cfg, 0, sizeof(*cfg));
+    cfg->x_min = opts->grid_given ? opts->x_min : rg->lo_q;
+    cfg->x_max = opts->grid_given ? opts->x_max : rg->hi_q;
+    if (!(cfg->x_max > cfg->x_min))
     {
-        cfg.x_min = lo_all;
-        cfg.x_max = hi_all;
+        cfg->x_min = rg->lo_all;
+        cfg->x_max = rg->hi_all;
     }
-    cfg.n_grid = opts->n_grid;
-    cfg.n_lags = opts->n_lags;
-    memcpy(cfg.lags, opts->lags, sizeof(cfg.lags));
-    cfg.forgetting = opts->forgetting;
-    cfg.direction_split = opts->split ? 1u : 0u;
+    cfg->n_grid = opts->n_grid;
+    cfg->n_lags = opts->n_lags;
+    memcpy(cfg->lags, opts->lags, sizeof(cfg->lags));
+    cfg->forgetting = opts->forgetting;
+    cfg->direction_split = opts->split ? 1u : 0u;
 
     out->bw_method = -1;
     if (opts->bandwidth > 0.0)
     {
-        cfg.bandwidth = opts->bandwidth;
+        cfg->bandwidth = opts->bandwidth;
+        return AENL_OK;
     }
-    else
+    aenl_bw_result_t bw;
+    const aenl_status_t st = aenl_bw_select(x, n, opts->lags, opts->n_lags, NULL, &bw, err);
+    if (st != AENL_OK)
     {
-        aenl_bw_result_t bw;
-        st = aenl_bw_select(x, n, opts->lags, opts->n_lags, NULL, &bw, err);
-        if (st != AENL_OK)
-        {
-            return st;
-        }
-        cfg.bandwidth = bw.h;
-        out->bw_method = bw.method;
+        return st;
     }
+    cfg->bandwidth = bw.h;
+    out->bw_method = bw.method;
+    return AENL_OK;
+}
 
+/* A new estimator of configuration cfg fed every sample of x (*m, the caller frees it). */
+static aenl_status_t run_estimator(const double *x, size_t n, const aenl_moments_cfg_t *cfg,
+                                   aenl_moments_t **m_out, aenl_err_t *err)
+{
     aenl_moments_t *m = malloc(sizeof(*m));
     if (m == NULL)
     {
         aenl_err_set(err, "out of memory (estimator state)");
         return AENL_E_IO;
     }
-    st = aenl_moments_init(m, &cfg);
+    const aenl_status_t st = aenl_moments_init(m, cfg);
     if (st != AENL_OK)
     {
         free(m);
         aenl_err_set(err,
                      "estimator rejected the configuration (%s): %u nodes x %u lags%s exceeds the "
                      "capacity of %d cells, or a value is out of range",
-                     aenl_status_str(st), (unsigned)cfg.n_grid, (unsigned)cfg.n_lags,
-                     cfg.direction_split ? " x 2 directions" : "", AENL_MOMENTS_MAX_CELLS);
+                     aenl_status_str(st), (unsigned)cfg->n_grid, (unsigned)cfg->n_lags,
+                     cfg->direction_split ? " x 2 directions" : "", AENL_MOMENTS_MAX_CELLS);
         return st == AENL_E_DIM ? AENL_E_DIM : AENL_E_ARG;
     }
     for (size_t i = 0; i < n; ++i)
     {
         (void)aenl_moments_push(m, x[i]); /* NaN: a counted gap, by design */
     }
+    *m_out = m;
+    return AENL_OK;
+}
 
-    out->n_lags = cfg.n_lags;
-    out->n_grid = cfg.n_grid;
-    out->n_dir = cfg.direction_split ? 3u : 1u;
-    memcpy(out->lags, cfg.lags, sizeof(out->lags));
-    out->bandwidth = cfg.bandwidth;
+/* The curves' dimensions and arrays (out->x, mean, var, n_eff, se) for the estimator m. */
+static aenl_status_t curves_alloc(const aenl_moments_t *m, const aenl_moments_cfg_t *cfg,
+                                  aenl_curves_t *out, aenl_err_t *err)
+{
+    out->n_lags = cfg->n_lags;
+    out->n_grid = cfg->n_grid;
+    out->n_dir = cfg->direction_split ? 3u : 1u;
+    memcpy(out->lags, cfg->lags, sizeof(out->lags));
+    out->bandwidth = cfg->bandwidth;
     out->n_samples = m->n_samples;
     out->n_missing = m->n_missing;
     const size_t total = (size_t)out->n_dir * out->n_lags * out->n_grid;
     if (total == 0) /* aenl_moments_init guarantees n_lags, n_grid >= 1 */
     {
-        free(m);
         aenl_err_set(err, "empty configuration (curves)");
         return AENL_E_ARG;
     }
@@ -449,11 +473,17 @@ static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves
     if (out->x == NULL || out->mean == NULL || out->var == NULL || out->n_eff == NULL ||
         out->se == NULL)
     {
-        free(m);
         aenl_curves_free(out);
         aenl_err_set(err, "out of memory (curves)");
         return AENL_E_IO;
     }
+    return AENL_OK;
+}
+
+/* The conditional mean and variance at every direction, lag and node (NaN where the estimator
+ * has no answer). */
+static void curves_fill(const aenl_moments_t *m, aenl_curves_t *out)
+{
     for (uint16_t k = 0; k < out->n_grid; ++k)
     {
         out->x[k] = aenl_moments_node_x(m, k);
@@ -483,54 +513,98 @@ static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves
             }
         }
     }
-    if (out->n_lags >= 3u)
+}
+
+/* The lag expansion at node k in direction d into out's expansion arrays (NaN where the
+ * estimator has no answer). */
+static void expansion_node(const aenl_moments_t *m, uint16_t k, int d, aenl_curves_t *out)
+{
+    aenl_moments_taylor_t t;
+    const size_t at = aenl_curves_node_at(out, d, k);
+    if (aenl_moments_taylor(m, k, (aenl_dir_t)d, out->taylor_order, &t) == AENL_OK)
     {
-        const size_t tot = (size_t)out->n_dir * out->n_grid;
-        double **arrs[6] = {&out->position,    &out->velocity,    &out->accel,
-                            &out->se_position, &out->se_velocity, &out->se_accel};
-        for (size_t a = 0; a < 6u; ++a)
+        out->position[at] = t.position;
+        out->velocity[at] = t.velocity;
+        out->accel[at] = t.accel;
+        out->se_position[at] = t.se_position;
+        out->se_velocity[at] = t.se_velocity;
+        out->se_accel[at] = t.se_accel;
+    }
+    else
+    {
+        out->position[at] = (double)NAN;
+        out->velocity[at] = (double)NAN;
+        out->accel[at] = (double)NAN;
+        out->se_position[at] = (double)NAN;
+        out->se_velocity[at] = (double)NAN;
+        out->se_accel[at] = (double)NAN;
+    }
+}
+
+/* The lag expansion at every node and direction; it needs at least three lags (none below). */
+static aenl_status_t expansion_fill(const aenl_moments_t *m, aenl_curves_t *out, aenl_err_t *err)
+{
+    if (out->n_lags < 3u)
+    {
+        return AENL_OK;
+    }
+    const size_t tot = (size_t)out->n_dir * out->n_grid;
+    double **arrs[6] = {&out->position,    &out->velocity,    &out->accel,
+                        &out->se_position, &out->se_velocity, &out->se_accel};
+    for (size_t a = 0; a < 6u; ++a)
+    {
+        *arrs[a] = malloc(tot * sizeof(double));
+        if (*arrs[a] == NULL)
         {
-            *arrs[a] = malloc(tot * sizeof(double));
-            if (*arrs[a] == NULL)
-            {
-                free(m);
-                aenl_curves_free(out);
-                aenl_err_set(err, "out of memory (expansion)");
-                return AENL_E_IO;
-            }
-        }
-        out->taylor_order = (uint16_t)(out->n_lags - 1u < AENL_MOMENTS_TAYLOR_MAX_ORDER
-                                           ? out->n_lags - 1u
-                                           : AENL_MOMENTS_TAYLOR_MAX_ORDER);
-        for (int d = 0; d < (int)out->n_dir; ++d)
-        {
-            for (uint16_t k = 0; k < out->n_grid; ++k)
-            {
-                aenl_moments_taylor_t t;
-                const size_t at = aenl_curves_node_at(out, d, k);
-                if (aenl_moments_taylor(m, k, (aenl_dir_t)d, out->taylor_order, &t) == AENL_OK)
-                {
-                    out->position[at] = t.position;
-                    out->velocity[at] = t.velocity;
-                    out->accel[at] = t.accel;
-                    out->se_position[at] = t.se_position;
-                    out->se_velocity[at] = t.se_velocity;
-                    out->se_accel[at] = t.se_accel;
-                }
-                else
-                {
-                    out->position[at] = (double)NAN;
-                    out->velocity[at] = (double)NAN;
-                    out->accel[at] = (double)NAN;
-                    out->se_position[at] = (double)NAN;
-                    out->se_velocity[at] = (double)NAN;
-                    out->se_accel[at] = (double)NAN;
-                }
-            }
+            aenl_curves_free(out);
+            aenl_err_set(err, "out of memory (expansion)");
+            return AENL_E_IO;
         }
     }
-    free(m);
+    out->taylor_order = (uint16_t)(out->n_lags - 1u < AENL_MOMENTS_TAYLOR_MAX_ORDER
+                                       ? out->n_lags - 1u
+                                       : AENL_MOMENTS_TAYLOR_MAX_ORDER);
+    for (int d = 0; d < (int)out->n_dir; ++d)
+    {
+        for (uint16_t k = 0; k < out->n_grid; ++k)
+        {
+            expansion_node(m, k, d, out);
+        }
+    }
     return AENL_OK;
+}
+
+static aenl_status_t curves_compute(const double *x, size_t n, const aenl_curves_opts_t *opts,
+                                    aenl_curves_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    aenl_status_t st = check_opts(opts, err);
+    curves_range_t rg;
+    if (st == AENL_OK)
+    {
+        st = signal_range(x, n, opts, &rg, err);
+    }
+    aenl_moments_cfg_t cfg;
+    if (st == AENL_OK)
+    {
+        st = estimator_cfg(x, n, opts, &rg, &cfg, out, err);
+    }
+    aenl_moments_t *m = NULL;
+    if (st == AENL_OK)
+    {
+        st = run_estimator(x, n, &cfg, &m, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = curves_alloc(m, &cfg, out, err);
+    }
+    if (st == AENL_OK)
+    {
+        curves_fill(m, out);
+        st = expansion_fill(m, out, err);
+    }
+    free(m);
+    return st;
 }
 
 aenl_status_t aenl_curves_write_expansion_csv(const aenl_curves_t *c, const char *source,
