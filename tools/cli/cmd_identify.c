@@ -300,134 +300,115 @@ typedef struct
     aenl_identify_opts_t opts;
 } args_t;
 
-/* 0 to go on, 1 after --help, -1 after printing a usage error. */
-static int parse_args(int argc, char **argv, args_t *a)
+/* An option that takes a value, at argv[*i]: 0 when taken, -1 after printing a usage error, 1
+ * when o is not one of them. */
+static int parse_value_option(const char *o, int argc, char **argv, int *i, args_t *a)
 {
-    memset(a, 0, sizeof(*a));
-    aenl_identify_opts_default(&a->opts);
-    a->level = 0.01;
-    for (int i = 1; i < argc; ++i)
+    const char *v = NULL;
+    if (strcmp(o, "--method") == 0)
     {
-        const char *o = argv[i];
-        const char *v = NULL;
-        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0)
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
         {
-            help();
-            return 1;
+            return -1;
         }
-        if (strcmp(o, "--json") == 0)
+        if (strcmp(v, "test") == 0 || strcmp(v, "moments") == 0)
         {
-            a->json = 1;
+            a->by_test = v[0] == 't';
         }
-        else if (strcmp(o, "--no-prefilter") == 0)
+        else
         {
-            a->opts.prefilter = 0;
-            a->moments_only = 1;
+            aenl_cli_error(k_cmd, "--method: '%s' is not a method (moments or test)", v);
+            return -1;
         }
-        else if (strcmp(o, "--forced") == 0)
-        {
-            a->opts.forced = 1;
-            a->moments_only = 1;
-        }
-        else if (strcmp(o, "--method") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-            if (strcmp(v, "test") == 0 || strcmp(v, "moments") == 0)
-            {
-                a->by_test = v[0] == 't';
-            }
-            else
-            {
-                aenl_cli_error(k_cmd, "--method: '%s' is not a method (moments or test)", v);
-                return -1;
-            }
-        }
-        else if (strcmp(o, "--controls") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--controls", v, 1, 999, &a->controls) != 0)
-            {
-                return -1;
-            }
-        }
-        else if (strcmp(o, "--input") == 0)
-        {
-            if ((a->input = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-        }
-        else if (strcmp(o, "--level") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_double(k_cmd, "--level", v, &a->level) != 0)
-            {
-                return -1;
-            }
-            a->level_given = 1;
-            if (!(a->level > 0.0 && a->level < 0.5))
-            {
-                aenl_cli_error(k_cmd, "--level: %s is not a test level (0 < level < 0.5)", v);
-                return -1;
-            }
-        }
-        else if (strcmp(o, "--channel") == 0)
-        {
-            if ((a->channel = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-        }
-        else if (strcmp(o, "--model") == 0)
-        {
-            if ((a->model = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-            a->moments_only = 1;
-        }
-        else if (strcmp(o, "--plot") == 0)
-        {
-            if ((a->plot_dir = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-            if (a->plot_dir[0] == '\0')
-            {
-                aenl_cli_error(k_cmd, "--plot: empty folder name");
-                return -1;
-            }
-            a->moments_only = 1;
-        }
-        else if (strcmp(o, "--bandwidth") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return -1;
-            }
-            a->moments_only = 1;
-            if (strcmp(v, "cv") == 0)
-            {
-                a->opts.bandwidth = 0.0;
-            }
-            else if (aenl_cli_parse_double(k_cmd, "--bandwidth", v, &a->opts.bandwidth) != 0)
-            {
-                return -1;
-            }
-            else if (!(a->opts.bandwidth > 0.0))
-            {
-                aenl_cli_error(k_cmd, "--bandwidth: %s must be positive (or 'cv')", v);
-                return -1;
-            }
-        }
-        else if (aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0)
+    }
+    else if (strcmp(o, "--controls") == 0)
+    {
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
+            aenl_cli_parse_long(k_cmd, "--controls", v, 1, 999, &a->controls) != 0)
         {
             return -1;
         }
     }
+    else if (strcmp(o, "--input") == 0)
+    {
+        if ((a->input = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--level") == 0)
+    {
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
+            aenl_cli_parse_double(k_cmd, "--level", v, &a->level) != 0)
+        {
+            return -1;
+        }
+        a->level_given = 1;
+        if (!(a->level > 0.0 && a->level < 0.5))
+        {
+            aenl_cli_error(k_cmd, "--level: %s is not a test level (0 < level < 0.5)", v);
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--channel") == 0)
+    {
+        if ((a->channel = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--model") == 0)
+    {
+        if ((a->model = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+        a->moments_only = 1;
+    }
+    else if (strcmp(o, "--plot") == 0)
+    {
+        if ((a->plot_dir = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+        if (a->plot_dir[0] == '\0')
+        {
+            aenl_cli_error(k_cmd, "--plot: empty folder name");
+            return -1;
+        }
+        a->moments_only = 1;
+    }
+    else if (strcmp(o, "--bandwidth") == 0)
+    {
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+        a->moments_only = 1;
+        if (strcmp(v, "cv") == 0)
+        {
+            a->opts.bandwidth = 0.0;
+        }
+        else if (aenl_cli_parse_double(k_cmd, "--bandwidth", v, &a->opts.bandwidth) != 0)
+        {
+            return -1;
+        }
+        else if (!(a->opts.bandwidth > 0.0))
+        {
+            aenl_cli_error(k_cmd, "--bandwidth: %s must be positive (or 'cv')", v);
+            return -1;
+        }
+    }
+    else
+    {
+        return 1;
+    }
+    return 0;
+}
+
+/* The options that only one method takes, and the combinations that do not go together. */
+static int check_args(args_t *a)
+{
     if (a->data == NULL)
     {
         aenl_cli_error(k_cmd, "no data file (usage: aenl identify DATA.csv [--channel C] [--json] "
@@ -474,6 +455,46 @@ static int parse_args(int argc, char **argv, args_t *a)
         return -1;
     }
     return 0;
+}
+
+/* 0 to go on, 1 after --help, -1 after printing a usage error. */
+static int parse_args(int argc, char **argv, args_t *a)
+{
+    memset(a, 0, sizeof(*a));
+    aenl_identify_opts_default(&a->opts);
+    a->level = 0.01;
+    for (int i = 1; i < argc; ++i)
+    {
+        const char *o = argv[i];
+        if (strcmp(o, "--help") == 0 || strcmp(o, "-h") == 0)
+        {
+            help();
+            return 1;
+        }
+        if (strcmp(o, "--json") == 0)
+        {
+            a->json = 1;
+            continue;
+        }
+        if (strcmp(o, "--no-prefilter") == 0)
+        {
+            a->opts.prefilter = 0;
+            a->moments_only = 1;
+            continue;
+        }
+        if (strcmp(o, "--forced") == 0)
+        {
+            a->opts.forced = 1;
+            a->moments_only = 1;
+            continue;
+        }
+        const int r = parse_value_option(o, argc, argv, &i, a);
+        if (r < 0 || (r > 0 && aenl_cli_positional(k_cmd, o, &a->data, "data file") != 0))
+        {
+            return -1;
+        }
+    }
+    return check_args(a);
 }
 
 /* Index of --channel among the source's channels; -1 after printing the error. */
