@@ -106,20 +106,9 @@ static const char *figure_format(const char *path)
     return NULL;
 }
 
-aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, size_t n_vars,
-                            const char *out_path, aenl_err_t *err)
+/* A value or name that would break out of its quotes in gnuplot's -e expression is refused. */
+static aenl_status_t check_vars(const aenl_plot_var_t *vars, size_t n_vars, aenl_err_t *err)
 {
-    char gp[4096];
-    aenl_status_t st = aenl_plot_script_path(script, gp, sizeof(gp), err);
-    if (st != AENL_OK)
-    {
-        return st;
-    }
-    if (!aenl_plot_available())
-    {
-        aenl_err_set(err, "gnuplot not found on PATH (Debian: apt-get install gnuplot-nox)");
-        return AENL_E_IO;
-    }
     for (size_t i = 0; i < n_vars; ++i)
     {
         if (strpbrk(vars[i].value, "'\n\r") != NULL || strpbrk(vars[i].name, "'\"\n =;") != NULL)
@@ -129,63 +118,71 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
             return AENL_E_ARG;
         }
     }
-    const char *fmt = figure_format(out_path);
-    if (fmt == NULL)
-    {
-        aenl_err_set(err, "%s: a figure is written as .png, .svg or .pdf (from the extension)",
-                     out_path);
-        return AENL_E_ARG;
-    }
-    char term_dir[4096];
+    return AENL_OK;
+}
+
+/* The folder of the script gp into term_dir (n bytes): the scripts load their terminal
+ * settings from beside themselves. */
+static aenl_status_t script_dir(const char *gp, char *term_dir, size_t n, aenl_err_t *err)
+{
     const char *slash = strrchr(gp, '/');
     const size_t dir_len = slash != NULL ? (size_t)(slash - gp) : 1u;
-    if (dir_len >= sizeof(term_dir) || strchr(gp, '\'') != NULL)
+    if (dir_len >= n || strchr(gp, '\'') != NULL)
     {
         aenl_err_set(err, "plot script path %s: too long or holds a quote", gp);
         return AENL_E_ARG;
     }
     memcpy(term_dir, slash != NULL ? gp : ".", dir_len);
     term_dir[dir_len] = '\0';
-    aenl_outfile_t of;
-    st = aenl_outfile_open(&of, out_path, err);
+    return AENL_OK;
+}
+
+/* Opens the figure's output and checks that gnuplot can be pointed at it. On failure nothing is
+ * left open. */
+static aenl_status_t open_figure(aenl_outfile_t *of, const char *out_path, aenl_err_t *err)
+{
+    aenl_status_t st = aenl_outfile_open(of, out_path, err);
     if (st != AENL_OK)
     {
         return st;
     }
     /* gnuplot writes the temporary (or the device) itself; our handle only keeps it reserved. */
-    if (fflush(of.fp) != 0)
+    if (fflush(of->fp) != 0)
     {
-        aenl_outfile_abort(&of);
+        aenl_outfile_abort(of);
         aenl_err_set(err, "%s: cannot write", out_path);
         return AENL_E_IO;
     }
+    if (of->direct == 2 && of->fp == stderr)
+    {
+        aenl_outfile_abort(of);
+        aenl_err_set(err, "%s: a figure cannot go to standard error", out_path);
+        return AENL_E_ARG;
+    }
+    if (strchr(aenl_outfile_write_path(of), '\'') != NULL)
+    {
+        aenl_outfile_abort(of);
+        aenl_err_set(err, "%s: a figure's path must not hold a quote", out_path);
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
 
+/* gnuplot's -e expression: the output, its format, the terminal folder and the variables, each
+ * as a quoted string assignment. NULL when out of memory; the caller frees it. */
+static char *plot_expression(const aenl_plot_var_t *vars, size_t n_vars, const char *gp_out,
+                             const char *fmt, const char *term_dir)
+{
     size_t cap = 64;
     for (size_t i = 0; i < n_vars; ++i)
     {
         cap += strlen(vars[i].name) + strlen(vars[i].value) + 8;
     }
-    const char *gp_out = aenl_outfile_write_path(&of);
-    const int to_stdout = (of.direct == 2);
-    if (to_stdout && of.fp == stderr)
-    {
-        aenl_outfile_abort(&of);
-        aenl_err_set(err, "%s: a figure cannot go to standard error", out_path);
-        return AENL_E_ARG;
-    }
-    if (strchr(gp_out, '\'') != NULL)
-    {
-        aenl_outfile_abort(&of);
-        aenl_err_set(err, "%s: a figure's path must not hold a quote", out_path);
-        return AENL_E_ARG;
-    }
     cap += strlen(gp_out) + strlen(term_dir) + 64;
     char *expr = malloc(cap);
     if (expr == NULL)
     {
-        aenl_outfile_abort(&of);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_IO;
+        return NULL;
     }
     size_t pos = (size_t)snprintf(expr, cap, "out='%s';aenl_fmt='%s';aenl_term_dir='%s';", gp_out,
                                   fmt, term_dir);
@@ -193,17 +190,13 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
     {
         pos += (size_t)snprintf(expr + pos, cap - pos, "%s='%s';", vars[i].name, vars[i].value);
     }
+    return expr;
+}
 
-    char logname[] = "/tmp/aenl_gnuplot_XXXXXX";
-    const int logfd = mkstemp(logname);
-    if (logfd < 0)
-    {
-        free(expr);
-        aenl_outfile_abort(&of);
-        aenl_err_set(err, "cannot create a temporary file for gnuplot's messages: %s",
-                     strerror(errno));
-        return AENL_E_IO;
-    }
+/* Runs gnuplot -e expr gp with its messages (and, unless the figure goes to standard output,
+ * its standard output) into logfd. 1 when it did not run or exit with status 0. */
+static int run_gnuplot(char *expr, char *gp, int to_stdout, int logfd)
+{
     const pid_t pid = fork();
     if (pid == 0)
     {
@@ -223,40 +216,113 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         {
         }
     }
-    free(expr);
-    /* Read gnuplot's messages: any "error" line is a failure even with exit status 0. */
-    int failed = (pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0);
-    char tail[400] = "";
+    return pid < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0;
+}
+
+/* Reads gnuplot's messages from logfd and closes it: any "error" line is a failure even with
+ * exit status 0. tail (n bytes) receives the last line that names an error or a script line.
+ * 1 when an error line was seen. */
+static int read_gnuplot_log(int logfd, char *tail, size_t n)
+{
+    int failed = 0;
     FILE *lf = fdopen(logfd, "r");
-    if (lf != NULL)
-    {
-        rewind(lf);
-        char line[400];
-        while (fgets(line, sizeof(line), lf) != NULL)
-        {
-            if (strstr(line, "rror") != NULL || strstr(line, "line ") != NULL)
-            {
-                if (strstr(line, "rror") != NULL)
-                {
-                    failed = 1;
-                }
-                (void)snprintf(tail, sizeof(tail), "%s", line);
-            }
-        }
-        (void)fclose(lf); /* read-only */
-    }
-    else
+    if (lf == NULL)
     {
         close(logfd);
+        return 0;
     }
+    rewind(lf);
+    char line[400];
+    while (fgets(line, sizeof(line), lf) != NULL)
+    {
+        if (strstr(line, "rror") != NULL || strstr(line, "line ") != NULL)
+        {
+            if (strstr(line, "rror") != NULL)
+            {
+                failed = 1;
+            }
+            (void)snprintf(tail, n, "%s", line);
+        }
+    }
+    (void)fclose(lf); /* read-only */
+    return failed;
+}
+
+/* Runs gnuplot on expr and the script gp, then commits the figure of, or aborts it when gnuplot
+ * fails. Takes over of. */
+static aenl_status_t plot_and_commit(aenl_outfile_t *of, char *expr, char *gp, const char *script,
+                                     const char *out_path, aenl_err_t *err)
+{
+    char logname[] = "/tmp/aenl_gnuplot_XXXXXX";
+    const int logfd = mkstemp(logname);
+    if (logfd < 0)
+    {
+        aenl_outfile_abort(of);
+        aenl_err_set(err, "cannot create a temporary file for gnuplot's messages: %s",
+                     strerror(errno));
+        return AENL_E_IO;
+    }
+    int failed = run_gnuplot(expr, gp, of->direct == 2, logfd);
+    char tail[400] = "";
+    failed |= read_gnuplot_log(logfd, tail, sizeof(tail));
     unlink(logname);
     if (failed)
     {
-        aenl_outfile_abort(&of);
+        aenl_outfile_abort(of);
         tail[strcspn(tail, "\n")] = '\0';
         aenl_err_set(err, "gnuplot failed on %s.gp for %s: %s", script, out_path,
                      tail[0] ? tail : "no message");
         return AENL_E_IO;
     }
-    return aenl_outfile_commit(&of, err);
+    return aenl_outfile_commit(of, err);
+}
+
+aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, size_t n_vars,
+                            const char *out_path, aenl_err_t *err)
+{
+    char gp[4096];
+    aenl_status_t st = aenl_plot_script_path(script, gp, sizeof(gp), err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    if (!aenl_plot_available())
+    {
+        aenl_err_set(err, "gnuplot not found on PATH (Debian: apt-get install gnuplot-nox)");
+        return AENL_E_IO;
+    }
+    st = check_vars(vars, n_vars, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const char *fmt = figure_format(out_path);
+    if (fmt == NULL)
+    {
+        aenl_err_set(err, "%s: a figure is written as .png, .svg or .pdf (from the extension)",
+                     out_path);
+        return AENL_E_ARG;
+    }
+    char term_dir[4096];
+    st = script_dir(gp, term_dir, sizeof(term_dir), err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    aenl_outfile_t of;
+    st = open_figure(&of, out_path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    char *expr = plot_expression(vars, n_vars, aenl_outfile_write_path(&of), fmt, term_dir);
+    if (expr == NULL)
+    {
+        aenl_outfile_abort(&of);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_IO;
+    }
+    st = plot_and_commit(&of, expr, gp, script, out_path, err);
+    free(expr);
+    return st;
 }

@@ -832,15 +832,11 @@ static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, si
     return AENL_OK;
 }
 
-/* Forward Kalman filter: fills xp, xf and the covariance slots; log-likelihood in *ll. */
-static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
+/* The model's transposes for the forward pass: A_s' into w->At and C' into w->Ct, and whether
+ * C is a 0/1 selection (w->c_select, w->sel). */
+static void kf_prepare(ws_t *w, const aenl_em_model_t *m)
 {
-    const size_t nx = w->nx, nz = w->nz, nn = nx * nx, n = w->n;
-    double *Pp = w->tmp + 3 * nn, *e = w->tmp + 10 * nn, *u = e + nz; /* Pp: see cov_update */
-    double total = 0.0, d_prev = HUGE_VAL;
-    int steady = 0;
-    size_t nslot = 0;
-    aenl_status_t st = AENL_OK;
+    const size_t nx = w->nx, nz = w->nz, nn = nx * nx;
     for (size_t s = 0; s < w->nm; ++s)
     {
         for (size_t i = 0; i < nx; ++i)
@@ -871,133 +867,187 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
         }
         w->c_select &= (ones == 1 && zeros + 1 == nx) ? 1 : 0;
     }
+}
+
+/* The forward pass's steady-state tracking: slots used so far, whether the covariance has
+ * converged in the current run of constant mode, and the last relative change of Pf. */
+typedef struct
+{
+    size_t nslot;
+    int steady;
+    double d_prev;
+} kf_steady_t;
+
+/* Whether the filtered covariance of slot q (step k, mode s) has reached the steady state of
+ * its run; d_prev carries the last relative change from step to step. */
+static int kf_is_steady(const ws_t *w, size_t k, size_t s, size_t q, double *d_prev)
+{
+    const size_t nx = w->nx, nn = nx * nx;
+    if (!(k > 0 && s == w->mode[k - 1] && w->obs[k] && w->obs[k - 1] && w->steady_tol > 0.0))
+    {
+        *d_prev = HUGE_VAL;
+        return 0;
+    }
+    const double *Pa = w->Pf + (q & 1u) * nn, *Pb = w->Pf + (w->slot[k - 1] & 1u) * nn;
+    /* the diagonal first: far from convergence the full test is not worth it */
+    double dd = 0.0, sd = 0.0;
+    for (size_t i = 0; i < nn; i += nx + 1)
+    {
+        dd += (Pa[i] - Pb[i]) * (Pa[i] - Pb[i]);
+        sd += Pa[i] * Pa[i];
+    }
+    if (dd > 1e-12 * sd)
+    {
+        *d_prev = HUGE_VAL;
+        return 0;
+    }
+    const double d = rel_change(Pa, Pb, nn);
+    const int steady = converged(d, *d_prev, w->steady_tol);
+    *d_prev = d;
+    return steady;
+}
+
+/* A new covariance slot for step k (mode s): prediction from the previous step's slot (P0 at
+ * the start), measurement update when y_k is observed, then the steady-state test. */
+static aenl_status_t kf_new_slot(ws_t *w, const aenl_em_model_t *m, size_t k, size_t s,
+                                 kf_steady_t *ks)
+{
+    const size_t nn = w->nx * w->nx;
+    double *Pp = w->tmp + 3 * nn; /* see cov_update */
+    const size_t q = ks->nslot++;
+    w->slot[k] = q;
+    if (k == 0)
+    {
+        memcpy(Pp, m->P0, nn * sizeof(double));
+    }
+    else
+    {
+        const aenl_status_t st = cov_predict(w, m, s, w->slot[k - 1], q, Pp);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+    }
+    if (w->obs[k])
+    {
+        const aenl_status_t st = cov_update(w, m, q);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+    }
+    else
+    {
+        memcpy(w->Pf + (q & 1u) * nn, Pp, nn * sizeof(double));
+    }
+    ks->steady = kf_is_steady(w, k, s, q, &ks->d_prev);
+    return AENL_OK;
+}
+
+/* The predicted mean of step k > 0 (mode s): xp = A xf_{k-1} + B u_{k-1} + b. */
+static void kf_predict_mean(const ws_t *w, const aenl_em_model_t *m, size_t k, size_t s, double *xp)
+{
+    const size_t nx = w->nx, nn = nx * nx;
+    const double *A = m->A + s * nn, *b = m->b + s * nx, *xo = w->xf + (k - 1) * nx;
+    const size_t nu = w->nu;
+    const double *B = m->B + s * nx * nu, *uo = nu > 0 ? w->u + (k - 1) * nu : NULL;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double acc = b[i];
+        const double *Ai = A + i * nx;
+        for (size_t j = 0; j < nx; ++j)
+        {
+            acc += Ai[j] * xo[j];
+        }
+        for (size_t p = 0; p < nu; ++p)
+        {
+            acc += B[i * nu + p] * uo[p];
+        }
+        xp[i] = acc;
+    }
+}
+
+/* The filtered mean of the observed step k, xf = xp + K (y_k - C xp), from its slot's gain;
+ * returns the step's log-likelihood term (the innovation's quadratic form by a forward solve
+ * with chol(S)). */
+static double kf_update_mean(ws_t *w, const aenl_em_model_t *m, size_t k, const double *xp,
+                             double *xf)
+{
+    const size_t nx = w->nx, nz = w->nz, nn = nx * nx;
+    double *e = w->tmp + 10 * nn, *u = e + nz;
+    const size_t q = w->slot[k] & 1u;
+    const double *yk = w->y + k * nz, *K = w->K + q * nx * nz, *L = w->Ls + q * nz * nz;
+    for (size_t r = 0; r < nz; ++r)
+    {
+        double acc = yk[r];
+        for (size_t j = 0; j < nx; ++j)
+        {
+            acc -= m->C[r * nx + j] * xp[j];
+        }
+        e[r] = acc;
+    }
+    double qf = 0.0;
+    for (size_t i = 0; i < nz; ++i)
+    {
+        double acc = e[i];
+        for (size_t r = 0; r < i; ++r)
+        {
+            acc -= L[i * nz + r] * u[r];
+        }
+        u[i] = acc / L[i * nz + i];
+        qf += u[i] * u[i];
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double acc = xp[i];
+        for (size_t r = 0; r < nz; ++r)
+        {
+            acc += K[i * nz + r] * e[r];
+        }
+        xf[i] = acc;
+    }
+    return -0.5 * (qf + w->logdet[q] + (double)nz * LOG_2PI);
+}
+
+/* Forward Kalman filter: fills xp, xf and the covariance slots; log-likelihood in *ll. */
+static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
+{
+    const size_t nx = w->nx, n = w->n;
+    double total = 0.0;
+    kf_steady_t ks = {0, 0, HUGE_VAL};
+    kf_prepare(w, m);
     for (size_t k = 0; k < n; ++k)
     {
         double *xp = w->xp + k * nx, *xf = w->xf + k * nx;
         const size_t s = w->mode[k];
-        if (k > 0 && steady && s == w->mode[k - 1] && w->obs[k])
+        if (k > 0 && ks.steady && s == w->mode[k - 1] && w->obs[k])
         {
             w->slot[k] = w->slot[k - 1]; /* steady state: reuse everything */
         }
         else
         {
-            steady = 0;
-            const size_t q = nslot++;
-            w->slot[k] = q;
-            if (k == 0)
+            const aenl_status_t st = kf_new_slot(w, m, k, s, &ks);
+            if (st != AENL_OK)
             {
-                memcpy(Pp, m->P0, nn * sizeof(double));
-            }
-            else
-            {
-                st = cov_predict(w, m, s, w->slot[k - 1], q, Pp);
-                if (st != AENL_OK)
-                {
-                    return st;
-                }
-            }
-            if (w->obs[k])
-            {
-                st = cov_update(w, m, q);
-                if (st != AENL_OK)
-                {
-                    return st;
-                }
-            }
-            else
-            {
-                memcpy(w->Pf + (q & 1u) * nn, Pp, nn * sizeof(double));
-            }
-            if (k > 0 && s == w->mode[k - 1] && w->obs[k] && w->obs[k - 1] && w->steady_tol > 0.0)
-            {
-                const double *Pa = w->Pf + (q & 1u) * nn, *Pb = w->Pf + (w->slot[k - 1] & 1u) * nn;
-                /* the diagonal first: far from convergence the full test is not worth it */
-                double dd = 0.0, sd = 0.0;
-                for (size_t i = 0; i < nn; i += nx + 1)
-                {
-                    dd += (Pa[i] - Pb[i]) * (Pa[i] - Pb[i]);
-                    sd += Pa[i] * Pa[i];
-                }
-                if (dd > 1e-12 * sd)
-                {
-                    d_prev = HUGE_VAL;
-                }
-                else
-                {
-                    const double d = rel_change(Pa, Pb, nn);
-                    steady = converged(d, d_prev, w->steady_tol);
-                    d_prev = d;
-                }
-            }
-            else
-            {
-                d_prev = HUGE_VAL;
+                return st;
             }
         }
-        /* means: xp = A xf_{k-1} + b, xf = xp + K (y - C xp) */
         if (k == 0)
         {
             memcpy(xp, m->x0, nx * sizeof(double));
         }
         else
         {
-            const double *A = m->A + s * nn, *b = m->b + s * nx, *xo = w->xf + (k - 1) * nx;
-            const size_t nu = w->nu;
-            const double *B = m->B + s * nx * nu, *uo = nu > 0 ? w->u + (k - 1) * nu : NULL;
-            for (size_t i = 0; i < nx; ++i)
-            {
-                double acc = b[i];
-                const double *Ai = A + i * nx;
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    acc += Ai[j] * xo[j];
-                }
-                for (size_t p = 0; p < nu; ++p)
-                {
-                    acc += B[i * nu + p] * uo[p];
-                }
-                xp[i] = acc;
-            }
+            kf_predict_mean(w, m, k, s, xp);
         }
         if (!w->obs[k])
         {
             memcpy(xf, xp, nx * sizeof(double));
             continue;
         }
-        const size_t q = w->slot[k] & 1u;
-        const double *yk = w->y + k * nz, *K = w->K + q * nx * nz, *L = w->Ls + q * nz * nz;
-        for (size_t r = 0; r < nz; ++r)
-        {
-            double acc = yk[r];
-            for (size_t j = 0; j < nx; ++j)
-            {
-                acc -= m->C[r * nx + j] * xp[j];
-            }
-            e[r] = acc;
-        }
-        double qf = 0.0;
-        for (size_t i = 0; i < nz; ++i) /* forward solve for the quadratic form */
-        {
-            double acc = e[i];
-            for (size_t r = 0; r < i; ++r)
-            {
-                acc -= L[i * nz + r] * u[r];
-            }
-            u[i] = acc / L[i * nz + i];
-            qf += u[i] * u[i];
-        }
-        total += -0.5 * (qf + w->logdet[q] + (double)nz * LOG_2PI);
-        for (size_t i = 0; i < nx; ++i)
-        {
-            double acc = xp[i];
-            for (size_t r = 0; r < nz; ++r)
-            {
-                acc += K[i * nz + r] * e[r];
-            }
-            xf[i] = acc;
-        }
+        total += kf_update_mean(w, m, k, xp, xf);
     }
-    w->n_slots = nslot;
+    w->n_slots = ks.nslot;
     if (!isfinite(total))
     {
         return AENL_E_NUMERIC;
@@ -1262,239 +1312,310 @@ static int posv(double *G, double *B, size_t n, size_t m)
                          (lapack_int)m);
 }
 
-static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
+/* The M-step's buffers for one mode's transition, over the regressors of x_{k+1}: (x_k, u_k, 1),
+ * the constant last (index nc), na in all. */
+typedef struct
 {
-    /* regressors of x_{k+1}: (x_k, u_k, 1); the constant is the last, index nc */
-    const size_t nx = w->nx, nz = w->nz, nn = nx * nx, nu = w->nu, nc = nx + nu, na = nc + 1;
-    double *G = malloc(na * na * sizeof(double)), *H = malloc(nx * na * sizeof(double));
-    double *Gc = malloc(na * na * sizeof(double)), *X = malloc(na * nx * sizeof(double));
-    double *W = malloc(nx * na * sizeof(double)), *T = malloc(nx * na * sizeof(double));
-    aenl_status_t st = AENL_OK;
-    if (!G || !H || !Gc || !X || !W || !T)
+    size_t nc, na;
+    double *G, *H;  /* normal equations: G = E[z z'] (na x na), H = E[x_{k+1} z'] (nx x na) */
+    double *Gc, *X; /* solve copies: G, and the solution (na x nx) */
+    double *W, *T;  /* W = [A B b] and W G (nx x na) */
+} mstep_buf_t;
+
+/* The normal equations of mode s's transition into b->G and b->H (G[nc][nc] = c, the count). */
+static void mode_normal_equations(const ws_t *w, size_t s, double c, mstep_buf_t *bf)
+{
+    const size_t nx = w->nx, nn = nx * nx, nu = w->nu, nc = bf->nc, na = bf->na;
+    double *G = bf->G, *H = bf->H;
+    const double *S00 = w->S00 + s * nn, *S10 = w->S10 + s * nn;
+    const double *s0 = w->s0 + s * nx, *s1 = w->s1 + s * nx;
+    for (size_t i = 0; i < nx; ++i)
     {
-        st = AENL_E_DIM;
-        goto done;
-    }
-    for (size_t s = 0; s < w->nm; ++s)
-    {
-        const double c = w->cnt[s];
-        if (c < (double)(nx + 2))
+        for (size_t j = 0; j < nx; ++j)
         {
-            continue; /* too few transitions: keep this mode's parameters */
+            G[i * na + j] = S00[i * nx + j];
+            H[i * na + j] = S10[i * nx + j];
         }
-        const double *S00 = w->S00 + s * nn, *S10 = w->S10 + s * nn, *S11 = w->S11 + s * nn;
-        const double *s0 = w->s0 + s * nx, *s1 = w->s1 + s * nx;
+        G[i * na + nc] = s0[i];
+        G[nc * na + i] = s0[i];
+        H[i * na + nc] = s1[i];
+    }
+    for (size_t p = 0; p < nu; ++p)
+    {
+        const double *S0u = w->S0u + s * nx * nu, *S1u = w->S1u + s * nx * nu;
         for (size_t i = 0; i < nx; ++i)
         {
-            for (size_t j = 0; j < nx; ++j)
-            {
-                G[i * na + j] = S00[i * nx + j];
-                H[i * na + j] = S10[i * nx + j];
-            }
-            G[i * na + nc] = s0[i];
-            G[nc * na + i] = s0[i];
-            H[i * na + nc] = s1[i];
+            G[i * na + nx + p] = S0u[i * nu + p];
+            G[(nx + p) * na + i] = S0u[i * nu + p];
+            H[i * na + nx + p] = S1u[i * nu + p];
+        }
+        for (size_t q = 0; q < nu; ++q)
+        {
+            G[(nx + p) * na + nx + q] = w->Suu[s * nu * nu + p * nu + q];
+        }
+        G[(nx + p) * na + nc] = w->su[s * nu + p];
+        G[nc * na + nx + p] = w->su[s * nu + p];
+    }
+    G[nc * na + nc] = c;
+}
+
+/* A, B and b of mode s together: W' = G^-1 H'. */
+static aenl_status_t solve_transition(const ws_t *w, aenl_em_model_t *m, size_t s, mstep_buf_t *bf)
+{
+    const size_t nx = w->nx, nn = nx * nx, nu = w->nu, nc = bf->nc, na = bf->na;
+    double *A = m->A + s * nn, *b = m->b + s * nx, *B = m->B + s * nx * nu, *X = bf->X;
+    memcpy(bf->Gc, bf->G, na * na * sizeof(double));
+    for (size_t i = 0; i < na; ++i) /* X = H' */
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            X[i * nx + j] = bf->H[j * na + i];
+        }
+    }
+    if (posv(bf->Gc, X, na, nx) != 0)
+    {
+        return AENL_E_NOT_PD;
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            A[i * nx + j] = X[j * nx + i];
         }
         for (size_t p = 0; p < nu; ++p)
         {
-            const double *S0u = w->S0u + s * nx * nu, *S1u = w->S1u + s * nx * nu;
-            for (size_t i = 0; i < nx; ++i)
-            {
-                G[i * na + nx + p] = S0u[i * nu + p];
-                G[(nx + p) * na + i] = S0u[i * nu + p];
-                H[i * na + nx + p] = S1u[i * nu + p];
-            }
-            for (size_t q = 0; q < nu; ++q)
-            {
-                G[(nx + p) * na + nx + q] = w->Suu[s * nu * nu + p * nu + q];
-            }
-            G[(nx + p) * na + nc] = w->su[s * nu + p];
-            G[nc * na + nx + p] = w->su[s * nu + p];
+            B[i * nu + p] = X[(nx + p) * nx + i];
         }
-        G[nc * na + nc] = c;
-        double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
-        const int fa = (freeze & AENL_EM_FREEZE_A) != 0, fb = (freeze & AENL_EM_FREEZE_B) != 0;
+        b[i] = X[nc * nx + i];
+    }
+    return AENL_OK;
+}
+
+/* A of mode s with b frozen: S00 A' = (S10 - b s0')'. */
+static aenl_status_t solve_A_given_b(const ws_t *w, aenl_em_model_t *m, size_t s, mstep_buf_t *bf)
+{
+    const size_t nx = w->nx, nn = nx * nx;
+    const double *S00 = w->S00 + s * nn, *S10 = w->S10 + s * nn, *s0 = w->s0 + s * nx;
+    double *A = m->A + s * nn, *Gc = bf->Gc, *X = bf->X;
+    const double *b = m->b + s * nx;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            Gc[i * nx + j] = S00[i * nx + j];
+            X[i * nx + j] = S10[j * nx + i] - b[j] * s0[i];
+        }
+    }
+    if (posv(Gc, X, nx, nx) != 0)
+    {
+        return AENL_E_NOT_PD;
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            A[i * nx + j] = X[j * nx + i];
+        }
+    }
+    return AENL_OK;
+}
+
+/* b of mode s with A frozen: b = (s1 - A s0) / c. */
+static void solve_b_given_A(const ws_t *w, aenl_em_model_t *m, size_t s, double c)
+{
+    const size_t nx = w->nx, nn = nx * nx;
+    const double *A = m->A + s * nn, *s0 = w->s0 + s * nx, *s1 = w->s1 + s * nx;
+    double *b = m->b + s * nx;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        double acc = s1[i];
+        for (size_t j = 0; j < nx; ++j)
+        {
+            acc -= A[i * nx + j] * s0[j];
+        }
+        b[i] = acc / c;
+    }
+}
+
+/* Q of mode s = (S11 - W H' - H W' + W G W') / c with W = [A B b], exact for any (possibly
+ * frozen) W; its diagonal clipped at 0. */
+static void solve_Q(const ws_t *w, aenl_em_model_t *m, size_t s, double c, mstep_buf_t *bf)
+{
+    const size_t nx = w->nx, nn = nx * nx, nu = w->nu, nc = bf->nc, na = bf->na;
+    const double *A = m->A + s * nn, *b = m->b + s * nx, *B = m->B + s * nx * nu;
+    const double *S11 = w->S11 + s * nn, *H = bf->H;
+    double *Q = m->Q + s * nn, *W = bf->W, *T = bf->T;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            W[i * na + j] = A[i * nx + j];
+        }
+        for (size_t p = 0; p < nu; ++p)
+        {
+            W[i * na + nx + p] = B[i * nu + p];
+        }
+        W[i * na + nc] = b[i];
+    }
+    mm(T, W, bf->G, nx, na, na); /* W G */
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            double wh = 0.0, hw = 0.0, wgw = 0.0;
+            for (size_t r = 0; r < na; ++r)
+            {
+                wh += W[i * na + r] * H[j * na + r];
+                hw += H[i * na + r] * W[j * na + r];
+                wgw += T[i * na + r] * W[j * na + r];
+            }
+            Q[i * nx + j] = (S11[i * nx + j] - wh - hw + wgw) / c;
+        }
+    }
+    symm(Q, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        if (Q[i * nx + i] < 0.0)
+        {
+            Q[i * nx + i] = 0.0;
+        }
+    }
+}
+
+/* The transitions of every mode with enough transitions (the others keep their parameters). */
+static aenl_status_t m_step_modes(const ws_t *w, aenl_em_model_t *m, unsigned freeze,
+                                  mstep_buf_t *bf)
+{
+    const int fa = (freeze & AENL_EM_FREEZE_A) != 0, fb = (freeze & AENL_EM_FREEZE_B) != 0;
+    for (size_t s = 0; s < w->nm; ++s)
+    {
+        const double c = w->cnt[s];
+        if (c < (double)(w->nx + 2))
+        {
+            continue; /* too few transitions: keep this mode's parameters */
+        }
+        mode_normal_equations(w, s, c, bf);
+        aenl_status_t st = AENL_OK;
         if (!fa && !fb)
         {
-            memcpy(Gc, G, na * na * sizeof(double));
-            for (size_t i = 0; i < na; ++i) /* X = H' */
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    X[i * nx + j] = H[j * na + i];
-                }
-            }
-            if (posv(Gc, X, na, nx) != 0)
-            {
-                st = AENL_E_NOT_PD;
-                goto done;
-            }
-            double *B = m->B + s * nx * nu;
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    A[i * nx + j] = X[j * nx + i];
-                }
-                for (size_t p = 0; p < nu; ++p)
-                {
-                    B[i * nu + p] = X[(nx + p) * nx + i];
-                }
-                b[i] = X[nc * nx + i];
-            }
+            st = solve_transition(w, m, s, bf);
         }
         else if (fa && !fb)
         {
-            for (size_t i = 0; i < nx; ++i)
-            {
-                double acc = s1[i];
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    acc -= A[i * nx + j] * s0[j];
-                }
-                b[i] = acc / c;
-            }
+            solve_b_given_A(w, m, s, c);
         }
         else if (!fa && fb)
         {
-            /* S00 A' = (S10 - b s0')' */
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    Gc[i * nx + j] = S00[i * nx + j];
-                    X[i * nx + j] = S10[j * nx + i] - b[j] * s0[i];
-                }
-            }
-            if (posv(Gc, X, nx, nx) != 0)
-            {
-                st = AENL_E_NOT_PD;
-                goto done;
-            }
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    A[i * nx + j] = X[j * nx + i];
-                }
-            }
+            st = solve_A_given_b(w, m, s, bf);
+        }
+        if (st != AENL_OK)
+        {
+            return st;
         }
         if (!(freeze & AENL_EM_FREEZE_Q))
         {
-            /* Q = (S11 - W H' - H W' + W G W') / c with W = [A B b] */
-            const double *B = m->B + s * nx * nu;
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    W[i * na + j] = A[i * nx + j];
-                }
-                for (size_t p = 0; p < nu; ++p)
-                {
-                    W[i * na + nx + p] = B[i * nu + p];
-                }
-                W[i * na + nc] = b[i];
-            }
-            mm(T, W, G, nx, na, na); /* W G */
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    double wh = 0.0, hw = 0.0, wgw = 0.0;
-                    for (size_t r = 0; r < na; ++r)
-                    {
-                        wh += W[i * na + r] * H[j * na + r];
-                        hw += H[i * na + r] * W[j * na + r];
-                        wgw += T[i * na + r] * W[j * na + r];
-                    }
-                    Q[i * nx + j] = (S11[i * nx + j] - wh - hw + wgw) / c;
-                }
-            }
-            symm(Q, nx);
-            for (size_t i = 0; i < nx; ++i)
-            {
-                if (Q[i * nx + i] < 0.0)
-                {
-                    Q[i * nx + i] = 0.0;
-                }
-            }
+            solve_Q(w, m, s, c, bf);
         }
     }
-    if (w->ny > 0.0)
+    return AENL_OK;
+}
+
+/* C = Syx Sxx^-1, solved as Sxx C' = Syx'. */
+static aenl_status_t solve_C(const ws_t *w, aenl_em_model_t *m)
+{
+    const size_t nx = w->nx, nz = w->nz, nn = nx * nx;
+    double *Sc = malloc(nn * sizeof(double)), *Ct = malloc(nx * nz * sizeof(double));
+    if (!Sc || !Ct)
     {
-        if (!(freeze & AENL_EM_FREEZE_C))
+        free(Sc);
+        free(Ct);
+        return AENL_E_DIM;
+    }
+    memcpy(Sc, w->Sxx, nn * sizeof(double));
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t r = 0; r < nz; ++r)
         {
-            /* C = Syx Sxx^-1  <=>  Sxx C' = Syx' */
-            double *Sc = malloc(nn * sizeof(double)), *Ct = malloc(nx * nz * sizeof(double));
-            if (!Sc || !Ct)
-            {
-                free(Sc);
-                free(Ct);
-                st = AENL_E_DIM;
-                goto done;
-            }
-            memcpy(Sc, w->Sxx, nn * sizeof(double));
-            for (size_t i = 0; i < nx; ++i)
-            {
-                for (size_t r = 0; r < nz; ++r)
-                {
-                    Ct[i * nz + r] = w->Syx[r * nx + i];
-                }
-            }
-            const int info = posv(Sc, Ct, nx, nz);
-            if (info == 0)
-            {
-                for (size_t r = 0; r < nz; ++r)
-                {
-                    for (size_t i = 0; i < nx; ++i)
-                    {
-                        m->C[r * nx + i] = Ct[i * nz + r];
-                    }
-                }
-            }
-            free(Sc);
-            free(Ct);
-            if (info != 0)
-            {
-                st = AENL_E_NOT_PD;
-                goto done;
-            }
-        }
-        if (!(freeze & AENL_EM_FREEZE_R))
-        {
-            for (size_t r = 0; r < nz; ++r)
-            {
-                for (size_t c2 = 0; c2 < nz; ++c2)
-                {
-                    double v = w->Syy[r * nz + c2];
-                    for (size_t i = 0; i < nx; ++i)
-                    {
-                        v -= m->C[r * nx + i] * w->Syx[c2 * nx + i] +
-                             w->Syx[r * nx + i] * m->C[c2 * nx + i];
-                        double cs = 0.0;
-                        for (size_t j = 0; j < nx; ++j)
-                        {
-                            cs += w->Sxx[i * nx + j] * m->C[c2 * nx + j];
-                        }
-                        v += m->C[r * nx + i] * cs;
-                    }
-                    m->R[r * nz + c2] = v / w->ny;
-                }
-            }
-            symm(m->R, nz);
+            Ct[i * nz + r] = w->Syx[r * nx + i];
         }
     }
-    if (!(freeze & AENL_EM_FREEZE_X0))
+    const int info = posv(Sc, Ct, nx, nz);
+    if (info == 0)
+    {
+        for (size_t r = 0; r < nz; ++r)
+        {
+            for (size_t i = 0; i < nx; ++i)
+            {
+                m->C[r * nx + i] = Ct[i * nz + r];
+            }
+        }
+    }
+    free(Sc);
+    free(Ct);
+    return info != 0 ? AENL_E_NOT_PD : AENL_OK;
+}
+
+/* R = (Syy - C Syx' - Syx C' + C Sxx C') / n_obs. */
+static void solve_R(const ws_t *w, aenl_em_model_t *m)
+{
+    const size_t nx = w->nx, nz = w->nz;
+    for (size_t r = 0; r < nz; ++r)
+    {
+        for (size_t c2 = 0; c2 < nz; ++c2)
+        {
+            double v = w->Syy[r * nz + c2];
+            for (size_t i = 0; i < nx; ++i)
+            {
+                v -=
+                    m->C[r * nx + i] * w->Syx[c2 * nx + i] + w->Syx[r * nx + i] * m->C[c2 * nx + i];
+                double cs = 0.0;
+                for (size_t j = 0; j < nx; ++j)
+                {
+                    cs += w->Sxx[i * nx + j] * m->C[c2 * nx + j];
+                }
+                v += m->C[r * nx + i] * cs;
+            }
+            m->R[r * nz + c2] = v / w->ny;
+        }
+    }
+    symm(m->R, nz);
+}
+
+static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
+{
+    const size_t nx = w->nx, nc = nx + w->nu, na = nc + 1;
+    mstep_buf_t bf;
+    bf.nc = nc;
+    bf.na = na;
+    bf.G = malloc(na * na * sizeof(double));
+    bf.H = malloc(nx * na * sizeof(double));
+    bf.Gc = malloc(na * na * sizeof(double));
+    bf.X = malloc(na * nx * sizeof(double));
+    bf.W = malloc(nx * na * sizeof(double));
+    bf.T = malloc(nx * na * sizeof(double));
+    aenl_status_t st = AENL_E_DIM;
+    if (bf.G && bf.H && bf.Gc && bf.X && bf.W && bf.T)
+    {
+        st = m_step_modes(w, m, freeze, &bf);
+    }
+    if (st == AENL_OK && w->ny > 0.0 && !(freeze & AENL_EM_FREEZE_C))
+    {
+        st = solve_C(w, m);
+    }
+    if (st == AENL_OK && w->ny > 0.0 && !(freeze & AENL_EM_FREEZE_R))
+    {
+        solve_R(w, m);
+    }
+    if (st == AENL_OK && !(freeze & AENL_EM_FREEZE_X0))
     {
         memcpy(m->x0, w->xf, nx * sizeof(double)); /* x_{0|n} */
     }
-done:
-    free(G);
-    free(H);
-    free(Gc);
-    free(X);
-    free(W);
-    free(T);
+    free(bf.G);
+    free(bf.H);
+    free(bf.Gc);
+    free(bf.X);
+    free(bf.W);
+    free(bf.T);
     return st;
 }
 
@@ -1554,170 +1675,202 @@ static aenl_status_t mode_regression(double *G, const double *H, size_t na, size
     return AENL_OK;
 }
 
-static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w,
-                             aenl_em_model_t *m, int use_iv, aenl_err_t *err)
+/* The delay-embedding start's record, dimensions and buffers. */
+typedef struct
 {
-    const size_t p = (m->n_x + nz - 1) / nz; /* embedding depth */
-    const size_t nu = w->nu, nl = p * nu;    /* the inputs' lags 0 .. p-1 */
-    const size_t nx = m->n_x, nc = nx + nl, na = nc + 1, nm = m->n_modes, nn = nx * nx;
+    const double *y; /* n x nz */
+    size_t n, nz;
+    const ws_t *w;
+    size_t p, nu, nl;  /* embedding depth, inputs, the inputs' lags 0 .. p-1 (p nu) */
+    size_t nx, nc, na; /* states, regressors before the constant, all regressors */
+    int use_iv;
+    double *G, *H;  /* normal equations of a mode: na x na, na x nz */
+    double *z;      /* regressors of one transition (na) */
+    double *res;    /* residual covariance of a mode (nz x nz) */
+    double *pooled; /* per output: the residual sum of squares over every mode */
+    double *X;      /* coefficients of a mode (na x nz) */
+} ls_t;
+
+/* Transition k -> k+1 into the normal equations, regressors z = (embedded outputs, the inputs'
+ * lags, 1) and their instruments. 1 when it entered, 0 when a sample it needs is missing. */
+static int ls_add_transition(const ls_t *ls, size_t k)
+{
+    const double *y = ls->y;
+    const size_t nz = ls->nz, nx = ls->nx, nu = ls->nu, nl = ls->nl, nc = ls->nc, na = ls->na;
+    double *z = ls->z;
     double zeta[LS_MAX_A];
-    double *G = calloc(na * na, sizeof(double)), *H = calloc(na * nz, sizeof(double));
-    double *z = calloc(na, sizeof(double)), *res = calloc(nz * nz, sizeof(double));
-    double *pooled = calloc(nz, sizeof(double)), *X = malloc(na * nz * sizeof(double));
-    aenl_status_t st = AENL_OK;
-    if (!G || !H || !z || !res || !pooled || !X)
+    int ok = 1;
+    for (size_t i = 0; i < nx && ok; ++i)
     {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_DIM;
-        goto done;
+        z[i] = y_at(y, nz, (long)k - (long)(i / nz), i % nz);
+        ok = isfinite(z[i]);
     }
-    /* C = [I 0]; shift rows of every A */
-    memset(m->C, 0, nz * nx * sizeof(double));
-    for (size_t r = 0; r < nz; ++r)
+    for (size_t r = 0; r < nz && ok; ++r)
     {
-        m->C[r * nx + r] = 1.0;
+        ok = isfinite(y[(k + 1) * nz + r]);
     }
-    double pooled_n = 0.0;
-    for (size_t s = 0; s < nm; ++s)
+    if (!ok)
     {
-        memset(G, 0, na * na * sizeof(double));
-        memset(H, 0, na * nz * sizeof(double));
-        double cnt = 0.0;
-        for (size_t k = 1; k + 1 < n; ++k)
-        {
-            if (w->mode[k + 1] != s)
-            {
-                continue;
-            }
-            int ok = 1;
-            for (size_t i = 0; i < nx && ok; ++i)
-            {
-                z[i] = y_at(y, nz, (long)k - (long)(i / nz), i % nz);
-                ok = isfinite(z[i]);
-            }
-            for (size_t r = 0; r < nz && ok; ++r)
-            {
-                ok = isfinite(y[(k + 1) * nz + r]);
-            }
-            if (!ok)
-            {
-                continue;
-            }
-            for (size_t i = 0; i < nl; ++i) /* u_{k-j}, j = i / nu */
-            {
-                z[nx + i] = y_at(w->u, nu, (long)k - (long)(i / nu), i % nu);
-            }
-            z[nc] = 1.0;
-            /* instruments: the same embedding p samples earlier (independent of the noise in
-             * the regressors and in y_{k+1}); plain least squares when use_iv is 0 */
-            for (size_t i = 0; i < nx && ok; ++i)
-            {
-                zeta[i] = use_iv ? y_at(y, nz, (long)k - (long)p - (long)(i / nz), i % nz) : z[i];
-                ok = isfinite(zeta[i]);
-            }
-            if (!ok)
-            {
-                continue;
-            }
-            for (size_t i = 0; i < nl; ++i) /* the inputs are their own instruments */
-            {
-                zeta[nx + i] = z[nx + i];
-            }
-            zeta[nc] = 1.0;
-            add_outer(G, zeta, z, na, 0);
-            for (size_t i = 0; i < na; ++i)
-            {
-                for (size_t r = 0; r < nz; ++r)
-                {
-                    H[i * nz + r] += zeta[i] * y[(k + 1) * nz + r];
-                }
-            }
-            cnt += 1.0;
-        }
-        if ((st = mode_regression(G, H, na, nz, cnt, s, 0, X, err)) != AENL_OK)
-        {
-            goto done;
-        }
-        double *A = m->A + s * nn, *b = m->b + s * nx, *Q = m->Q + s * nn;
-        double *B = m->B + s * nx * nu;
-        memset(A, 0, nn * sizeof(double));
-        memset(b, 0, nx * sizeof(double));
-        memset(Q, 0, nn * sizeof(double));
+        return 0;
+    }
+    for (size_t i = 0; i < nl; ++i) /* u_{k-j}, j = i / nu */
+    {
+        z[nx + i] = y_at(ls->w->u, nu, (long)k - (long)(i / nu), i % nu);
+    }
+    z[nc] = 1.0;
+    /* instruments: the same embedding p samples earlier (independent of the noise in the
+     * regressors and in y_{k+1}); plain least squares when use_iv is 0 */
+    for (size_t i = 0; i < nx && ok; ++i)
+    {
+        zeta[i] = ls->use_iv ? y_at(y, nz, (long)k - (long)ls->p - (long)(i / nz), i % nz) : z[i];
+        ok = isfinite(zeta[i]);
+    }
+    if (!ok)
+    {
+        return 0;
+    }
+    for (size_t i = 0; i < nl; ++i) /* the inputs are their own instruments */
+    {
+        zeta[nx + i] = z[nx + i];
+    }
+    zeta[nc] = 1.0;
+    add_outer(ls->G, zeta, z, na, 0);
+    for (size_t i = 0; i < na; ++i)
+    {
         for (size_t r = 0; r < nz; ++r)
         {
+            ls->H[i * nz + r] += zeta[i] * y[(k + 1) * nz + r];
+        }
+    }
+    return 1;
+}
+
+/* The residual covariance of mode s's regression (A, b of m and the input coefficients of
+ * ls->X), computed directly rather than as (Syy - X' H - H' X + X' G X)/cnt: into m->Q's
+ * output block, and added to ls->pooled. */
+static void ls_mode_noise(const ls_t *ls, aenl_em_model_t *m, size_t s, double cnt)
+{
+    const double *y = ls->y;
+    const size_t nz = ls->nz, nx = ls->nx, nu = ls->nu, nl = ls->nl, nn = nx * nx;
+    const double *A = m->A + s * nn, *b = m->b + s * nx, *X = ls->X;
+    double *Q = m->Q + s * nn, *z = ls->z, *res = ls->res;
+    memset(res, 0, nz * nz * sizeof(double));
+    for (size_t k = 1; k + 1 < ls->n; ++k)
+    {
+        if (ls->w->mode[k + 1] != s)
+        {
+            continue;
+        }
+        int ok = 1;
+        for (size_t i = 0; i < nx && ok; ++i)
+        {
+            z[i] = y_at(y, nz, (long)k - (long)(i / nz), i % nz);
+            ok = isfinite(z[i]);
+        }
+        double e[AENL_EM_MAX_X];
+        for (size_t r = 0; r < nz && ok; ++r)
+        {
+            double acc = y[(k + 1) * nz + r] - b[r];
             for (size_t j = 0; j < nx; ++j)
             {
-                A[r * nx + j] = X[j * nz + r];
+                acc -= A[r * nx + j] * z[j];
             }
-            b[r] = X[nc * nz + r];
+            for (size_t i = 0; i < nl; ++i)
+            {
+                acc -= X[(nx + i) * nz + r] * y_at(ls->w->u, nu, (long)k - (long)(i / nu), i % nu);
+            }
+            e[r] = acc;
+            ok = isfinite(acc);
         }
-        /* residual covariance: (Syy - X' H - H' X + X' G X)/cnt computed directly */
-        memset(res, 0, nz * nz * sizeof(double));
-        for (size_t k = 1; k + 1 < n; ++k)
+        if (!ok)
         {
-            if (w->mode[k + 1] != s)
-            {
-                continue;
-            }
-            int ok = 1;
-            for (size_t i = 0; i < nx && ok; ++i)
-            {
-                z[i] = y_at(y, nz, (long)k - (long)(i / nz), i % nz);
-                ok = isfinite(z[i]);
-            }
-            double e[AENL_EM_MAX_X];
-            for (size_t r = 0; r < nz && ok; ++r)
-            {
-                double acc = y[(k + 1) * nz + r] - b[r];
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    acc -= A[r * nx + j] * z[j];
-                }
-                for (size_t i = 0; i < nl; ++i)
-                {
-                    acc -= X[(nx + i) * nz + r] * y_at(w->u, nu, (long)k - (long)(i / nu), i % nu);
-                }
-                e[r] = acc;
-                ok = isfinite(acc);
-            }
-            if (!ok)
-            {
-                continue;
-            }
-            add_outer(res, e, e, nz, 0);
+            continue;
         }
-        for (size_t r = 0; r < nz; ++r)
+        add_outer(res, e, e, nz, 0);
+    }
+    for (size_t r = 0; r < nz; ++r)
+    {
+        for (size_t c = 0; c < nz; ++c)
         {
-            for (size_t c = 0; c < nz; ++c)
-            {
-                Q[r * nx + c] = res[r * nz + c] / cnt;
-            }
-            pooled[r] += res[r * nz + r];
+            Q[r * nx + c] = res[r * nz + c] / cnt;
         }
-        pooled_n += cnt;
-        /* to the observer canonical form (exact for any observable linear system, noise in
-         * every block): row (j, r) holds the coefficients of lag j, and a shifted identity */
-        for (size_t i = 0; i < nx; ++i)
+        ls->pooled[r] += res[r * nz + r];
+    }
+}
+
+/* Mode s's A and B in the observer canonical form (exact for any observable linear system,
+ * noise in every block): row (j, r) holds the coefficients of lag j, and a shifted identity. */
+static void ls_observer_form(const ls_t *ls, aenl_em_model_t *m, size_t s)
+{
+    const size_t nz = ls->nz, nx = ls->nx, nu = ls->nu;
+    double *A = m->A + s * nx * nx, *B = m->B + s * nx * nu;
+    const double *X = ls->X;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        const size_t j = i / nz, r = i % nz;
+        for (size_t c = 0; c < nx; ++c)
         {
-            const size_t j = i / nz, r = i % nz;
-            for (size_t c = 0; c < nx; ++c)
-            {
-                A[i * nx + c] = 0.0;
-            }
-            for (size_t c = 0; c < nz; ++c)
-            {
-                A[i * nx + c] = (j * nz + c < nx) ? X[(j * nz + c) * nz + r] : 0.0;
-            }
-            if (i + nz < nx)
-            {
-                A[i * nx + i + nz] = 1.0;
-            }
-            for (size_t q = 0; q < nu; ++q) /* input lag j enters block j */
-            {
-                B[i * nu + q] = X[(nx + j * nu + q) * nz + r];
-            }
+            A[i * nx + c] = 0.0;
+        }
+        for (size_t c = 0; c < nz; ++c)
+        {
+            A[i * nx + c] = (j * nz + c < nx) ? X[(j * nz + c) * nz + r] : 0.0;
+        }
+        if (i + nz < nx)
+        {
+            A[i * nx + i + nz] = 1.0;
+        }
+        for (size_t q = 0; q < nu; ++q) /* input lag j enters block j */
+        {
+            B[i * nu + q] = X[(nx + j * nu + q) * nz + r];
         }
     }
+}
+
+/* Mode s of the delay-embedding start: the regression of y_{k+1} on the embedding, its residual
+ * covariance, then the observer canonical form. *cnt receives its transitions. */
+static aenl_status_t ls_mode(const ls_t *ls, aenl_em_model_t *m, size_t s, double *cnt,
+                             aenl_err_t *err)
+{
+    const size_t nz = ls->nz, nx = ls->nx, na = ls->na, nn = nx * nx;
+    memset(ls->G, 0, na * na * sizeof(double));
+    memset(ls->H, 0, na * nz * sizeof(double));
+    *cnt = 0.0;
+    for (size_t k = 1; k + 1 < ls->n; ++k)
+    {
+        if (ls->w->mode[k + 1] == s && ls_add_transition(ls, k))
+        {
+            *cnt += 1.0;
+        }
+    }
+    const aenl_status_t st = mode_regression(ls->G, ls->H, na, nz, *cnt, s, 0, ls->X, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    double *A = m->A + s * nn, *b = m->b + s * nx;
+    memset(A, 0, nn * sizeof(double));
+    memset(b, 0, nx * sizeof(double));
+    memset(m->Q + s * nn, 0, nn * sizeof(double));
+    for (size_t r = 0; r < nz; ++r)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            A[r * nx + j] = ls->X[j * nz + r];
+        }
+        b[r] = ls->X[ls->nc * nz + r];
+    }
+    ls_mode_noise(ls, m, s, *cnt);
+    ls_observer_form(ls, m, s);
+    return AENL_OK;
+}
+
+/* The noise of the delay-embedding start from the pooled residuals: a small R and a large Q (EM
+ * then leaves the noise to R), Q's lag blocks too. */
+static void ls_noise(const ls_t *ls, aenl_em_model_t *m, double pooled_n)
+{
+    const size_t nz = ls->nz, nx = ls->nx, nn = nx * nx;
+    double *pooled = ls->pooled;
     for (size_t r = 0; r < nz; ++r)
     {
         pooled[r] /= pooled_n;
@@ -1725,17 +1878,22 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
     memset(m->R, 0, nz * nz * sizeof(double));
     for (size_t r = 0; r < nz; ++r)
     {
-        m->R[r * nz + r] = 0.05 * pooled[r]; /* small R, large Q: EM then leaves the noise to R */
+        m->R[r * nz + r] = 0.05 * pooled[r];
     }
-    for (size_t s = 0; s < nm; ++s)
+    for (size_t s = 0; s < m->n_modes; ++s)
     {
         for (size_t i = nz; i < nx; ++i)
         {
             m->Q[s * nn + i * nx + i] = pooled[i % nz];
         }
     }
-    /* x0 from the first samples; P0 from the channel variances */
-    memset(m->P0, 0, nn * sizeof(double));
+}
+
+/* x0 from the first samples, P0 from the channel variances (state i is output i % nz). */
+static void ls_initial_state(const double *y, size_t n, size_t nz, aenl_em_model_t *m)
+{
+    const size_t nx = m->n_x;
+    memset(m->P0, 0, nx * nx * sizeof(double));
     for (size_t i = 0; i < nx; ++i)
     {
         double mean = 0.0, m2 = 0.0, c = 0.0;
@@ -1758,13 +1916,63 @@ static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w
             m->P0[i * nx + i] = 1.0;
         }
     }
-done:
-    free(G);
-    free(H);
-    free(z);
-    free(res);
-    free(pooled);
-    free(X);
+}
+
+static aenl_status_t ls_init(const double *y, size_t n, size_t nz, const ws_t *w,
+                             aenl_em_model_t *m, int use_iv, aenl_err_t *err)
+{
+    ls_t ls;
+    ls.y = y;
+    ls.n = n;
+    ls.nz = nz;
+    ls.w = w;
+    ls.p = (m->n_x + nz - 1) / nz; /* embedding depth */
+    ls.nu = w->nu;
+    ls.nl = ls.p * ls.nu;
+    ls.nx = m->n_x;
+    ls.nc = ls.nx + ls.nl;
+    ls.na = ls.nc + 1;
+    ls.use_iv = use_iv;
+    const size_t na = ls.na, nx = ls.nx;
+    ls.G = calloc(na * na, sizeof(double));
+    ls.H = calloc(na * nz, sizeof(double));
+    ls.z = calloc(na, sizeof(double));
+    ls.res = calloc(nz * nz, sizeof(double));
+    ls.pooled = calloc(nz, sizeof(double));
+    ls.X = malloc(na * nz * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    if (!ls.G || !ls.H || !ls.z || !ls.res || !ls.pooled || !ls.X)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    if (st == AENL_OK)
+    {
+        /* C = [I 0]; shift rows of every A */
+        memset(m->C, 0, nz * nx * sizeof(double));
+        for (size_t r = 0; r < nz; ++r)
+        {
+            m->C[r * nx + r] = 1.0;
+        }
+    }
+    double pooled_n = 0.0;
+    for (size_t s = 0; s < m->n_modes && st == AENL_OK; ++s)
+    {
+        double cnt = 0.0;
+        st = ls_mode(&ls, m, s, &cnt, err);
+        pooled_n += cnt;
+    }
+    if (st == AENL_OK)
+    {
+        ls_noise(&ls, m, pooled_n);
+        ls_initial_state(y, n, nz, m);
+    }
+    free(ls.G);
+    free(ls.H);
+    free(ls.z);
+    free(ls.res);
+    free(ls.pooled);
+    free(ls.X);
     return st;
 }
 
@@ -1936,38 +2144,21 @@ done:
     return ok ? 0 : -1;
 }
 
-/* The model m (C = [I 0]) from the subspace states (steps 1-4 above), rows block rows. */
-static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *w,
-                              aenl_em_model_t *m, size_t rows, aenl_err_t *err)
+/* The subspace start's record and states: x_k (xs, n x nx) for k >= rows. */
+typedef struct
 {
-    const size_t nx = m->n_x, na = nx + 1, nn = nx * nx, nm = m->n_modes, L = rows * nz;
-    const size_t n_lag = 2 * rows;
-    if (nz == 0 || L <= nx || 4 * n_lag > n)
-    {
-        aenl_err_set(err, "subspace start: %zu block rows do not fit %zu states and %zu samples",
-                     rows, nx, n);
-        return AENL_E_ARG;
-    }
-    double *lam = malloc(n_lag * nz * nz * sizeof(double)), ybar[AENL_EM_MAX_X];
-    double *Mt = malloc(nx * L * sizeof(double)), *xs = malloc(n * nx * sizeof(double));
-    double *Gm = malloc(na * na * sizeof(double)), *Hm = malloc(na * nx * sizeof(double));
-    double *res = malloc(nn * sizeof(double)), *X = malloc(na * nx * sizeof(double));
-    aenl_status_t st = AENL_OK;
-    if (!lam || !Mt || !xs || !Gm || !Hm || !res || !X)
-    {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_DIM;
-        goto done;
-    }
-    output_covariances(y, n, nz, w->obs, n_lag, ybar, lam);
-    if (ssi_state_map(lam, nz, nx, rows, Mt) != 0)
-    {
-        aenl_err_set(err, "subspace start: rank-deficient covariances with %zu block rows", rows);
-        st = AENL_E_NOT_PD;
-        goto done;
-    }
-    /* states for k >= rows (a missing past sample counts as the mean) */
-    for (size_t k = rows; k < n; ++k)
+    const double *y; /* n x nz */
+    size_t n, nz, nx, rows;
+    const ws_t *w;
+    double *xs;
+} ssi_t;
+
+/* Step 3 above: the states x_k = ybar (first nz) + Mt p_k for k >= rows (a missing past sample
+ * counts as the mean). */
+static void ssi_states(const ssi_t *si, const double *Mt, const double *ybar)
+{
+    const size_t nz = si->nz, nx = si->nx, rows = si->rows, L = rows * nz;
+    for (size_t k = rows; k < si->n; ++k)
     {
         for (size_t i = 0; i < nx; ++i)
         {
@@ -1976,96 +2167,114 @@ static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *
             for (size_t q = 0; q < L; ++q) /* sample k - rows + q / nz, output q % nz */
             {
                 const size_t j = k - rows + q / nz, r = q % nz;
-                if (w->obs[j])
+                if (si->w->obs[j])
                 {
-                    acc += Mi[q] * (y[j * nz + r] - ybar[r]);
+                    acc += Mi[q] * (si->y[j * nz + r] - ybar[r]);
                 }
             }
-            xs[k * nx + i] = acc;
+            si->xs[k * nx + i] = acc;
         }
     }
-    memset(m->C, 0, nz * nx * sizeof(double));
-    for (size_t r = 0; r < nz; ++r)
+}
+
+/* Step 4 above for mode s: A_s, b_s by the regression of x_{k+1} on (x_k, 1) (Gm, Hm, X:
+ * scratch of na x na, na x nx, na x nx); *cnt receives its transitions. */
+static aenl_status_t ssi_mode_regression(const ssi_t *si, aenl_em_model_t *m, size_t s, double *Gm,
+                                         double *Hm, double *X, double *cnt, aenl_err_t *err)
+{
+    const size_t nx = si->nx, na = nx + 1, nn = nx * nx;
+    const double *xs = si->xs;
+    memset(Gm, 0, na * na * sizeof(double));
+    memset(Hm, 0, na * nx * sizeof(double));
+    double c = 0.0, z[AENL_EM_MAX_X + 1];
+    for (size_t k = si->rows; k + 1 < si->n; ++k)
     {
-        m->C[r * nx + r] = 1.0;
-    }
-    for (size_t s = 0; s < nm; ++s)
-    {
-        memset(Gm, 0, na * na * sizeof(double));
-        memset(Hm, 0, na * nx * sizeof(double));
-        double cnt = 0.0, z[AENL_EM_MAX_X + 1];
-        for (size_t k = rows; k + 1 < n; ++k)
+        if (si->w->mode[k + 1] != s)
         {
-            if (w->mode[k + 1] != s)
-            {
-                continue;
-            }
-            memcpy(z, xs + k * nx, nx * sizeof(double));
-            z[nx] = 1.0;
-            add_outer(Gm, z, z, na, 0);
-            for (size_t i = 0; i < na; ++i)
-            {
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    Hm[i * nx + j] += z[i] * xs[(k + 1) * nx + j];
-                }
-            }
-            cnt += 1.0;
+            continue;
         }
-        if ((st = mode_regression(Gm, Hm, na, nx, cnt, s, 1, X, err)) != AENL_OK)
-        {
-            goto done;
-        }
-        double *As = m->A + s * nn, *bs = m->b + s * nx, *Qs = m->Q + s * nn;
-        for (size_t i = 0; i < nx; ++i)
+        memcpy(z, xs + k * nx, nx * sizeof(double));
+        z[nx] = 1.0;
+        add_outer(Gm, z, z, na, 0);
+        for (size_t i = 0; i < na; ++i)
         {
             for (size_t j = 0; j < nx; ++j)
             {
-                As[i * nx + j] = X[j * nx + i];
+                Hm[i * nx + j] += z[i] * xs[(k + 1) * nx + j];
             }
-            bs[i] = X[nx * nx + i];
         }
-        /* residual covariance, with a small ridge so that the filter starts positive definite */
-        memset(res, 0, nn * sizeof(double));
-        for (size_t k = rows; k + 1 < n; ++k)
-        {
-            if (w->mode[k + 1] != s)
-            {
-                continue;
-            }
-            double e[AENL_EM_MAX_X];
-            for (size_t i = 0; i < nx; ++i)
-            {
-                double acc = xs[(k + 1) * nx + i] - bs[i];
-                for (size_t j = 0; j < nx; ++j)
-                {
-                    acc -= As[i * nx + j] * xs[k * nx + j];
-                }
-                e[i] = acc;
-            }
-            add_outer(res, e, e, nx, 0);
-        }
-        double trq = 0.0;
-        for (size_t i = 0; i < nn; ++i)
-        {
-            Qs[i] = res[i] / cnt;
-        }
-        symm(Qs, nx);
-        for (size_t i = 0; i < nx; ++i)
-        {
-            trq += Qs[i * nx + i];
-        }
-        for (size_t i = 0; i < nx; ++i)
-        {
-            Qs[i * nx + i] += 1e-3 * trq / (double)nx;
-        }
+        c += 1.0;
     }
-    /* R: half the covariance of y_k - C x_k; x0, P0 from the states */
+    *cnt = c;
+    const aenl_status_t st = mode_regression(Gm, Hm, na, nx, c, s, 1, X, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    double *As = m->A + s * nn, *bs = m->b + s * nx;
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j < nx; ++j)
+        {
+            As[i * nx + j] = X[j * nx + i];
+        }
+        bs[i] = X[nx * nx + i];
+    }
+    return AENL_OK;
+}
+
+/* Q_s from the residuals of mode s's regression (res: nx x nx scratch), with a small ridge so
+ * that the filter starts positive definite. */
+static void ssi_mode_noise(const ssi_t *si, aenl_em_model_t *m, size_t s, double cnt, double *res)
+{
+    const size_t nx = si->nx, nn = nx * nx;
+    const double *As = m->A + s * nn, *bs = m->b + s * nx, *xs = si->xs;
+    double *Qs = m->Q + s * nn;
+    memset(res, 0, nn * sizeof(double));
+    for (size_t k = si->rows; k + 1 < si->n; ++k)
+    {
+        if (si->w->mode[k + 1] != s)
+        {
+            continue;
+        }
+        double e[AENL_EM_MAX_X];
+        for (size_t i = 0; i < nx; ++i)
+        {
+            double acc = xs[(k + 1) * nx + i] - bs[i];
+            for (size_t j = 0; j < nx; ++j)
+            {
+                acc -= As[i * nx + j] * xs[k * nx + j];
+            }
+            e[i] = acc;
+        }
+        add_outer(res, e, e, nx, 0);
+    }
+    double trq = 0.0;
+    for (size_t i = 0; i < nn; ++i)
+    {
+        Qs[i] = res[i] / cnt;
+    }
+    symm(Qs, nx);
+    for (size_t i = 0; i < nx; ++i)
+    {
+        trq += Qs[i * nx + i];
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        Qs[i * nx + i] += 1e-3 * trq / (double)nx;
+    }
+}
+
+/* R: half the covariance of y_k - C x_k (res: nx x nx scratch); x0, P0 from the states. */
+static void ssi_output_noise_and_start(const ssi_t *si, aenl_em_model_t *m, double *res)
+{
+    const size_t nz = si->nz, nx = si->nx, nn = nx * nx, rows = si->rows, n = si->n;
+    const double *y = si->y, *xs = si->xs;
     memset(res, 0, nn * sizeof(double));
     double ne = 0.0;
     for (size_t k = rows; k < n; ++k)
     {
-        if (!w->obs[k])
+        if (!si->w->obs[k])
         {
             continue;
         }
@@ -2092,13 +2301,69 @@ static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *
             mean += d / (double)(k - rows + 1);
             m2 += d * (xs[k * nx + i] - mean);
         }
-        m->x0[i] = (i < nz && w->obs[0]) ? y[i] : mean;
+        m->x0[i] = (i < nz && si->w->obs[0]) ? y[i] : mean;
         m->P0[i * nx + i] = (m2 > 0.0) ? m2 / (double)(n - rows) : 1.0;
     }
-done:
+}
+
+/* The model m (C = [I 0]) from the subspace states (steps 1-4 above), rows block rows. */
+static aenl_status_t ssi_init(const double *y, size_t n, size_t nz, const ws_t *w,
+                              aenl_em_model_t *m, size_t rows, aenl_err_t *err)
+{
+    const size_t nx = m->n_x, na = nx + 1, nn = nx * nx, L = rows * nz;
+    const size_t n_lag = 2 * rows;
+    if (nz == 0 || L <= nx || 4 * n_lag > n)
+    {
+        aenl_err_set(err, "subspace start: %zu block rows do not fit %zu states and %zu samples",
+                     rows, nx, n);
+        return AENL_E_ARG;
+    }
+    double *lam = malloc(n_lag * nz * nz * sizeof(double)), ybar[AENL_EM_MAX_X];
+    double *Mt = malloc(nx * L * sizeof(double));
+    const ssi_t si = {y, n, nz, nx, rows, w, malloc(n * nx * sizeof(double))};
+    double *Gm = malloc(na * na * sizeof(double)), *Hm = malloc(na * nx * sizeof(double));
+    double *res = malloc(nn * sizeof(double)), *X = malloc(na * nx * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    if (!lam || !Mt || !si.xs || !Gm || !Hm || !res || !X)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    if (st == AENL_OK)
+    {
+        output_covariances(y, n, nz, w->obs, n_lag, ybar, lam);
+        if (ssi_state_map(lam, nz, nx, rows, Mt) != 0)
+        {
+            aenl_err_set(err, "subspace start: rank-deficient covariances with %zu block rows",
+                         rows);
+            st = AENL_E_NOT_PD;
+        }
+    }
+    if (st == AENL_OK)
+    {
+        ssi_states(&si, Mt, ybar);
+        memset(m->C, 0, nz * nx * sizeof(double));
+        for (size_t r = 0; r < nz; ++r)
+        {
+            m->C[r * nx + r] = 1.0;
+        }
+    }
+    for (size_t s = 0; s < m->n_modes && st == AENL_OK; ++s)
+    {
+        double cnt = 0.0;
+        st = ssi_mode_regression(&si, m, s, Gm, Hm, X, &cnt, err);
+        if (st == AENL_OK)
+        {
+            ssi_mode_noise(&si, m, s, cnt, res);
+        }
+    }
+    if (st == AENL_OK)
+    {
+        ssi_output_noise_and_start(&si, m, res);
+    }
     free(lam);
     free(Mt);
-    free(xs);
+    free(si.xs);
     free(Gm);
     free(Hm);
     free(res);

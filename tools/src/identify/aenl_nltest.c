@@ -339,16 +339,15 @@ static void direction(const double *u, size_t nz, size_t j, size_t n, double *d)
     }
 }
 
-/* Stage 1 for channel j: the generic score test; dir receives the force direction. */
-static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *dir, double *s2,
-                            aenl_err_t *err)
+/* Stage 1's law series of the channel in rn->lin, in rn->work: law l (u^2, u^3, d, d u with d
+ * the direction of motion) at rn->work + l n. */
+static void stage1_series(const run_t *rn)
 {
     const size_t n = rn->n;
-    const size_t nx = rn->nx;
     double *u2 = rn->work;
     double *u3 = rn->work + n;
-    double *du = rn->work + 2u * n;
-    double *dd = rn->work + 3u * n;
+    double *dd = rn->work + 2u * n;
+    double *du = rn->work + 3u * n;
     for (size_t t = 0; t < n; ++t)
     {
         const double v = rn->lin[t];
@@ -357,6 +356,53 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
         dd[t] = rn->dsg[t];
         du[t] = rn->dsg[t] * v;
     }
+}
+
+/* What stage 1's regression yields. */
+typedef struct
+{
+    double red_n, red_f; /* reductions of the squared innovations: nuisance only, and with laws */
+    double q;            /* the robust score statistic of the laws */
+    size_t n_nuis;       /* nuisance series (the laws' series follow) */
+    size_t ncols;
+    double beta[(NLT_NUIS_MAX + NLT_STAGE1_LAWS) * NLT_MAX_X]; /* coefficients of the full fit */
+} s1_fit_t;
+
+/* The robust score statistic of the columns nn.. of d given the nuisance columns 0..nn-1 into
+ * *q (NaN when it fails). */
+static aenl_status_t robust_score(const design_t *d, const kf_t *kf, size_t nn, double *q,
+                                  aenl_err_t *err)
+{
+    const size_t nl = d->ncols - nn;
+    double *Pi = (double *)malloc(nn * nl * sizeof(double));
+    double *score = (double *)malloc(nl * sizeof(double));
+    double *meat = (double *)malloc(nl * nl * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    if (Pi == NULL || score == NULL || meat == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    if (st == AENL_OK)
+    {
+        st = nlt_partial_coefficients(d, nn, Pi, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = nlt_design_robust(d, kf, nn, Pi, score, meat, err);
+    }
+    *q = st == AENL_OK ? nlt_quad_inverse(meat, score, nl) : (double)NAN;
+    free(Pi);
+    free(score);
+    free(meat);
+    return st;
+}
+
+/* Stage 1's regression: the law series of stage1_series, full, after the nuisance. */
+static aenl_status_t stage1_regress(const run_t *rn, s1_fit_t *f, aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    const size_t nx = rn->nx;
     /* Nuisance: an offset and a perturbation of A along every filtered state (the first-order
      * change of the fitted linear model, so its estimation error is not taken for a law). */
     const double *g[NLT_NUIS_MAX + NLT_STAGE1_LAWS];
@@ -371,11 +417,11 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     {
         g[ns++] = rn->in_col[p];
     }
-    const size_t n_nuis = ns;
-    g[ns++] = u2;
-    g[ns++] = u3;
-    g[ns++] = dd;
-    g[ns++] = du;
+    f->n_nuis = ns;
+    for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
+    {
+        g[ns++] = rn->work + l * n;
+    }
     for (size_t i = 0; i < ns; ++i)
     {
         full[i] = 1;
@@ -392,77 +438,45 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
     {
         idx[i] = i;
     }
-    double beta[(NLT_NUIS_MAX + NLT_STAGE1_LAWS) * NLT_MAX_X];
-    const double red_n = nlt_fit_subset(&d, idx, n_nuis * nx, NULL);
-    const double red_f = nlt_fit_subset(&d, idx, d.ncols, beta);
-    const size_t ncols = d.ncols;
-    const size_t nn = n_nuis * nx;
-    const size_t nl = ncols - nn;
-    double *Pi = (double *)malloc(nn * nl * sizeof(double));
-    double *score = (double *)malloc(nl * sizeof(double));
-    double *meat = (double *)malloc(nl * nl * sizeof(double));
-    if (Pi == NULL || score == NULL || meat == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_DIM;
-    }
-    if (st == AENL_OK)
-    {
-        st = nlt_partial_coefficients(&d, nn, Pi, err);
-    }
-    if (st == AENL_OK)
-    {
-        st = nlt_design_robust(&d, rn->kf, nn, Pi, score, meat, err);
-    }
-    const double q = st == AENL_OK ? nlt_quad_inverse(meat, score, nl) : (double)NAN;
-    free(Pi);
-    free(score);
-    free(meat);
+    f->red_n = nlt_fit_subset(&d, idx, f->n_nuis * nx, NULL);
+    f->red_f = nlt_fit_subset(&d, idx, d.ncols, f->beta);
+    f->ncols = d.ncols;
+    st = robust_score(&d, rn->kf, f->n_nuis * nx, &f->q, err);
     nlt_design_free(&d);
-    if (st != AENL_OK)
-    {
-        return st;
-    }
-    if (!isfinite(red_n) || !isfinite(red_f) || !isfinite(q))
-    {
-        aenl_err_set(err, "channel %lu: the test regression is singular", (unsigned long)j);
-        return AENL_E_NUMERIC;
-    }
-    const double dof_res = (double)rn->kf->rows - (double)ncols;
-    *s2 = fmax((rn->kf->ee - red_f) / dof_res, 1e-300);
-    c->dof = (double)(NLT_STAGE1_LAWS * nx);
-    c->stat = fmax(q, 0.0);
-    /* The laws are compared with the classical (homoskedastic) gains; where the robust score
-     * says the innovations' spread makes those gains overstate the evidence, they are scaled
-     * down by that ratio (a quasi-likelihood dispersion, as in QAIC). */
-    const double classic = fmax(red_f - red_n, 0.0) / *s2;
-    const double disp = c->stat > 0.0 ? classic / c->stat : 1.0;
-    *s2 *= fmax(disp, 1.0);
-    c->p = aenl_chi2_sf(c->stat, c->dof);
-    /* direction: leading left singular vector of the law coefficients (nx x 4), each column
-     * weighted by its regressor's spread, by power iteration on M M'. */
-    double M[NLT_MAX_X * NLT_STAGE1_LAWS];
-    const double *gl[NLT_STAGE1_LAWS] = {u2, u3, dd, du};
+    return st;
+}
+
+/* The law coefficients of stage 1 (nx x 4) into M, each column weighted by its regressor's
+ * spread so that the direction does not depend on the laws' units. */
+static void weighted_law_coefficients(const run_t *rn, const s1_fit_t *f, double *M)
+{
+    const size_t n = rn->n;
+    const size_t nx = rn->nx;
     for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
     {
+        const double *gl = rn->work + l * n;
         double mean = 0.0;
         double var = 0.0;
         for (size_t t = 0; t < n; ++t)
         {
-            mean += gl[l][t];
+            mean += gl[t];
         }
         mean /= (double)n;
         for (size_t t = 0; t < n; ++t)
         {
-            var += (gl[l][t] - mean) * (gl[l][t] - mean);
+            var += (gl[t] - mean) * (gl[t] - mean);
         }
         const double sd = sqrt(var / (double)n);
         for (size_t i = 0; i < nx; ++i)
         {
-            M[i * NLT_STAGE1_LAWS + l] = beta[(n_nuis + l) * nx + i] * sd;
+            M[i * NLT_STAGE1_LAWS + l] = f->beta[(f->n_nuis + l) * nx + i] * sd;
         }
     }
-    double v[NLT_MAX_X];
+}
+
+/* The leading left singular vector of M (nx x 4) into v, by power iteration on M M'. */
+static void leading_direction(const double *M, size_t nx, double *v)
+{
     for (size_t i = 0; i < nx; ++i)
     {
         v[i] = 1.0 / sqrt((double)nx);
@@ -503,6 +517,41 @@ static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *
             break;
         }
     }
+}
+
+/* Stage 1 for channel j: the generic score test; dir receives the force direction. */
+static aenl_status_t stage1(run_t *rn, size_t j, aenl_nlt_channel_t *c, double *dir, double *s2,
+                            aenl_err_t *err)
+{
+    const size_t nx = rn->nx;
+    stage1_series(rn);
+    s1_fit_t f;
+    aenl_status_t st = stage1_regress(rn, &f, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    if (!isfinite(f.red_n) || !isfinite(f.red_f) || !isfinite(f.q))
+    {
+        aenl_err_set(err, "channel %lu: the test regression is singular", (unsigned long)j);
+        return AENL_E_NUMERIC;
+    }
+    const double dof_res = (double)rn->kf->rows - (double)f.ncols;
+    *s2 = fmax((rn->kf->ee - f.red_f) / dof_res, 1e-300);
+    c->dof = (double)(NLT_STAGE1_LAWS * nx);
+    c->stat = fmax(f.q, 0.0);
+    /* The laws are compared with the classical (homoskedastic) gains; where the robust score
+     * says the innovations' spread makes those gains overstate the evidence, they are scaled
+     * down by that ratio (a quasi-likelihood dispersion, as in QAIC). */
+    const double classic = fmax(f.red_f - f.red_n, 0.0) / *s2;
+    const double disp = c->stat > 0.0 ? classic / c->stat : 1.0;
+    *s2 *= fmax(disp, 1.0);
+    c->p = aenl_chi2_sf(c->stat, c->dof);
+    /* direction: the leading left singular vector of the weighted law coefficients */
+    double M[NLT_MAX_X * NLT_STAGE1_LAWS];
+    weighted_law_coefficients(rn, &f, M);
+    double v[NLT_MAX_X];
+    leading_direction(M, nx, v);
     memcpy(dir, v, nx * sizeof(double));
     return AENL_OK;
 }
@@ -562,14 +611,12 @@ static int frequency_sensitivity(const aenl_em_model_t *m, const double *dir, si
     return sign;
 }
 
-/* Stage 2 for channel j along dir. */
-static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
-                            aenl_nlt_channel_t *c, aenl_err_t *err)
+/* Stage 2's coarse grid: q, NLT_N_QUANT points evenly over the motion, and their symmetric
+ * knot set knots (*nk knots). */
+static aenl_status_t coarse_grid(const run_t *rn, double *q, double *knots, size_t *nk,
+                                 aenl_err_t *err)
 {
     const size_t n = rn->n;
-    const size_t nx = rn->nx;
-    double q[NLT_N_QUANT];
-    double knots[4 * NLT_N_QUANT + 8];
     double *sorted = (double *)malloc(n * sizeof(double));
     if (sorted == NULL)
     {
@@ -578,7 +625,6 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     }
     memcpy(sorted, rn->lin, n * sizeof(double));
     qsort(sorted, n, sizeof(double), cmp_double);
-    size_t qidx[NLT_N_QUANT] = {0};
     /* Evenly over the range of motion (its 0.5 % and 99.5 % quantiles): a switching point may be
      * anywhere the motion goes, and a free decay spends most of its samples near rest. */
     const double q_lo = sorted[(size_t)(0.005 * (double)(n - 1u))];
@@ -588,32 +634,35 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
         q[i] = q_lo + (q_hi - q_lo) * (double)i / (double)(NLT_N_QUANT - 1u);
     }
     free(sorted);
-    const size_t nk = symmetric_knots(q, NLT_N_QUANT, knots);
-    if (nk < 3u)
-    {
-        aenl_err_set(err, "channel %lu barely moves: no switching point can be placed",
-                     (unsigned long)j + 1u);
-        return AENL_E_ARG;
-    }
-    for (size_t i = 0; i < NLT_N_QUANT; ++i)
-    {
-        qidx[i] = knot_index(knots, nk, q[i]);
-    }
-    s2_series_t ser;
-    memset(&ser, 0, sizeof(ser));
-    /* the same nuisance as the test: an offset and A perturbed along every filtered state */
-    const double *nuis[NLT_NUIS_MAX];
+    *nk = symmetric_knots(q, NLT_N_QUANT, knots);
+    return AENL_OK;
+}
+
+/* Stage 2's nuisance series into nuis, the same as the test's: an offset, A perturbed along
+ * every filtered state and B along every input. Returns their number. */
+static size_t stage2_nuisance(const run_t *rn, const double **nuis)
+{
     nuis[0] = rn->one;
-    for (size_t i = 0; i < nx; ++i)
+    for (size_t i = 0; i < rn->nx; ++i)
     {
-        nuis[1u + i] = rn->kf->xs + i * n;
+        nuis[1u + i] = rn->kf->xs + i * rn->n;
     }
     for (size_t p = 0; p < rn->n_in; ++p)
     {
-        nuis[1u + nx + p] = rn->in_col[p];
+        nuis[1u + rn->nx + p] = rn->in_col[p];
     }
-    const size_t n_nuis = 1u + nx + rn->n_in;
-    if (s2_build(&ser, rn->lin, rn->dsg, n, nuis, n_nuis, knots, nk) != 0)
+    return 1u + rn->nx + rn->n_in;
+}
+
+/* Stage 2's series over the knot set knots (nk knots) along dir, residualised on the nuisance
+ * into r. On failure r is freed. */
+static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const double *const *nuis,
+                                      size_t n_nuis, const double *knots, size_t nk, resid_t *r,
+                                      aenl_err_t *err)
+{
+    s2_series_t ser;
+    memset(&ser, 0, sizeof(ser));
+    if (s2_build(&ser, rn->lin, rn->dsg, rn->n, nuis, n_nuis, knots, nk) != 0)
     {
         s2_free(&ser);
         aenl_err_set(err, "out of memory");
@@ -621,47 +670,42 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     }
     design_t d = {n_nuis + S2_FIXED + 2u * nk, ser.g, ser.full, dir, 0, NULL, NULL};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
-    resid_t r = {0, NULL, NULL};
     if (st == AENL_OK)
     {
-        st = nlt_residualise(&d, n_nuis * nx, &r, err);
+        st = nlt_residualise(&d, n_nuis * rn->nx, r, err);
     }
     nlt_design_free(&d);
+    s2_free(&ser);
     if (st != AENL_OK)
     {
-        nlt_resid_free(&r);
-        s2_free(&ser);
-        return st;
+        nlt_resid_free(r);
     }
-    /* polynomial: cubic, or cubic and quintic */
+    return st;
+}
+
+/* The polynomial law (cubic, or cubic and quintic): its gain and criterion into c. Returns the
+ * cubic coefficient, whose sign tells hardening from softening. */
+static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_nlt_channel_t *c)
+{
     const size_t i3 = S2_U3;
     const double one = 1.0;
-    const double g3 = gain1(&r, &i3, &one, 1);
-    const double g35 = gain2(&r, &i3, &one, 1, S2_U5);
+    const double g3 = gain1(r, &i3, &one, 1);
+    const double g35 = gain2(r, &i3, &one, 1, S2_U5);
     const double bic3 = -g3 / s2 + 1.0 * rn->lnrows;
     const double bic35 = -g35 / s2 + 2.0 * rn->lnrows;
     c->gain[AENL_NLT_POLYNOMIAL] = (bic3 <= bic35 ? g3 : g35) / s2;
     c->bic[AENL_NLT_POLYNOMIAL] = fmin(bic3, bic35);
-    const double beta3 = r.Gt[i3 * r.ns + i3] > 0.0 ? r.rt[i3] / r.Gt[i3 * r.ns + i3] : 0.0;
-    /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
-    size_t all[4 * NLT_N_QUANT + 8] = {0};
-    for (size_t i = 0; i < nk; ++i)
-    {
-        all[i] = i;
-    }
-    profile_t pf;
-    profile_t ph;
-    profile_pairs(&r, knots, nk, qidx, NLT_N_QUANT, qidx, NLT_N_QUANT, freeplay_gain, s2, &pf);
-    profile_pairs(&r, knots, nk, all, nk, all, nk, hysteresis_gain, s2, &ph);
-    nlt_resid_free(&r);
-    s2_free(&ser);
+    return r->Gt[i3 * r->ns + i3] > 0.0 ? r->rt[i3] / r->Gt[i3 * r->ns + i3] : 0.0;
+}
 
-    /* refine both on a fine grid around their best pairs (spacing: a quarter of the local
-     * coarse spacing), with the four points of each law and their mirrors as knots */
-    double fine[8 * NLT_N_FINE + 8];
+/* The fine grid around the four points centres (coarse knot indices cidx of knots, nk knots):
+ * NLT_N_FINE points each, spaced a quarter of the local coarse spacing, with their mirrors;
+ * sorted, duplicates merged. Returns the number of fine knots. The set stays symmetric:
+ * fine[i] = -fine[nfu-1-i] holds by construction of the pairs. */
+static size_t fine_grid(const double *knots, size_t nk, const double *centres, const size_t *cidx,
+                        double *fine)
+{
     size_t nf = 0;
-    const double centres[4] = {knots[pf.k1], knots[pf.k2], knots[ph.k1], knots[ph.k2]};
-    const size_t cidx[4] = {pf.k1, pf.k2, ph.k1, ph.k2};
     for (size_t a = 0; a < 4; ++a)
     {
         const size_t kk = cidx[a];
@@ -685,154 +729,235 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
             fine[nfu++] = fine[i];
         }
     }
-    /* keep the set symmetric: fine[i] = -fine[nfu-1-i] holds by construction of the pairs */
-    memset(&ser, 0, sizeof(ser));
-    if (s2_build(&ser, rn->lin, rn->dsg, n, nuis, n_nuis, fine, nfu) != 0)
+    return nfu;
+}
+
+/* The fine indices of one point: the NLT_N_FINE fine knots nearest centre. */
+static void fine_window(const double *fine, size_t nfu, double centre, size_t *dst)
+{
+    const size_t kc = knot_index(fine, nfu, centre);
+    size_t lo = kc >= NLT_N_FINE / 2 ? kc - NLT_N_FINE / 2 : 0;
+    if (lo + NLT_N_FINE > nfu)
     {
-        s2_free(&ser);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
+        lo = nfu >= NLT_N_FINE ? nfu - NLT_N_FINE : 0;
     }
-    design_t d2 = {n_nuis + S2_FIXED + 2u * nfu, ser.g, ser.full, dir, 0, NULL, NULL};
-    st = nlt_design_accumulate(&d2, rn->kf, err);
-    if (st == AENL_OK)
+    for (size_t f = 0; f < NLT_N_FINE; ++f)
     {
-        st = nlt_residualise(&d2, n_nuis * nx, &r, err);
+        dst[f] = lo + f < nfu ? lo + f : nfu - 1u;
     }
-    nlt_design_free(&d2);
-    if (st == AENL_OK)
+}
+
+/* The fine profile where it gains more than the coarse p, its 95 % ranges widened to the
+ * coarse ones; *p1, *p2 receive the law's two points. */
+static void refine_profile(profile_t *p, const profile_t *pfine, const double *knots,
+                           const double *fine, double *p1, double *p2)
+{
+    if (!(pfine->best > p->best))
     {
-        size_t f1[NLT_N_FINE] = {0};
-        size_t f2[NLT_N_FINE] = {0};
-        size_t h1[NLT_N_FINE] = {0};
-        size_t h2[NLT_N_FINE] = {0};
-        /* the fine indices of each law's points: the nine fine knots nearest each centre */
-        for (size_t a = 0; a < 4; ++a)
-        {
-            size_t *dst = a == 0 ? f1 : (a == 1 ? f2 : (a == 2 ? h1 : h2));
-            const size_t kc = knot_index(fine, nfu, centres[a]);
-            size_t lo = kc >= NLT_N_FINE / 2 ? kc - NLT_N_FINE / 2 : 0;
-            if (lo + NLT_N_FINE > nfu)
-            {
-                lo = nfu >= NLT_N_FINE ? nfu - NLT_N_FINE : 0;
-            }
-            for (size_t f = 0; f < NLT_N_FINE; ++f)
-            {
-                dst[f] = lo + f < nfu ? lo + f : nfu - 1u;
-            }
-        }
-        profile_t pf2;
-        profile_t ph2;
-        profile_pairs(&r, fine, nfu, f1, NLT_N_FINE, f2, NLT_N_FINE, freeplay_gain, s2, &pf2);
-        profile_pairs(&r, fine, nfu, h1, NLT_N_FINE, h2, NLT_N_FINE, hysteresis_gain, s2, &ph2);
-        if (pf2.best > pf.best)
-        {
-            pf2.lo1 = fmin(pf2.lo1, pf.lo1);
-            pf2.hi1 = fmax(pf2.hi1, pf.hi1);
-            pf2.lo2 = fmin(pf2.lo2, pf.lo2);
-            pf2.hi2 = fmax(pf2.hi2, pf.hi2);
-            pf = pf2;
-            pf.k1 = (size_t)-1; /* values below come from the fine grid */
-        }
-        if (ph2.best > ph.best)
-        {
-            ph2.lo1 = fmin(ph2.lo1, ph.lo1);
-            ph2.hi1 = fmax(ph2.hi1, ph.hi1);
-            ph2.lo2 = fmin(ph2.lo2, ph.lo2);
-            ph2.hi2 = fmax(ph2.hi2, ph.hi2);
-            ph = ph2;
-            ph.k1 = (size_t)-1;
-        }
-        /* the points themselves */
-        const double fp1 = pf.k1 == (size_t)-1 ? fine[pf2.k1] : knots[pf.k1];
-        const double fp2 = pf.k1 == (size_t)-1 ? fine[pf2.k2] : knots[pf.k2];
-        const double hp1 = ph.k1 == (size_t)-1 ? fine[ph2.k1] : knots[ph.k1];
-        const double hp2 = ph.k1 == (size_t)-1 ? fine[ph2.k2] : knots[ph.k2];
-        c->gain[AENL_NLT_FREEPLAY] = fmax(pf.best, 0.0) / s2;
-        c->gain[AENL_NLT_HYSTERESIS] = fmax(ph.best, 0.0) / s2;
-        c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
-        c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
-        /* weights */
-        double bmin = INFINITY;
-        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-        {
-            bmin = fmin(bmin, c->bic[l]);
-        }
-        double tot = 0.0;
-        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-        {
-            c->weight[l] = exp(-0.5 * (c->bic[l] - bmin));
-            tot += c->weight[l];
-        }
-        size_t lbest = 0;
-        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-        {
-            c->weight[l] /= tot;
-            if (c->weight[l] > c->weight[lbest])
-            {
-                lbest = l;
-            }
-        }
-        const double sc = rn->scale[j];
-        c->n_points = 0;
-        if (lbest == AENL_NLT_FREEPLAY)
-        {
-            c->n_points = 2;
-            c->points[0] = fp1 * sc;
-            c->points[1] = fp2 * sc;
-            c->point_lo[0] = pf.lo1 * sc;
-            c->point_hi[0] = pf.hi1 * sc;
-            c->point_lo[1] = pf.lo2 * sc;
-            c->point_hi[1] = pf.hi2 * sc;
-        }
-        else if (lbest == AENL_NLT_HYSTERESIS)
-        {
-            /* kinks of both branches: a1, a2 rising; -a2, -a1 falling */
-            double pts[4] = {hp1, hp2, -hp2, -hp1};
-            double lo[4] = {ph.lo1, ph.lo2, -ph.hi2, -ph.hi1};
-            double hi[4] = {ph.hi1, ph.hi2, -ph.lo2, -ph.lo1};
-            for (size_t a = 0; a < 4; ++a) /* ascending by point, intervals along */
-            {
-                for (size_t b = a + 1u; b < 4; ++b)
-                {
-                    if (pts[b] < pts[a])
-                    {
-                        double tp = pts[a];
-                        pts[a] = pts[b];
-                        pts[b] = tp;
-                        tp = lo[a];
-                        lo[a] = lo[b];
-                        lo[b] = tp;
-                        tp = hi[a];
-                        hi[a] = hi[b];
-                        hi[b] = tp;
-                    }
-                }
-            }
-            for (size_t a = 0; a < 4; ++a)
-            {
-                c->points[a] = pts[a] * sc;
-                c->point_lo[a] = lo[a] * sc;
-                c->point_hi[a] = hi[a] * sc;
-            }
-            c->n_points = 4;
-        }
-        c->hardening = 0;
-        if (lbest == AENL_NLT_POLYNOMIAL)
-        {
-            const int fs = frequency_sensitivity(rn->m, dir, j);
-            const int bs = (beta3 > 0.0) - (beta3 < 0.0);
-            c->hardening = fs * bs;
-        }
-        c->undetermined = c->weight[lbest] < rn->opts->min_weight;
-        c->cls = c->undetermined ? AENL_CLASS_INSUFFICIENT
-                                 : (lbest == AENL_NLT_POLYNOMIAL
-                                        ? AENL_CLASS_POLYNOMIAL
-                                        : (lbest == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY
-                                                                      : AENL_CLASS_HYSTERESIS));
+        *p1 = knots[p->k1];
+        *p2 = knots[p->k2];
+        return;
     }
+    profile_t q = *pfine;
+    q.lo1 = fmin(q.lo1, p->lo1);
+    q.hi1 = fmax(q.hi1, p->hi1);
+    q.lo2 = fmin(q.lo2, p->lo2);
+    q.hi2 = fmax(q.hi2, p->hi2);
+    *p = q;
+    *p1 = fine[pfine->k1];
+    *p2 = fine[pfine->k2];
+}
+
+/* The weights of the laws from their criteria (Schwarz weights); returns the heaviest law. */
+static size_t law_weights(aenl_nlt_channel_t *c)
+{
+    double bmin = INFINITY;
+    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+    {
+        bmin = fmin(bmin, c->bic[l]);
+    }
+    double tot = 0.0;
+    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+    {
+        c->weight[l] = exp(-0.5 * (c->bic[l] - bmin));
+        tot += c->weight[l];
+    }
+    size_t lbest = 0;
+    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+    {
+        c->weight[l] /= tot;
+        if (c->weight[l] > c->weight[lbest])
+        {
+            lbest = l;
+        }
+    }
+    return lbest;
+}
+
+/* The hysteresis law's points into c, in the channel's units (scale sc): the kinks of both
+ * branches, a1, a2 rising and -a2, -a1 falling, ascending, with their intervals. */
+static void hysteresis_points(const profile_t *ph, double hp1, double hp2, double sc,
+                              aenl_nlt_channel_t *c)
+{
+    double pts[4] = {hp1, hp2, -hp2, -hp1};
+    double lo[4] = {ph->lo1, ph->lo2, -ph->hi2, -ph->hi1};
+    double hi[4] = {ph->hi1, ph->hi2, -ph->lo2, -ph->lo1};
+    for (size_t a = 0; a < 4; ++a) /* ascending by point, intervals along */
+    {
+        for (size_t b = a + 1u; b < 4; ++b)
+        {
+            if (pts[b] < pts[a])
+            {
+                double tp = pts[a];
+                pts[a] = pts[b];
+                pts[b] = tp;
+                tp = lo[a];
+                lo[a] = lo[b];
+                lo[b] = tp;
+                tp = hi[a];
+                hi[a] = hi[b];
+                hi[b] = tp;
+            }
+        }
+    }
+    for (size_t a = 0; a < 4; ++a)
+    {
+        c->points[a] = pts[a] * sc;
+        c->point_lo[a] = lo[a] * sc;
+        c->point_hi[a] = hi[a] * sc;
+    }
+    c->n_points = 4;
+}
+
+/* The two-point laws after the fine search: profiles pf (freeplay) and ph (hysteresis) with
+ * their points fp and hp. */
+typedef struct
+{
+    profile_t pf, ph;
+    double fp[2], hp[2];
+} two_point_t;
+
+/* Channel j's verdict from the laws' criteria: weights, switching points, hardening and class
+ * into c. beta3: the cubic coefficient. */
+static void stage2_verdict(const run_t *rn, size_t j, const double *dir, double s2,
+                           const two_point_t *tp, double beta3, aenl_nlt_channel_t *c)
+{
+    c->gain[AENL_NLT_FREEPLAY] = fmax(tp->pf.best, 0.0) / s2;
+    c->gain[AENL_NLT_HYSTERESIS] = fmax(tp->ph.best, 0.0) / s2;
+    c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
+    c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
+    const size_t lbest = law_weights(c);
+    const double sc = rn->scale[j];
+    c->n_points = 0;
+    if (lbest == AENL_NLT_FREEPLAY)
+    {
+        c->n_points = 2;
+        c->points[0] = tp->fp[0] * sc;
+        c->points[1] = tp->fp[1] * sc;
+        c->point_lo[0] = tp->pf.lo1 * sc;
+        c->point_hi[0] = tp->pf.hi1 * sc;
+        c->point_lo[1] = tp->pf.lo2 * sc;
+        c->point_hi[1] = tp->pf.hi2 * sc;
+    }
+    else if (lbest == AENL_NLT_HYSTERESIS)
+    {
+        hysteresis_points(&tp->ph, tp->hp[0], tp->hp[1], sc, c);
+    }
+    c->hardening = 0;
+    if (lbest == AENL_NLT_POLYNOMIAL)
+    {
+        const int fs = frequency_sensitivity(rn->m, dir, j);
+        const int bs = (beta3 > 0.0) - (beta3 < 0.0);
+        c->hardening = fs * bs;
+    }
+    c->undetermined = c->weight[lbest] < rn->opts->min_weight;
+    c->cls =
+        c->undetermined
+            ? AENL_CLASS_INSUFFICIENT
+            : (lbest == AENL_NLT_POLYNOMIAL
+                   ? AENL_CLASS_POLYNOMIAL
+                   : (lbest == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY : AENL_CLASS_HYSTERESIS));
+}
+
+/* The fine search of both two-point laws around their coarse best pairs (in tp, over knots, nk
+ * knots), with the four points of each law and their mirrors as knots; tp receives the result. */
+static aenl_status_t fine_search(const run_t *rn, const double *dir, double s2,
+                                 const double *const *nuis, size_t n_nuis, const double *knots,
+                                 size_t nk, two_point_t *tp, aenl_err_t *err)
+{
+    double fine[8 * NLT_N_FINE + 8];
+    const double centres[4] = {knots[tp->pf.k1], knots[tp->pf.k2], knots[tp->ph.k1],
+                               knots[tp->ph.k2]};
+    const size_t cidx[4] = {tp->pf.k1, tp->pf.k2, tp->ph.k1, tp->ph.k2};
+    const size_t nfu = fine_grid(knots, nk, centres, cidx, fine);
+    resid_t r = {0, NULL, NULL};
+    const aenl_status_t st = stage2_residuals(rn, dir, nuis, n_nuis, fine, nfu, &r, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    size_t win[4][NLT_N_FINE]; /* freeplay's two points, then hysteresis' */
+    for (size_t a = 0; a < 4; ++a)
+    {
+        fine_window(fine, nfu, centres[a], win[a]);
+    }
+    profile_t pf2;
+    profile_t ph2;
+    profile_pairs(&r, fine, nfu, win[0], NLT_N_FINE, win[1], NLT_N_FINE, freeplay_gain, s2, &pf2);
+    profile_pairs(&r, fine, nfu, win[2], NLT_N_FINE, win[3], NLT_N_FINE, hysteresis_gain, s2, &ph2);
     nlt_resid_free(&r);
-    s2_free(&ser);
+    refine_profile(&tp->pf, &pf2, knots, fine, &tp->fp[0], &tp->fp[1]);
+    refine_profile(&tp->ph, &ph2, knots, fine, &tp->hp[0], &tp->hp[1]);
+    return AENL_OK;
+}
+
+/* Stage 2 for channel j along dir. */
+static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
+                            aenl_nlt_channel_t *c, aenl_err_t *err)
+{
+    double q[NLT_N_QUANT];
+    double knots[4 * NLT_N_QUANT + 8];
+    size_t nk = 0;
+    aenl_status_t st = coarse_grid(rn, q, knots, &nk, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    if (nk < 3u)
+    {
+        aenl_err_set(err, "channel %lu barely moves: no switching point can be placed",
+                     (unsigned long)j + 1u);
+        return AENL_E_ARG;
+    }
+    size_t qidx[NLT_N_QUANT] = {0};
+    for (size_t i = 0; i < NLT_N_QUANT; ++i)
+    {
+        qidx[i] = knot_index(knots, nk, q[i]);
+    }
+    const double *nuis[NLT_NUIS_MAX];
+    const size_t n_nuis = stage2_nuisance(rn, nuis);
+    resid_t r = {0, NULL, NULL};
+    st = stage2_residuals(rn, dir, nuis, n_nuis, knots, nk, &r, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    const double beta3 = polynomial_law(rn, &r, s2, c);
+    /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
+    size_t all[4 * NLT_N_QUANT + 8] = {0};
+    for (size_t i = 0; i < nk; ++i)
+    {
+        all[i] = i;
+    }
+    two_point_t tp;
+    profile_pairs(&r, knots, nk, qidx, NLT_N_QUANT, qidx, NLT_N_QUANT, freeplay_gain, s2, &tp.pf);
+    profile_pairs(&r, knots, nk, all, nk, all, nk, hysteresis_gain, s2, &tp.ph);
+    nlt_resid_free(&r);
+    st = fine_search(rn, dir, s2, nuis, n_nuis, knots, nk, &tp, err);
+    if (st == AENL_OK)
+    {
+        stage2_verdict(rn, j, dir, s2, &tp, beta3, c);
+    }
     return st;
 }
 
@@ -989,8 +1114,6 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
     return st_last;
 }
 
-/* The run on channels col[j], sample t at col[j][t * stride]: row-major records and separate
- * columns both enter without a copy (the run makes its own scaled one). */
 /* Lower Cholesky factor of the symmetric positive semi-definite S (n x n) into L, with a ridge of
  * 1e-12 of its trace for a singular S (a noise-free direction). 0, or -1 when it fails. */
 static int chol_psd(const double *S, size_t n, double *L)
@@ -1043,7 +1166,7 @@ static void simulate_control(const aenl_em_model_t *m, const double *in, size_t 
             }
             y[r][t] = v;
         }
-        double xn[NLT_MAX_X];
+        double xn[NLT_MAX_X] = {0};
         for (size_t i = 0; i < nx; ++i)
         {
             z[i] = aenl_rng_gauss(g);
@@ -1140,8 +1263,277 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     return AENL_OK;
 }
 
-/* The test of a record (stage 2 too unless stats_only). With keep, a successful run hands its
- * fitted model and scaled inputs over instead of freeing them. */
+/* The error of a record too short for every candidate order: the samples the smallest needs. */
+static aenl_status_t too_few_samples(const aenl_nlt_opts_t *opts, size_t n, size_t n_ch,
+                                     aenl_err_t *err)
+{
+    size_t nx_min = opts->n_states != 0 ? opts->n_states : 4u * n_ch;
+    nx_min = nx_min > NLT_MAX_X ? NLT_MAX_X : (nx_min < n_ch ? n_ch : nx_min);
+    const size_t need = values_needed(nx_min);
+    const size_t need_n = (need + n_ch - 1u) / n_ch;
+    aenl_err_set(err, "%lu samples are too few for the test of %lu channel%s (it needs %lu)",
+                 (unsigned long)n, (unsigned long)n_ch, n_ch == 1u ? "" : "s",
+                 (unsigned long)(need_n > 4u * (nx_min + 2u) ? need_n : 4u * (nx_min + 2u)));
+    return AENL_E_ARG;
+}
+
+/* The sample variance of the finite values of c[t * stride], t < n (0 for fewer than two). */
+static double channel_variance(const double *c, size_t stride, size_t n)
+{
+    double s = 0.0;
+    double ss = 0.0;
+    size_t cnt = 0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double v = c[t * stride];
+        if (isfinite(v))
+        {
+            s += v;
+            ss += v * v;
+            cnt++;
+        }
+    }
+    const double mean = cnt > 0 ? s / (double)cnt : 0.0;
+    return cnt > 1 ? (ss - (double)cnt * mean * mean) / (double)(cnt - 1u) : 0.0;
+}
+
+/* The record scaled by each channel's standard deviation (scale receives them) into *ys, a new
+ * n x n_ch array the caller frees. The zero stays where it is: laws are defined about the
+ * channel's own zero. */
+static aenl_status_t scale_channels(const double *const *col, size_t stride, size_t n, size_t n_ch,
+                                    double *scale, double **ys, aenl_err_t *err)
+{
+    double *y = (double *)malloc(n * n_ch * sizeof(double));
+    if (y == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t t = 0; t < n * n_ch; ++t)
+    {
+        if (!isfinite(col[t % n_ch][(t / n_ch) * stride]))
+        {
+            free(y);
+            aenl_err_set(err,
+                         "sample %lu of channel %lu is missing: the test takes complete rows "
+                         "only (cut the record or fill the gap)",
+                         (unsigned long)(t / n_ch) + 1u, (unsigned long)(t % n_ch) + 1u);
+            return AENL_E_ARG;
+        }
+    }
+    for (size_t j = 0; j < n_ch; ++j)
+    {
+        const double var = channel_variance(col[j], stride, n);
+        if (!(var > 0.0))
+        {
+            free(y);
+            aenl_err_set(err, "channel %lu is constant", (unsigned long)j + 1u);
+            return AENL_E_ARG;
+        }
+        scale[j] = sqrt(var);
+        for (size_t t = 0; t < n; ++t)
+        {
+            y[t * n_ch + j] = col[j][t * stride] / scale[j];
+        }
+    }
+    *ys = y;
+    return AENL_OK;
+}
+
+/* The known inputs, scaled like the channels: row-major into in for the fit and the filter, one
+ * series each into in_col (NULL when it could not be allocated) for the regressions, whose
+ * pointers go to rn->in_col. */
+static aenl_status_t scale_inputs(const aenl_nlt_opts_t *opts, size_t n, double *in, double *in_col,
+                                  run_t *rn, aenl_err_t *err)
+{
+    const size_t n_in = opts->n_input;
+    if (n_in > 0 && in_col == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t p = 0; p < n_in; ++p)
+    {
+        double sum = 0.0;
+        double ss = 0.0;
+        for (size_t t = 0; t < n; ++t)
+        {
+            sum += opts->input[p][t];
+            ss += opts->input[p][t] * opts->input[p][t];
+        }
+        const double mean = sum / (double)n;
+        const double var = (ss - (double)n * mean * mean) / (double)(n - 1u);
+        if (!(var > 0.0))
+        {
+            aenl_err_set(err, "input %lu is constant", (unsigned long)p + 1u);
+            return AENL_E_ARG;
+        }
+        const double sd = sqrt(var);
+        for (size_t t = 0; t < n; ++t)
+        {
+            in[t * n_in + p] = opts->input[p][t] / sd;
+            in_col[p * n + t] = opts->input[p][t] / sd;
+        }
+        rn->in_col[p] = in_col + p * n;
+    }
+    return AENL_OK;
+}
+
+/* The per-channel series of rn (n each; work 4 n). 0, or -1 when one could not be allocated
+ * (the others are freed with the run). */
+static int alloc_series(run_t *rn)
+{
+    const size_t n = rn->n;
+    rn->one = (double *)malloc(n * sizeof(double));
+    rn->lin = (double *)malloc(n * sizeof(double));
+    rn->dsg = (double *)malloc(n * sizeof(double));
+    rn->work = (double *)malloc(4u * n * sizeof(double));
+    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ? -1 : 0;
+}
+
+static void free_series(run_t *rn)
+{
+    free(rn->one);
+    free(rn->lin);
+    free(rn->dsg);
+    free(rn->work);
+}
+
+/* Channel j's series for both stages: the offset, the filtered output and its direction of
+ * motion. */
+static void channel_series(const run_t *rn, size_t j)
+{
+    const size_t n = rn->n;
+    const size_t n_ch = rn->nz;
+    for (size_t t = 0; t < n; ++t)
+    {
+        rn->one[t] = 1.0;
+        rn->lin[t] = rn->kf->u[t * n_ch + j];
+    }
+    direction(rn->kf->u, n_ch, j, n, rn->dsg);
+}
+
+/* Both stages for channel j, its series set by channel_series (stage 2 only when stage 1 finds
+ * it nonlinear and not stats_only); *pmin receives the smallest stage-1 p-value so far. */
+static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_result_t *res,
+                                  double *pmin, aenl_err_t *err)
+{
+    const size_t n_ch = rn->nz;
+    aenl_nlt_channel_t *c = &res->ch[j];
+    double dir[NLT_MAX_X];
+    double s2 = 1.0;
+    c->cls = AENL_CLASS_LINEAR;
+    aenl_status_t st = stage1(rn, j, c, dir, &s2, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    c->nonlinear = c->p < rn->opts->level / (double)n_ch;
+    *pmin = fmin(*pmin, c->p);
+    c->control_p = 1.0;
+    if (c->nonlinear && !stats_only)
+    {
+        st = stage2(rn, j, dir, s2, c, err);
+        /* every channel's statistic has the same degrees of freedom: the largest is the
+         * smallest p-value, and stays comparable where the p-values underflow to 0 */
+        if (st == AENL_OK && (res->verdict < 0 || c->stat > res->ch[res->verdict].stat))
+        {
+            res->verdict = (long)j;
+        }
+    }
+    return st;
+}
+
+/* The record's verdict class and confidence from its channels (pmin: their smallest stage-1
+ * p-value). */
+static void summarise(aenl_nlt_result_t *res, double pmin, size_t n_ch)
+{
+    if (res->verdict >= 0)
+    {
+        const aenl_nlt_channel_t *c = &res->ch[res->verdict];
+        res->verdict_class = c->cls;
+        res->undetermined = c->undetermined;
+        double wmax = 0.0;
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            wmax = fmax(wmax, c->weight[l]);
+        }
+        res->confidence = wmax;
+    }
+    else
+    {
+        res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
+    }
+}
+
+/* The linear model of the scaled record ys and its Kalman filter pass into kf (set up here even
+ * when st, the status so far, is a failure: the run frees it either way). */
+static aenl_status_t fit_and_filter(aenl_status_t st, const double *ys, const double *in,
+                                    const size_t *cand, size_t n_cand, const run_t *rn,
+                                    aenl_em_result_t *em, kf_t *kf, size_t *n_impulses,
+                                    aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    const size_t n_ch = rn->nz;
+    const size_t n_in = rn->opts->n_input;
+    memset(em, 0, sizeof(*em));
+    if (st == AENL_OK)
+    {
+        st = fit_linear_order(ys, n, n_ch, cand, n_cand, rn->opts->em_iter, in, n_in, em, err);
+    }
+    memset(kf, 0, sizeof(*kf));
+    kf->n = n;
+    kf->nz = n_ch;
+    kf->nx = em->model.n_x;
+    kf->in = in;
+    kf->n_in = n_in;
+    if (st == AENL_OK)
+    {
+        st = nlt_kf_run(kf, &em->model, ys, NULL, NULL, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = nlt_kf_rerun_with_resets(kf, &em->model, ys, n_impulses, err);
+    }
+    return st;
+}
+
+/* The run's summary fields of res (its channels are filled by test_channel). */
+static void result_header(aenl_nlt_result_t *res, const run_t *rn, double loglik)
+{
+    res->n_channels = rn->nz;
+    res->n_samples = rn->n;
+    res->n_states = rn->nx;
+    res->n_inputs = rn->opts->n_input;
+    res->level = rn->opts->level;
+    res->loglik = loglik;
+    res->rows = (double)rn->kf->rows;
+    res->verdict = -1;
+    res->verdict_class = AENL_CLASS_LINEAR;
+}
+
+/* The end of a run: a successful one with keep hands the fitted model em and the scaled inputs
+ * in, in_col over to keep; otherwise they are freed. Returns st. */
+static aenl_status_t hand_over(aenl_status_t st, kept_t *keep, aenl_em_result_t *em, double *in,
+                               double *in_col)
+{
+    if (keep != NULL && st == AENL_OK)
+    {
+        keep->em = *em;
+        keep->in = in;
+        keep->in_col = in_col;
+        return st;
+    }
+    free(in);
+    free(in_col);
+    aenl_em_result_free(em);
+    return st;
+}
+
+/* The test of a record (stage 2 too unless stats_only) on channels col[j], sample t at
+ * col[j][t * stride]: row-major records and separate columns both enter without a copy (the
+ * run makes its own scaled one). With keep, a successful run hands its fitted model and scaled
+ * inputs over instead of freeing them. */
 static aenl_status_t run_core(const double *const *col, size_t stride, size_t n, size_t n_ch,
                               const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res, aenl_err_t *err,
                               int stats_only, kept_t *keep)
@@ -1161,71 +1553,19 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     const size_t n_cand = state_candidates(opts, n, n_ch, cand);
     if (n_cand == 0)
     {
-        size_t nx_min = opts->n_states != 0 ? opts->n_states : 4u * n_ch;
-        nx_min = nx_min > NLT_MAX_X ? NLT_MAX_X : (nx_min < n_ch ? n_ch : nx_min);
-        const size_t need = values_needed(nx_min);
-        const size_t need_n = (need + n_ch - 1u) / n_ch;
-        aenl_err_set(err, "%lu samples are too few for the test of %lu channel%s (it needs %lu)",
-                     (unsigned long)n, (unsigned long)n_ch, n_ch == 1u ? "" : "s",
-                     (unsigned long)(need_n > 4u * (nx_min + 2u) ? need_n : 4u * (nx_min + 2u)));
-        return AENL_E_ARG;
+        return too_few_samples(opts, n, n_ch, err);
     }
     run_t rn;
     memset(&rn, 0, sizeof(rn));
     rn.opts = opts;
     rn.n = n;
     rn.nz = n_ch;
-    /* scale each channel by its standard deviation (the zero stays where it is: laws are
-     * defined about the channel's own zero) */
-    double *ys = (double *)malloc(n * n_ch * sizeof(double));
-    if (ys == NULL)
+    double *ys = NULL;
+    st = scale_channels(col, stride, n, n_ch, rn.scale, &ys, err);
+    if (st != AENL_OK)
     {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
+        return st;
     }
-    for (size_t t = 0; t < n * n_ch; ++t)
-    {
-        if (!isfinite(col[t % n_ch][(t / n_ch) * stride]))
-        {
-            free(ys);
-            aenl_err_set(err,
-                         "sample %lu of channel %lu is missing: the test takes complete rows "
-                         "only (cut the record or fill the gap)",
-                         (unsigned long)(t / n_ch) + 1u, (unsigned long)(t % n_ch) + 1u);
-            return AENL_E_ARG;
-        }
-    }
-    for (size_t j = 0; j < n_ch; ++j)
-    {
-        double s = 0.0;
-        double ss = 0.0;
-        size_t cnt = 0;
-        for (size_t t = 0; t < n; ++t)
-        {
-            const double v = col[j][t * stride];
-            if (isfinite(v))
-            {
-                s += v;
-                ss += v * v;
-                cnt++;
-            }
-        }
-        const double mean = cnt > 0 ? s / (double)cnt : 0.0;
-        const double var = cnt > 1 ? (ss - (double)cnt * mean * mean) / (double)(cnt - 1u) : 0.0;
-        if (!(var > 0.0))
-        {
-            free(ys);
-            aenl_err_set(err, "channel %lu is constant", (unsigned long)j + 1u);
-            return AENL_E_ARG;
-        }
-        rn.scale[j] = sqrt(var);
-        for (size_t t = 0; t < n; ++t)
-        {
-            ys[t * n_ch + j] = col[j][t * stride] / rn.scale[j];
-        }
-    }
-    /* the known inputs, scaled like the channels: row-major for the fit and the filter, one
-     * series each for the regressions */
     const size_t n_in = opts->n_input;
     double *in = n_in > 0 ? (double *)malloc(n * n_in * sizeof(double)) : NULL;
     if (n_in > 0 && in == NULL)
@@ -1235,149 +1575,35 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
         return AENL_E_DIM;
     }
     double *in_col = n_in > 0 ? (double *)malloc(n * n_in * sizeof(double)) : NULL;
-    st = (n_in > 0 && in_col == NULL) ? AENL_E_DIM : AENL_OK;
-    if (st != AENL_OK)
-    {
-        aenl_err_set(err, "out of memory");
-    }
-    for (size_t p = 0; p < n_in && st == AENL_OK; ++p)
-    {
-        double sum = 0.0;
-        double ss = 0.0;
-        for (size_t t = 0; t < n; ++t)
-        {
-            sum += opts->input[p][t];
-            ss += opts->input[p][t] * opts->input[p][t];
-        }
-        const double mean = sum / (double)n;
-        const double var = (ss - (double)n * mean * mean) / (double)(n - 1u);
-        if (!(var > 0.0))
-        {
-            aenl_err_set(err, "input %lu is constant", (unsigned long)p + 1u);
-            st = AENL_E_ARG;
-            break;
-        }
-        const double sd = sqrt(var);
-        for (size_t t = 0; t < n; ++t)
-        {
-            in[t * n_in + p] = opts->input[p][t] / sd;
-            in_col[p * n + t] = opts->input[p][t] / sd;
-        }
-        rn.in_col[p] = in_col + p * n;
-    }
+    st = scale_inputs(opts, n, in, in_col, &rn, err);
     rn.n_in = n_in;
     aenl_em_result_t em;
-    memset(&em, 0, sizeof(em));
-    if (st == AENL_OK)
-    {
-        st = fit_linear_order(ys, n, n_ch, cand, n_cand, opts->em_iter, in, n_in, &em, err);
-    }
-    const size_t nx = em.model.n_x;
-    rn.nx = nx;
     kf_t kf;
-    memset(&kf, 0, sizeof(kf));
-    kf.n = n;
-    kf.nz = n_ch;
-    kf.nx = nx;
-    kf.in = in;
-    kf.n_in = n_in;
-    if (st == AENL_OK)
-    {
-        st = nlt_kf_run(&kf, &em.model, ys, NULL, NULL, err);
-    }
-    if (st == AENL_OK)
-    {
-        st = nlt_kf_rerun_with_resets(&kf, &em.model, ys, &res->n_impulses, err);
-    }
+    st = fit_and_filter(st, ys, in, cand, n_cand, &rn, &em, &kf, &res->n_impulses, err);
     free(ys);
+    rn.nx = em.model.n_x;
     rn.kf = &kf;
     rn.m = &em.model;
-    rn.one = (double *)malloc(n * sizeof(double));
-    rn.lin = (double *)malloc(n * sizeof(double));
-    rn.dsg = (double *)malloc(n * sizeof(double));
-    rn.work = (double *)malloc(4u * n * sizeof(double));
-    if (st == AENL_OK && (rn.one == NULL || rn.lin == NULL || rn.dsg == NULL || rn.work == NULL))
+    if (alloc_series(&rn) != 0 && st == AENL_OK)
     {
         aenl_err_set(err, "out of memory");
         st = AENL_E_DIM;
     }
-    res->n_channels = n_ch;
-    res->n_samples = n;
-    res->n_states = nx;
-    res->n_inputs = n_in;
-    res->level = opts->level;
-    res->loglik = em.loglik_final;
-    res->rows = (double)kf.rows;
+    result_header(res, &rn, em.loglik_final);
     rn.lnrows = log(fmax((double)kf.rows, 2.0));
-    res->verdict = -1;
-    res->verdict_class = AENL_CLASS_LINEAR;
     double pmin = 1.0;
     for (size_t j = 0; j < n_ch && st == AENL_OK; ++j)
     {
-        aenl_nlt_channel_t *c = &res->ch[j];
-        double dir[NLT_MAX_X];
-        double s2 = 1.0;
-        for (size_t t = 0; t < n; ++t)
-        {
-            rn.one[t] = 1.0;
-            rn.lin[t] = kf.u[t * n_ch + j];
-        }
-        direction(kf.u, n_ch, j, n, rn.dsg);
-        c->cls = AENL_CLASS_LINEAR;
-        st = stage1(&rn, j, c, dir, &s2, err);
-        if (st != AENL_OK)
-        {
-            break;
-        }
-        c->nonlinear = c->p < opts->level / (double)n_ch;
-        pmin = fmin(pmin, c->p);
-        c->control_p = 1.0;
-        if (c->nonlinear && !stats_only)
-        {
-            st = stage2(&rn, j, dir, s2, c, err);
-            /* every channel's statistic has the same degrees of freedom: the largest is the
-             * smallest p-value, and stays comparable where the p-values underflow to 0 */
-            if (st == AENL_OK && (res->verdict < 0 || c->stat > res->ch[res->verdict].stat))
-            {
-                res->verdict = (long)j;
-            }
-        }
+        channel_series(&rn, j);
+        st = test_channel(&rn, j, stats_only, res, &pmin, err);
     }
     if (st == AENL_OK)
     {
-        if (res->verdict >= 0)
-        {
-            const aenl_nlt_channel_t *c = &res->ch[res->verdict];
-            res->verdict_class = c->cls;
-            res->undetermined = c->undetermined;
-            double wmax = 0.0;
-            for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-            {
-                wmax = fmax(wmax, c->weight[l]);
-            }
-            res->confidence = wmax;
-        }
-        else
-        {
-            res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
-        }
+        summarise(res, pmin, n_ch);
     }
-    free(rn.one);
-    free(rn.lin);
-    free(rn.dsg);
-    free(rn.work);
+    free_series(&rn);
     nlt_kf_free(&kf);
-    if (keep != NULL && st == AENL_OK)
-    {
-        keep->em = em;
-        keep->in = in;
-        keep->in_col = in_col;
-        return st;
-    }
-    free(in);
-    free(in_col);
-    aenl_em_result_free(&em);
-    return st;
+    return hand_over(st, keep, &em, in, in_col);
 }
 
 /* The test of a record, then its linear controls when the options ask for them. */
