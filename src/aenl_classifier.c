@@ -868,6 +868,397 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
     return best_len;
 }
 
+/** Laws of the direction split, indices into cls_dir_t.bd. */
+enum
+{
+    D_LIN = 0,
+    D_POLY,
+    D_FP1,
+    D_FP2,
+    D_HYST,
+    D_N
+};
+
+/** The scaled frame of the points and how many of them are independent. */
+typedef struct cls_frame
+{
+    aenl_real_t centre, half; /**< p = centre + u half */
+    aenl_real_t ascale;       /**< acceleration scale: a and v are divided by it */
+    aenl_real_t frac;         /**< independent share of the nodes */
+    aenl_real_t n_ind;        /**< independent points of all pairs */
+    aenl_real_t wmax;         /**< divisor of the all-pairs weights */
+    uint16_t n;               /**< points of all pairs */
+    uint16_t nc;              /**< candidate kink positions */
+} cls_frame_t;
+
+/** The laws one fit compares; the kinked ones take their kinks from the searches. */
+typedef struct cls_laws
+{
+    cls_spec_t lin, poly, one, two, hy; /**< one and two: hinges; hy: hysteresis */
+} cls_laws_t;
+
+/** Evidence from all pairs. */
+typedef struct cls_all
+{
+    cls_kinks_t k1, k2;
+    aenl_real_t b[AENL_CLS_N_MODELS];  /**< criterion of each law */
+    aenl_real_t pm[AENL_CLS_N_MODELS]; /**< posterior weights */
+    aenl_real_t se_k1, se_k2[2];       /**< standard errors of the kinks */
+} cls_all_t;
+
+/** Evidence from the direction split (the rest is valid only when ok). */
+typedef struct cls_dir
+{
+    int ok;
+    aenl_real_t nd_ind; /**< independent points of both directions */
+    aenl_real_t bd[D_N];
+    cls_kinks_t t1, t2, hy;
+    aenl_real_t se_t1, se_t2[2], se_hy[2];
+} cls_dir_t;
+
+/** Publish r, counting the updates in a row that gave its class. */
+static void publish(aenl_classifier_t *c, aenl_classifier_result_t *r)
+{
+    r->n_stable = (c->res.cls == r->cls) ? c->res.n_stable + 1u : 1u;
+    c->res = *r;
+}
+
+/** The laws, with (use_v) or without the velocity regressor. */
+static void laws_init(cls_laws_t *l, uint8_t use_v)
+{
+    const cls_spec_t lin = {0u, use_v, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)};
+    l->lin = l->poly = l->one = l->two = l->hy = lin;
+    l->poly.cubic = 1u;
+    l->one.n_k = 1u;
+    l->two.n_k = 2u;
+    l->hy.n_k = 2u;
+    l->hy.dir_term = 1u;
+}
+
+/**
+ * The law whose residuals give the noise scale: the best-fitting of the polynomial (rss_poly,
+ * negative when its fit failed) and the nk kinked laws, or the linear law when none fits.
+ */
+static const cls_spec_t *noise_reference(const cls_laws_t *l, aenl_real_t rss_poly,
+                                         const cls_spec_t *const *ksp, const cls_kinks_t *const *kk,
+                                         uint16_t nk)
+{
+    const cls_spec_t *ref = &l->poly;
+    aenl_real_t ref_rss = (rss_poly >= AENL_R(0.0)) ? rss_poly : AENL_REAL_MAX;
+    for (uint16_t i = 0; i < nk; ++i)
+    {
+        if (kk[i]->ok && kk[i]->rss < ref_rss)
+        {
+            ref = ksp[i];
+            ref_rss = kk[i]->rss;
+        }
+    }
+    return (ref_rss >= AENL_REAL_MAX) ? &l->lin : ref;
+}
+
+/**
+ * The all-pairs points in c->pt[0], scaled, sorted and weighted, and their frame. Zero when too
+ * few are usable for any fit (r->n_nodes says how many there are).
+ */
+static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_frame_t *fr,
+                          aenl_classifier_result_t *r)
+{
+    aenl_real_t x_lo = AENL_R(0.0), x_hi = AENL_R(0.0);
+    const uint16_t n_in = mark_interior(c, m, &x_lo, &x_hi);
+    /* independent share of the nodes: kernels one bandwidth apart barely overlap */
+    fr->frac = (m->dx < m->cfg.bandwidth) ? m->dx / m->cfg.bandwidth : AENL_R(1.0);
+    fr->n = 0u;
+    fr->centre = AENL_R(0.0);
+    fr->half = AENL_R(1.0);
+    if (n_in >= c->cfg.min_nodes && x_hi > x_lo)
+    {
+        fr->centre = AENL_R(0.5) * (x_lo + x_hi);
+        fr->half = AENL_R(0.5) * (x_hi - x_lo);
+        fr->n = gather(c, m, AENL_DIR_ALL, fr->centre, AENL_R(1.0) / fr->half, AENL_R(1.0),
+                       c->interior, c->pt[0]);
+    }
+    fr->n_ind = (aenl_real_t)fr->n * fr->frac;
+    fr->ascale = (fr->n > 0u) ? accel_rms(c->pt[0], fr->n) : AENL_R(0.0);
+    r->n_nodes = fr->n;
+    if (fr->n < c->cfg.min_nodes || fr->n_ind < AENL_R(8.0) || !(fr->ascale > AENL_R(0.0)))
+    {
+        return 0;
+    }
+    rescale(c->pt[0], fr->n, AENL_R(1.0) / fr->ascale);
+    sort_points(c->pt[0], fr->n);
+    fr->wmax = normalise_weights(c->pt[0], fr->n);
+    return 1;
+}
+
+/** Criteria and posterior weights of the all-pairs laws (rss_poly < 0: the polynomial failed). */
+static void all_pairs_scores(aenl_classifier_t *c, const cls_set_t *all, const cls_laws_t *l,
+                             const cls_frame_t *fr, aenl_real_t sigma, aenl_real_t rss_poly,
+                             cls_all_t *ap, aenl_classifier_result_t *r)
+{
+    aenl_real_t *scratch = c->resid;
+    const aenl_real_t frac = fr->frac, n_ind = fr->n_ind;
+    aenl_real_t *b = ap->b;
+    b[AENL_CLS_MODEL_LINEAR] =
+        criterion(all, &c->tab[0], 1u, &l->lin, sigma, frac, n_ind, 2u, scratch);
+    b[AENL_CLS_MODEL_POLY] = (rss_poly >= AENL_R(0.0)) ? criterion(all, &c->tab[0], 1u, &l->poly,
+                                                                   sigma, frac, n_ind, 4u, scratch)
+                                                       : AENL_REAL_MAX;
+    b[AENL_CLS_MODEL_KINK1] = ap->k1.ok ? criterion(all, &c->tab[0], 1u, &l->one, sigma, frac,
+                                                    n_ind, 3u + KINK_DF, scratch)
+                                        : AENL_REAL_MAX;
+    b[AENL_CLS_MODEL_KINK2] = ap->k2.ok ? criterion(all, &c->tab[0], 1u, &l->two, sigma, frac,
+                                                    n_ind, 4u + 2u * KINK_DF, scratch)
+                                        : AENL_REAL_MAX;
+    posterior(b, AENL_CLS_N_MODELS, ap->pm);
+    for (unsigned i = 0; i < (unsigned)AENL_CLS_N_MODELS; ++i)
+    {
+        r->bic[i] = (b[i] < AENL_REAL_MAX) ? b[i] - b[AENL_CLS_MODEL_LINEAR] : AENL_REAL_MAX;
+    }
+}
+
+/**
+ * All pairs: the restoring-force curve a(p). The laws fitted to the points of c->pt[0], their
+ * criteria, the hardening, the slopes of the two-kink law and the kinks' standard errors. Zero
+ * when the points are degenerate.
+ */
+static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
+                     aenl_classifier_result_t *r)
+{
+    const uint16_t n = fr->n;
+    const cls_set_t all = {c->pt[0], n};
+    build_table(&all, &c->tab[0]);
+    fr->nc = candidates(c->pt[0], n, c->cand);
+    cls_laws_t l;
+    laws_init(&l, 0u);
+    search(&all, &c->tab[0], 1u, &l.one, c->cand, fr->nc, 0u, &ap->k1);
+    search(&all, &c->tab[0], 1u, &l.two, c->cand, fr->nc, 0u, &ap->k2);
+    l.one.b[0] = ap->k1.b[0];
+    l.two.b[0] = ap->k2.b[0];
+    l.two.b[1] = ap->k2.b[1];
+    aenl_real_t coef[NB_MAX] = {AENL_R(0.0)};
+    const aenl_real_t rss_lin = fit(&all, &c->tab[0], 1u, &l.lin, NULL, NULL);
+    const aenl_real_t rss_poly = fit(&all, &c->tab[0], 1u, &l.poly, coef, NULL);
+    const aenl_real_t c3 = coef[3];
+    if (rss_lin < AENL_R(0.0))
+    {
+        return 0;
+    }
+    /* noise scale from the best-fitting law */
+    const cls_spec_t *const ksp[2] = {&l.one, &l.two};
+    const cls_kinks_t *const kk[2] = {&ap->k1, &ap->k2};
+    const cls_spec_t *ref = noise_reference(&l, rss_poly, ksp, kk, 2u);
+    (void)fit(&all, &c->tab[0], 1u, ref, NULL, c->resid);
+    const aenl_real_t sigma = noise_scale(c->resid, n, fr->wmax);
+    all_pairs_scores(c, &all, &l, fr, sigma, rss_poly, ap, r);
+    r->hardening = (int8_t)((c3 < AENL_R(0.0)) ? 1 : -1);
+    if (ap->k2.ok && fit(&all, &c->tab[0], 1u, &l.two, coef, NULL) >= AENL_R(0.0))
+    {
+        const aenl_real_t to_phys = fr->ascale / fr->half;
+        r->slope[0] = -coef[1] * to_phys;
+        r->slope[1] = -(coef[1] + coef[2]) * to_phys;
+        r->slope[2] = -(coef[1] + coef[2] + coef[3]) * to_phys;
+    }
+    const aenl_real_t fallback = AENL_R(2.0) / (aenl_real_t)n;
+    ap->se_k1 = kink_se(ap->k1.curv[0], sigma, fr->frac, fallback);
+    ap->se_k2[0] = kink_se(ap->k2.curv[0], sigma, fr->frac, fallback);
+    ap->se_k2[1] = kink_se(ap->k2.curv[1], sigma, fr->frac, fallback);
+    return 1;
+}
+
+/**
+ * The rising and falling points in c->pt[1] and c->pt[2], in the all-pairs frame, sorted and
+ * weighted with one divisor (*wmax). Zero when either direction has too few.
+ */
+static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, const cls_frame_t *fr,
+                             uint16_t *nd, aenl_real_t *wmax, cls_dir_t *dir)
+{
+    nd[0] = gather(c, m, AENL_DIR_RISING, fr->centre, AENL_R(1.0) / fr->half,
+                   AENL_R(1.0) / fr->ascale, c->interior, c->pt[1]);
+    nd[1] = gather(c, m, AENL_DIR_FALLING, fr->centre, AENL_R(1.0) / fr->half,
+                   AENL_R(1.0) / fr->ascale, c->interior, c->pt[2]);
+    dir->nd_ind = (aenl_real_t)(nd[0] + nd[1]) * fr->frac;
+    if (nd[0] < c->cfg.min_nodes || nd[1] < c->cfg.min_nodes || !(dir->nd_ind > AENL_R(16.0)))
+    {
+        return 0;
+    }
+    *wmax = AENL_R(0.0);
+    for (uint16_t d = 0; d < 2u; ++d)
+    {
+        sort_points(c->pt[1 + d], nd[d]);
+        for (uint16_t i = 0; i < nd[d]; ++i)
+        {
+            *wmax = (c->pt[1 + d][i].w > *wmax) ? c->pt[1 + d][i].w : *wmax;
+        }
+    }
+    for (uint16_t d = 0; d < 2u; ++d)
+    {
+        for (uint16_t i = 0; i < nd[d]; ++i)
+        {
+            c->pt[1 + d][i].w /= *wmax;
+        }
+    }
+    return 1;
+}
+
+/**
+ * Criteria of the direction-split laws at noise scale sig_d, the hardening of the shared
+ * polynomial and the kinks' standard errors.
+ */
+static void direction_scores(aenl_classifier_t *c, const cls_set_t *sets, const cls_laws_t *l,
+                             const cls_frame_t *fr, aenl_real_t sig_d, cls_dir_t *dir,
+                             aenl_classifier_result_t *r)
+{
+    aenl_real_t *scratch = c->resid;
+    const aenl_real_t frac_d = fr->frac, nd_ind = dir->nd_ind;
+    aenl_real_t *bd = dir->bd;
+    bd[D_LIN] = criterion(sets, c->tab, 2u, &l->lin, sig_d, frac_d, nd_ind, 3u, scratch);
+    bd[D_POLY] = criterion(sets, c->tab, 2u, &l->poly, sig_d, frac_d, nd_ind, 5u, scratch);
+    bd[D_FP1] = dir->t1.ok ? criterion(sets, c->tab, 2u, &l->one, sig_d, frac_d, nd_ind,
+                                       4u + KINK_DF, scratch)
+                           : AENL_REAL_MAX;
+    bd[D_FP2] = dir->t2.ok ? criterion(sets, c->tab, 2u, &l->two, sig_d, frac_d, nd_ind,
+                                       5u + 2u * KINK_DF, scratch)
+                           : AENL_REAL_MAX;
+    bd[D_HYST] = dir->hy.ok ? criterion(sets, c->tab, 2u, &l->hy, sig_d, frac_d, nd_ind,
+                                        6u + 3u * KINK_DF, scratch)
+                            : AENL_REAL_MAX;
+    aenl_real_t cp[NB_MAX];
+    if (fit(sets, c->tab, 2u, &l->poly, cp, NULL) >= AENL_R(0.0))
+    {
+        r->hardening = (int8_t)((cp[3] < AENL_R(0.0)) ? 1 : -1);
+    }
+    const aenl_real_t fb = AENL_R(2.0) / (aenl_real_t)fr->nc;
+    dir->se_t1 = kink_se(dir->t1.curv[0], sig_d, frac_d, fb);
+    for (uint16_t j = 0; j < 2u; ++j)
+    {
+        dir->se_t2[j] = kink_se(dir->t2.curv[j], sig_d, frac_d, fb);
+        dir->se_hy[j] = kink_se(dir->hy.curv[j], sig_d, frac_d, fb);
+    }
+}
+
+/**
+ * Direction split: the same laws with shared coefficients, and hysteresis. dir->ok when both
+ * directions have enough points and a law fits them.
+ */
+static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const cls_frame_t *fr,
+                            cls_dir_t *dir, aenl_classifier_result_t *r)
+{
+    uint16_t nd[2];
+    aenl_real_t wmax;
+    if (!gather_directions(c, m, fr, nd, &wmax, dir))
+    {
+        return;
+    }
+    const cls_set_t sets[2] = {{c->pt[1], nd[0]}, {c->pt[2], nd[1]}};
+    build_table(&sets[0], &c->tab[0]);
+    build_table(&sets[1], &c->tab[1]);
+    cls_laws_t l;
+    laws_init(&l, 1u);
+    search(sets, c->tab, 2u, &l.one, c->cand, fr->nc, 0u, &dir->t1);
+    search(sets, c->tab, 2u, &l.two, c->cand, fr->nc, 0u, &dir->t2);
+    search(sets, c->tab, 2u, &l.hy, c->cand, fr->nc, (uint16_t)(fr->nc / 3u), &dir->hy);
+    l.one.b[0] = dir->t1.b[0];
+    l.two.b[0] = dir->t2.b[0];
+    l.two.b[1] = dir->t2.b[1];
+    l.hy.b[0] = dir->hy.b[0];
+    l.hy.b[1] = dir->hy.b[1];
+    l.hy.shift = dir->hy.shift;
+    const cls_spec_t *const ksp[3] = {&l.one, &l.two, &l.hy};
+    const cls_kinks_t *const kk[3] = {&dir->t1, &dir->t2, &dir->hy};
+    const aenl_real_t rss_poly = fit(sets, c->tab, 2u, &l.poly, NULL, NULL);
+    const cls_spec_t *ref = noise_reference(&l, rss_poly, ksp, kk, 3u);
+    if (fit(sets, c->tab, 2u, ref, NULL, c->resid) < AENL_R(0.0))
+    {
+        return;
+    }
+    dir->ok = 1;
+    const aenl_real_t sig_d = noise_scale(c->resid, (uint16_t)(nd[0] + nd[1]), wmax);
+    direction_scores(c, sets, &l, fr, sig_d, dir, r);
+}
+
+/**
+ * The class probabilities, evidence and class, from the direction split when it holds, else from
+ * all pairs. Returns 1 when the two-kink freeplay law outweighs the one-kink law.
+ */
+static int decide(const cls_frame_t *fr, const cls_all_t *ap, const cls_dir_t *dir,
+                  aenl_classifier_result_t *r)
+{
+    aenl_real_t best_nl = AENL_REAL_MAX;
+    int use_two;
+    if (dir->ok)
+    {
+        aenl_real_t pd[D_N];
+        posterior(dir->bd, D_N, pd);
+        r->prob[AENL_CLASS_LINEAR] = pd[D_LIN];
+        r->prob[AENL_CLASS_POLYNOMIAL] = pd[D_POLY];
+        r->prob[AENL_CLASS_FREEPLAY] = pd[D_FP1] + pd[D_FP2];
+        r->prob[AENL_CLASS_HYSTERESIS] = pd[D_HYST];
+        r->bic_hysteresis = (dir->bd[D_HYST] < AENL_REAL_MAX && dir->bd[D_FP2] < AENL_REAL_MAX)
+                                ? dir->bd[D_HYST] - dir->bd[D_FP2]
+                                : AENL_R(0.0);
+        for (unsigned i = D_POLY; i < (unsigned)D_N; ++i)
+        {
+            best_nl = (dir->bd[i] < best_nl) ? dir->bd[i] : best_nl;
+        }
+        r->evidence = (dir->bd[D_LIN] - best_nl) / dir->nd_ind;
+        use_two = pd[D_FP2] >= pd[D_FP1];
+    }
+    else
+    {
+        r->prob[AENL_CLASS_LINEAR] = ap->pm[AENL_CLS_MODEL_LINEAR];
+        r->prob[AENL_CLASS_POLYNOMIAL] = ap->pm[AENL_CLS_MODEL_POLY];
+        r->prob[AENL_CLASS_FREEPLAY] = ap->pm[AENL_CLS_MODEL_KINK1] + ap->pm[AENL_CLS_MODEL_KINK2];
+        for (unsigned i = AENL_CLS_MODEL_POLY; i < (unsigned)AENL_CLS_N_MODELS; ++i)
+        {
+            best_nl = (ap->b[i] < best_nl) ? ap->b[i] : best_nl;
+        }
+        r->evidence = (ap->b[AENL_CLS_MODEL_LINEAR] - best_nl) / fr->n_ind;
+        use_two = ap->pm[AENL_CLS_MODEL_KINK2] >= ap->pm[AENL_CLS_MODEL_KINK1];
+    }
+    r->cls = AENL_CLASS_LINEAR;
+    for (uint16_t i = AENL_CLASS_POLYNOMIAL; i < AENL_CLASS_COUNT; ++i)
+    {
+        if (r->prob[i] > r->prob[r->cls])
+        {
+            r->cls = (aenl_class_t)i;
+        }
+    }
+    r->confidence = r->prob[r->cls];
+    return use_two;
+}
+
+/** The switching points of the class and their standard errors, in input units. */
+static void switching_points(const cls_frame_t *fr, const cls_all_t *ap, const cls_dir_t *dir,
+                             int use_two, aenl_classifier_result_t *r)
+{
+    const aenl_real_t centre = fr->centre, half = fr->half;
+    if (r->cls == AENL_CLASS_FREEPLAY)
+    {
+        const aenl_real_t *kb =
+            dir->ok ? (use_two ? dir->t2.b : dir->t1.b) : (use_two ? ap->k2.b : ap->k1.b);
+        const aenl_real_t se1[2] = {dir->ok ? dir->se_t1 : ap->se_k1, AENL_R(0.0)};
+        const aenl_real_t *ks = use_two ? (dir->ok ? dir->se_t2 : ap->se_k2) : se1;
+        r->n_switch = use_two ? 2u : 1u;
+        for (uint16_t j = 0; j < r->n_switch; ++j)
+        {
+            r->switch_points[j] = centre + kb[j] * half;
+            r->switch_std[j] = ks[j] * half;
+        }
+    }
+    else if (r->cls == AENL_CLASS_HYSTERESIS)
+    {
+        aenl_real_t pb[4], ps[4];
+        for (uint16_t j = 0; j < 2u; ++j)
+        {
+            pb[j] = centre + (dir->hy.b[j] + AENL_R(0.5) * dir->hy.shift) * half;
+            pb[2u + j] = centre + (dir->hy.b[j] - AENL_R(0.5) * dir->hy.shift) * half;
+            ps[j] = dir->se_hy[j] * half;
+            ps[2u + j] = dir->se_hy[j] * half;
+        }
+        r->n_switch = merge_points(pb, ps, 4u, r->switch_points, r->switch_std);
+    }
+}
+
 /** The class decision from posterior weights over the laws, the switching points and their se. */
 aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t *m)
 {
@@ -884,289 +1275,22 @@ aenl_status_t aenl_classifier_update(aenl_classifier_t *c, const aenl_moments_t 
     memset(&r, 0, sizeof(r));
     r.cls = AENL_CLASS_INSUFFICIENT;
     r.n_updates = (c->res.n_updates < UINT32_MAX) ? c->res.n_updates + 1u : UINT32_MAX;
-
-    aenl_real_t x_lo = AENL_R(0.0), x_hi = AENL_R(0.0);
-    const uint16_t n_in = mark_interior(c, m, &x_lo, &x_hi);
-    /* independent share of the nodes: kernels one bandwidth apart barely overlap */
-    const aenl_real_t frac = (m->dx < m->cfg.bandwidth) ? m->dx / m->cfg.bandwidth : AENL_R(1.0);
-    const aenl_real_t frac_d = frac;
-    uint16_t n = 0u;
-    aenl_real_t centre = AENL_R(0.0), half = AENL_R(1.0);
-    if (n_in >= c->cfg.min_nodes && x_hi > x_lo)
+    cls_frame_t fr;
+    cls_all_t ap;
+    /* too few points, or degenerate ones: insufficient */
+    if (!prepare_points(c, m, &fr, &r) || !all_pairs(c, &fr, &ap, &r))
     {
-        centre = AENL_R(0.5) * (x_lo + x_hi);
-        half = AENL_R(0.5) * (x_hi - x_lo);
-        n = gather(c, m, AENL_DIR_ALL, centre, AENL_R(1.0) / half, AENL_R(1.0), c->interior,
-                   c->pt[0]);
-    }
-    const aenl_real_t n_ind = (aenl_real_t)n * frac;
-    aenl_real_t ascale = (n > 0u) ? accel_rms(c->pt[0], n) : AENL_R(0.0);
-    r.n_nodes = n;
-    if (n < c->cfg.min_nodes || n_ind < AENL_R(8.0) || !(ascale > AENL_R(0.0)))
-    {
-        r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
-        c->res = r;
+        publish(c, &r);
         return AENL_OK;
     }
-    rescale(c->pt[0], n, AENL_R(1.0) / ascale);
-    sort_points(c->pt[0], n);
-    const aenl_real_t wmax_all = normalise_weights(c->pt[0], n);
-
-    /* ---- all pairs: the restoring-force curve a(p) ---- */
-    const cls_set_t all = {c->pt[0], n};
-    build_table(&all, &c->tab[0]);
-    const uint16_t nc = candidates(c->pt[0], n, c->cand);
-    aenl_real_t *scratch = c->resid;
-    const cls_spec_t s_lin = {0u, 0u, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)};
-    cls_spec_t s_poly = s_lin, s_k1 = s_lin, s_k2 = s_lin;
-    s_poly.cubic = 1u;
-    s_k1.n_k = 1u;
-    s_k2.n_k = 2u;
-    cls_kinks_t k1, k2;
-    search(&all, &c->tab[0], 1u, &s_k1, c->cand, nc, 0u, &k1);
-    search(&all, &c->tab[0], 1u, &s_k2, c->cand, nc, 0u, &k2);
-    s_k1.b[0] = k1.b[0];
-    s_k2.b[0] = k2.b[0];
-    s_k2.b[1] = k2.b[1];
-    aenl_real_t coef[NB_MAX] = {AENL_R(0.0)};
-    const aenl_real_t rss_lin = fit(&all, &c->tab[0], 1u, &s_lin, NULL, NULL);
-    const aenl_real_t rss_poly = fit(&all, &c->tab[0], 1u, &s_poly, coef, NULL);
-    const aenl_real_t c3 = coef[3];
-    if (rss_lin < AENL_R(0.0))
-    {
-        r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
-        c->res = r; /* degenerate points: insufficient */
-        return AENL_OK;
-    }
-    /* noise scale from the best-fitting law */
-    const cls_spec_t *ref = &s_poly;
-    aenl_real_t ref_rss = (rss_poly >= AENL_R(0.0)) ? rss_poly : AENL_REAL_MAX;
-    if (k1.ok && k1.rss < ref_rss)
-    {
-        ref = &s_k1;
-        ref_rss = k1.rss;
-    }
-    if (k2.ok && k2.rss < ref_rss)
-    {
-        ref = &s_k2;
-        ref_rss = k2.rss;
-    }
-    if (ref_rss >= AENL_REAL_MAX)
-    {
-        ref = &s_lin;
-    }
-    (void)fit(&all, &c->tab[0], 1u, ref, NULL, scratch);
-    const aenl_real_t sigma = noise_scale(scratch, n, wmax_all);
-    aenl_real_t b[AENL_CLS_N_MODELS];
-    b[AENL_CLS_MODEL_LINEAR] =
-        criterion(&all, &c->tab[0], 1u, &s_lin, sigma, frac, n_ind, 2u, scratch);
-    b[AENL_CLS_MODEL_POLY] = (rss_poly >= AENL_R(0.0)) ? criterion(&all, &c->tab[0], 1u, &s_poly,
-                                                                   sigma, frac, n_ind, 4u, scratch)
-                                                       : AENL_REAL_MAX;
-    b[AENL_CLS_MODEL_KINK1] =
-        k1.ok ? criterion(&all, &c->tab[0], 1u, &s_k1, sigma, frac, n_ind, 3u + KINK_DF, scratch)
-              : AENL_REAL_MAX;
-    b[AENL_CLS_MODEL_KINK2] = k2.ok ? criterion(&all, &c->tab[0], 1u, &s_k2, sigma, frac, n_ind,
-                                                4u + 2u * KINK_DF, scratch)
-                                    : AENL_REAL_MAX;
-    aenl_real_t pm[AENL_CLS_N_MODELS];
-    posterior(b, AENL_CLS_N_MODELS, pm);
-    for (unsigned i = 0; i < (unsigned)AENL_CLS_N_MODELS; ++i)
-    {
-        r.bic[i] = (b[i] < AENL_REAL_MAX) ? b[i] - b[AENL_CLS_MODEL_LINEAR] : AENL_REAL_MAX;
-    }
-    r.hardening = (int8_t)((c3 < AENL_R(0.0)) ? 1 : -1);
-    if (k2.ok && fit(&all, &c->tab[0], 1u, &s_k2, coef, NULL) >= AENL_R(0.0))
-    {
-        const aenl_real_t to_phys = ascale / half;
-        r.slope[0] = -coef[1] * to_phys;
-        r.slope[1] = -(coef[1] + coef[2]) * to_phys;
-        r.slope[2] = -(coef[1] + coef[2] + coef[3]) * to_phys;
-    }
-    const aenl_real_t fallback = AENL_R(2.0) / (aenl_real_t)n;
-    const aenl_real_t se_k1 = kink_se(k1.curv[0], sigma, frac, fallback);
-    const aenl_real_t se_k2[2] = {kink_se(k2.curv[0], sigma, frac, fallback),
-                                  kink_se(k2.curv[1], sigma, frac, fallback)};
-
-    /* ---- direction split: the same laws with shared coefficients, and hysteresis ---- */
-    enum
-    {
-        D_LIN = 0,
-        D_POLY,
-        D_FP1,
-        D_FP2,
-        D_HYST,
-        D_N
-    };
-    aenl_real_t bd[D_N];
-    cls_kinks_t t1, t2, hy;
-    aenl_real_t se_t1 = fallback, se_t2[2] = {fallback, fallback}, se_hy[2] = {fallback, fallback};
-    int dir_ok = 0;
-    aenl_real_t nd_ind = AENL_R(0.0);
+    cls_dir_t dir;
+    memset(&dir, 0, sizeof(dir)); /* not ok until the split fits; the rest is read only then */
     if (m->cfg.direction_split)
     {
-        uint16_t nd[2];
-        nd[0] = gather(c, m, AENL_DIR_RISING, centre, AENL_R(1.0) / half, AENL_R(1.0) / ascale,
-                       c->interior, c->pt[1]);
-        nd[1] = gather(c, m, AENL_DIR_FALLING, centre, AENL_R(1.0) / half, AENL_R(1.0) / ascale,
-                       c->interior, c->pt[2]);
-        nd_ind = (aenl_real_t)(nd[0] + nd[1]) * frac;
-        if (nd[0] >= c->cfg.min_nodes && nd[1] >= c->cfg.min_nodes && nd_ind > AENL_R(16.0))
-        {
-            aenl_real_t wmax = AENL_R(0.0);
-            for (uint16_t d = 0; d < 2u; ++d)
-            {
-                sort_points(c->pt[1 + d], nd[d]);
-                for (uint16_t i = 0; i < nd[d]; ++i)
-                {
-                    wmax = (c->pt[1 + d][i].w > wmax) ? c->pt[1 + d][i].w : wmax;
-                }
-            }
-            for (uint16_t d = 0; d < 2u; ++d)
-            {
-                for (uint16_t i = 0; i < nd[d]; ++i)
-                {
-                    c->pt[1 + d][i].w /= wmax;
-                }
-            }
-            const cls_set_t sets[2] = {{c->pt[1], nd[0]}, {c->pt[2], nd[1]}};
-            build_table(&sets[0], &c->tab[0]);
-            build_table(&sets[1], &c->tab[1]);
-            cls_spec_t d_lin = s_lin;
-            d_lin.use_v = 1u;
-            cls_spec_t d_poly = d_lin, d_fp1 = d_lin, d_fp2 = d_lin, d_hy = d_lin;
-            d_poly.cubic = 1u;
-            d_fp1.n_k = 1u;
-            d_fp2.n_k = 2u;
-            d_hy.n_k = 2u;
-            d_hy.dir_term = 1u;
-            search(sets, c->tab, 2u, &d_fp1, c->cand, nc, 0u, &t1);
-            search(sets, c->tab, 2u, &d_fp2, c->cand, nc, 0u, &t2);
-            search(sets, c->tab, 2u, &d_hy, c->cand, nc, (uint16_t)(nc / 3u), &hy);
-            d_fp1.b[0] = t1.b[0];
-            d_fp2.b[0] = t2.b[0];
-            d_fp2.b[1] = t2.b[1];
-            d_hy.b[0] = hy.b[0];
-            d_hy.b[1] = hy.b[1];
-            d_hy.shift = hy.shift;
-            const cls_kinks_t *kk[3] = {&t1, &t2, &hy};
-            const cls_spec_t *dref = &d_poly;
-            aenl_real_t dref_rss = fit(sets, c->tab, 2u, &d_poly, NULL, NULL);
-            dref_rss = (dref_rss >= AENL_R(0.0)) ? dref_rss : AENL_REAL_MAX;
-            const cls_spec_t *dsp[3] = {&d_fp1, &d_fp2, &d_hy};
-            for (uint16_t i = 0; i < 3u; ++i)
-            {
-                if (kk[i]->ok && kk[i]->rss < dref_rss)
-                {
-                    dref = dsp[i];
-                    dref_rss = kk[i]->rss;
-                }
-            }
-            if (dref_rss >= AENL_REAL_MAX)
-            {
-                dref = &d_lin;
-            }
-            if (fit(sets, c->tab, 2u, dref, NULL, scratch) >= AENL_R(0.0))
-            {
-                dir_ok = 1;
-                const aenl_real_t sig_d = noise_scale(scratch, (uint16_t)(nd[0] + nd[1]), wmax);
-                bd[D_LIN] = criterion(sets, c->tab, 2u, &d_lin, sig_d, frac_d, nd_ind, 3u, scratch);
-                bd[D_POLY] =
-                    criterion(sets, c->tab, 2u, &d_poly, sig_d, frac_d, nd_ind, 5u, scratch);
-                bd[D_FP1] = t1.ok ? criterion(sets, c->tab, 2u, &d_fp1, sig_d, frac_d, nd_ind,
-                                              4u + KINK_DF, scratch)
-                                  : AENL_REAL_MAX;
-                bd[D_FP2] = t2.ok ? criterion(sets, c->tab, 2u, &d_fp2, sig_d, frac_d, nd_ind,
-                                              5u + 2u * KINK_DF, scratch)
-                                  : AENL_REAL_MAX;
-                bd[D_HYST] = hy.ok ? criterion(sets, c->tab, 2u, &d_hy, sig_d, frac_d, nd_ind,
-                                               6u + 3u * KINK_DF, scratch)
-                                   : AENL_REAL_MAX;
-                aenl_real_t cp[NB_MAX];
-                if (fit(sets, c->tab, 2u, &d_poly, cp, NULL) >= AENL_R(0.0))
-                {
-                    r.hardening = (int8_t)((cp[3] < AENL_R(0.0)) ? 1 : -1);
-                }
-                const aenl_real_t fb = AENL_R(2.0) / (aenl_real_t)nc;
-                se_t1 = kink_se(t1.curv[0], sig_d, frac_d, fb);
-                for (uint16_t j = 0; j < 2u; ++j)
-                {
-                    se_t2[j] = kink_se(t2.curv[j], sig_d, frac_d, fb);
-                    se_hy[j] = kink_se(hy.curv[j], sig_d, frac_d, fb);
-                }
-            }
-        }
+        direction_split(c, m, &fr, &dir, &r);
     }
-
-    /* ---- decision ---- */
-    aenl_real_t best_nl = AENL_REAL_MAX;
-    int use_two = 0;
-    if (dir_ok)
-    {
-        aenl_real_t pd[D_N];
-        posterior(bd, D_N, pd);
-        r.prob[AENL_CLASS_LINEAR] = pd[D_LIN];
-        r.prob[AENL_CLASS_POLYNOMIAL] = pd[D_POLY];
-        r.prob[AENL_CLASS_FREEPLAY] = pd[D_FP1] + pd[D_FP2];
-        r.prob[AENL_CLASS_HYSTERESIS] = pd[D_HYST];
-        r.bic_hysteresis = (bd[D_HYST] < AENL_REAL_MAX && bd[D_FP2] < AENL_REAL_MAX)
-                               ? bd[D_HYST] - bd[D_FP2]
-                               : AENL_R(0.0);
-        for (unsigned i = D_POLY; i < (unsigned)D_N; ++i)
-        {
-            best_nl = (bd[i] < best_nl) ? bd[i] : best_nl;
-        }
-        r.evidence = (bd[D_LIN] - best_nl) / nd_ind;
-        use_two = pd[D_FP2] >= pd[D_FP1];
-    }
-    else
-    {
-        r.prob[AENL_CLASS_LINEAR] = pm[AENL_CLS_MODEL_LINEAR];
-        r.prob[AENL_CLASS_POLYNOMIAL] = pm[AENL_CLS_MODEL_POLY];
-        r.prob[AENL_CLASS_FREEPLAY] = pm[AENL_CLS_MODEL_KINK1] + pm[AENL_CLS_MODEL_KINK2];
-        for (unsigned i = AENL_CLS_MODEL_POLY; i < (unsigned)AENL_CLS_N_MODELS; ++i)
-        {
-            best_nl = (b[i] < best_nl) ? b[i] : best_nl;
-        }
-        r.evidence = (b[AENL_CLS_MODEL_LINEAR] - best_nl) / n_ind;
-        use_two = pm[AENL_CLS_MODEL_KINK2] >= pm[AENL_CLS_MODEL_KINK1];
-    }
-    r.cls = AENL_CLASS_LINEAR;
-    for (uint16_t i = AENL_CLASS_POLYNOMIAL; i < AENL_CLASS_COUNT; ++i)
-    {
-        if (r.prob[i] > r.prob[r.cls])
-        {
-            r.cls = (aenl_class_t)i;
-        }
-    }
-    r.confidence = r.prob[r.cls];
-
-    /* ---- switching points, input units ---- */
-    if (r.cls == AENL_CLASS_FREEPLAY)
-    {
-        const aenl_real_t *kb = dir_ok ? (use_two ? t2.b : t1.b) : (use_two ? k2.b : k1.b);
-        const aenl_real_t se1[2] = {dir_ok ? se_t1 : se_k1, AENL_R(0.0)};
-        const aenl_real_t *ks = use_two ? (dir_ok ? se_t2 : se_k2) : se1;
-        r.n_switch = use_two ? 2u : 1u;
-        for (uint16_t j = 0; j < r.n_switch; ++j)
-        {
-            r.switch_points[j] = centre + kb[j] * half;
-            r.switch_std[j] = ks[j] * half;
-        }
-    }
-    else if (r.cls == AENL_CLASS_HYSTERESIS)
-    {
-        aenl_real_t pb[4], ps[4];
-        for (uint16_t j = 0; j < 2u; ++j)
-        {
-            pb[j] = centre + (hy.b[j] + AENL_R(0.5) * hy.shift) * half;
-            pb[2u + j] = centre + (hy.b[j] - AENL_R(0.5) * hy.shift) * half;
-            ps[j] = se_hy[j] * half;
-            ps[2u + j] = se_hy[j] * half;
-        }
-        r.n_switch = merge_points(pb, ps, 4u, r.switch_points, r.switch_std);
-    }
-    r.n_stable = (c->res.cls == r.cls) ? c->res.n_stable + 1u : 1u;
-    c->res = r;
+    const int use_two = decide(&fr, &ap, &dir, &r);
+    switching_points(&fr, &ap, &dir, use_two, &r);
+    publish(c, &r);
     return AENL_OK;
 }

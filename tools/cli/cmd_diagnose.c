@@ -168,17 +168,105 @@ static aenl_status_t write_outputs(const aenl_diagnose_result_t *r, const char *
 static int diagnose_and_write(const char *measured, const char *model, const char *out, int json,
                               int plots, const aenl_diagnose_opts_t *opts);
 
-int aenl_cmd_diagnose(int argc, char **argv)
+/* The command line of `aenl diagnose`. */
+typedef struct
 {
-    const char *measured = NULL, *model = NULL, *out = NULL;
-    int json = 0, plots = 1;
+    const char *measured, *model, *out;
+    int json, plots;
     aenl_diagnose_opts_t o;
-    aenl_diagnose_opts_default(&o);
+} diag_args_t;
+
+/* A whole-number option `name` in lo..hi: its value argv[*i + 1] into *lv. Nonzero after a
+ * usage error (reported). */
+static int long_option(int argc, char **argv, int *i, const char *name, long lo, long hi,
+                       const char **v, long *lv)
+{
+    return (*v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
+           aenl_cli_parse_long(k_cmd, name, *v, lo, hi, lv) != 0;
+}
+
+/* The options that set a number of the diagnosis (argv[*i] is a). Returns 1 when a is one of
+ * them and its value is good, 0 when a is none of them, -1 after a usage error (reported). */
+static int number_option(int argc, char **argv, int *i, const char *a, aenl_diagnose_opts_t *o)
+{
+    const char *v = NULL;
+    long lv = 0;
+    if (strcmp(a, "--replicates") == 0)
+    {
+        if (long_option(argc, argv, i, "--replicates", 2, 16, &v, &lv))
+        {
+            return -1;
+        }
+        o->n_replicates = (unsigned)lv;
+    }
+    else if (strcmp(a, "--refine") == 0)
+    {
+        if (long_option(argc, argv, i, "--refine", 0, AENL_DIAGNOSE_MAX_CAND, &v, &lv))
+        {
+            return -1;
+        }
+        o->n_refine = (unsigned)lv;
+    }
+    else if (strcmp(a, "--max-evals") == 0)
+    {
+        if (long_option(argc, argv, i, "--max-evals", 4, 1000, &v, &lv))
+        {
+            return -1;
+        }
+        o->max_evals = (unsigned)lv;
+    }
+    else if (strcmp(a, "--summary-records") == 0)
+    {
+        if (long_option(argc, argv, i, "--summary-records", 0, 4096, &v, &lv))
+        {
+            return -1;
+        }
+        if (lv > 0 && lv < 32)
+        {
+            aenl_cli_error(k_cmd, "--summary-records: %s must be 0 or 32..4096", v);
+            return -1;
+        }
+        o->summary_records = (unsigned)lv;
+    }
+    else if (strcmp(a, "--seed") == 0)
+    {
+        if (long_option(argc, argv, i, "--seed", 0, 2147483647L, &v, &lv))
+        {
+            return -1;
+        }
+        o->noise_seed = (uint64_t)lv;
+    }
+    else if (strcmp(a, "--penalty") == 0)
+    {
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
+            aenl_cli_parse_double(k_cmd, "--penalty", v, &o->penalty) != 0)
+        {
+            return -1;
+        }
+        if (!(o->penalty >= 0.0))
+        {
+            aenl_cli_error(k_cmd, "--penalty: %s must be >= 0", v);
+            return -1;
+        }
+    }
+    else
+    {
+        return 0;
+    }
+    return 1;
+}
+
+/* Reads the options into d; returns the exit code when the command ends here (--help, a usage
+ * error), -1 otherwise. */
+static int parse_args(int argc, char **argv, diag_args_t *d)
+{
+    memset(d, 0, sizeof(*d));
+    d->plots = 1;
+    aenl_diagnose_opts_default(&d->o);
     for (int i = 1; i < argc; ++i)
     {
         const char *a = argv[i];
-        const char *v = NULL;
-        long lv = 0;
+        const char **value = NULL;
         if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
         {
             help();
@@ -186,133 +274,92 @@ int aenl_cmd_diagnose(int argc, char **argv)
         }
         if (strcmp(a, "--measured") == 0)
         {
-            if ((measured = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return AENL_EXIT_USAGE;
-            }
+            value = &d->measured;
         }
         else if (strcmp(a, "--model") == 0)
         {
-            if ((model = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return AENL_EXIT_USAGE;
-            }
+            value = &d->model;
         }
         else if (strcmp(a, "--out") == 0)
         {
-            if ((out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
-            {
-                return AENL_EXIT_USAGE;
-            }
+            value = &d->out;
         }
         else if (strcmp(a, "--json") == 0)
         {
-            json = 1;
+            d->json = 1;
         }
         else if (strcmp(a, "--no-plots") == 0)
         {
-            plots = 0;
+            d->plots = 0;
         }
         else if (strcmp(a, "-v") == 0)
         {
-            o.verbose = 1;
-        }
-        else if (strcmp(a, "--replicates") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--replicates", v, 2, 16, &lv) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            o.n_replicates = (unsigned)lv;
-        }
-        else if (strcmp(a, "--refine") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--refine", v, 0, AENL_DIAGNOSE_MAX_CAND, &lv) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            o.n_refine = (unsigned)lv;
-        }
-        else if (strcmp(a, "--max-evals") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--max-evals", v, 4, 1000, &lv) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            o.max_evals = (unsigned)lv;
-        }
-        else if (strcmp(a, "--summary-records") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--summary-records", v, 0, 4096, &lv) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            if (lv > 0 && lv < 32)
-            {
-                aenl_cli_error(k_cmd, "--summary-records: %s must be 0 or 32..4096", v);
-                return AENL_EXIT_USAGE;
-            }
-            o.summary_records = (unsigned)lv;
-        }
-        else if (strcmp(a, "--seed") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_long(k_cmd, "--seed", v, 0, 2147483647L, &lv) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            o.noise_seed = (uint64_t)lv;
-        }
-        else if (strcmp(a, "--penalty") == 0)
-        {
-            if ((v = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL ||
-                aenl_cli_parse_double(k_cmd, "--penalty", v, &o.penalty) != 0)
-            {
-                return AENL_EXIT_USAGE;
-            }
-            if (!(o.penalty >= 0.0))
-            {
-                aenl_cli_error(k_cmd, "--penalty: %s must be >= 0", v);
-                return AENL_EXIT_USAGE;
-            }
+            d->o.verbose = 1;
         }
         else
         {
-            aenl_cli_error(k_cmd, "unknown argument %s (aenl diagnose --help)", a);
+            const int known = number_option(argc, argv, &i, a, &d->o);
+            if (known < 0)
+            {
+                return AENL_EXIT_USAGE;
+            }
+            if (known == 0)
+            {
+                aenl_cli_error(k_cmd, "unknown argument %s (aenl diagnose --help)", a);
+                return AENL_EXIT_USAGE;
+            }
+        }
+        if (value != NULL && (*value = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+        {
             return AENL_EXIT_USAGE;
         }
     }
-    if (measured == NULL || model == NULL)
+    if (d->measured == NULL || d->model == NULL)
     {
         aenl_cli_error(k_cmd, "needs --measured DATA.csv and --model BASE.ini (aenl diagnose "
                               "--help)");
         return AENL_EXIT_USAGE;
     }
-    plots = plots && out != NULL && aenl_plot_available();
+    return -1;
+}
+
+/* The output folder, made unless it exists (*created says which). Nonzero after an error
+ * (reported). */
+static int make_out_dir(const char *out, int *created)
+{
+    struct stat sb;
+    if (mkdir(out, 0777) == 0)
+    {
+        *created = 1;
+    }
+    else if (errno != EEXIST || stat(out, &sb) != 0 || !S_ISDIR(sb.st_mode))
+    {
+        aenl_cli_error(k_cmd, "--out %s: cannot create the folder (%s)", out,
+                       errno == EEXIST ? "a file of that name exists" : strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+int aenl_cmd_diagnose(int argc, char **argv)
+{
+    diag_args_t d;
+    const int done = parse_args(argc, argv, &d);
+    if (done >= 0)
+    {
+        return done;
+    }
+    const int plots = d.plots && d.out != NULL && aenl_plot_available();
     /* The output folder first: a bad --out fails before minutes of simulation. */
     int created = 0;
-    if (out != NULL)
+    if (d.out != NULL && make_out_dir(d.out, &created) != 0)
     {
-        struct stat sb;
-        if (mkdir(out, 0777) == 0)
-        {
-            created = 1;
-        }
-        else if (errno != EEXIST || stat(out, &sb) != 0 || !S_ISDIR(sb.st_mode))
-        {
-            aenl_cli_error(k_cmd, "--out %s: cannot create the folder (%s)", out,
-                           errno == EEXIST ? "a file of that name exists" : strerror(errno));
-            return AENL_EXIT_USAGE;
-        }
+        return AENL_EXIT_USAGE;
     }
-    const int rc0 = diagnose_and_write(measured, model, out, json, plots, &o);
+    const int rc0 = diagnose_and_write(d.measured, d.model, d.out, d.json, plots, &d.o);
     if (rc0 != AENL_EXIT_OK && created)
     {
-        (void)rmdir(out); /* only when we made it and it stayed empty */
+        (void)rmdir(d.out); /* only when we made it and it stayed empty */
     }
     return rc0;
 }

@@ -106,51 +106,140 @@ static int moments_lags(const char *in, char *lags, size_t n)
     return 0;
 }
 
-int aenl_cmd_plot(int argc, char **argv)
+/* The command line of `aenl plot`. */
+typedef struct
 {
-    const char *kind = NULL, *in = NULL, *out = NULL, *title = NULL, *marks = NULL;
+    const char *kind, *in, *out, *title, *marks;
+} plot_args_t;
+
+/* Reads the options into a; returns the exit code when the command ends here (--help, a usage
+ * error), -1 otherwise. */
+static int parse_args(int argc, char **argv, plot_args_t *a)
+{
+    memset(a, 0, sizeof(*a));
     for (int i = 1; i < argc; ++i)
     {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0)
+        const char *arg = argv[i];
+        if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)
         {
             help();
             return AENL_EXIT_OK;
         }
-        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0)
+        if (strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0)
         {
-            if ((out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            if ((a->out = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (strcmp(a, "--title") == 0)
+        else if (strcmp(arg, "--title") == 0)
         {
-            if ((title = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            if ((a->title = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (strcmp(a, "--marks") == 0)
+        else if (strcmp(arg, "--marks") == 0)
         {
-            if ((marks = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
+            if ((a->marks = aenl_cli_value(k_cmd, argc, argv, &i)) == NULL)
             {
                 return AENL_EXIT_USAGE;
             }
         }
-        else if (kind == NULL && a[0] != '-')
+        else if (a->kind == NULL && arg[0] != '-')
         {
-            kind = a;
+            a->kind = arg;
         }
-        else if (aenl_cli_positional(k_cmd, a, &in, "input file") != 0)
+        else if (aenl_cli_positional(k_cmd, arg, &a->in, "input file") != 0)
         {
             return AENL_EXIT_USAGE;
         }
     }
-    if (kind == NULL || in == NULL || out == NULL)
+    if (a->kind == NULL || a->in == NULL || a->out == NULL)
     {
         aenl_cli_error(k_cmd, "usage: aenl plot KIND IN.csv -o OUT.png (aenl plot --help)");
         return AENL_EXIT_USAGE;
+    }
+    return -1;
+}
+
+/* --marks x1,x2,... as the space-separated words gnuplot iterates over, into words[n]. */
+static int mark_words_of(const char *marks, char *words, size_t n)
+{
+    if (strlen(marks) >= n)
+    {
+        aenl_cli_error(k_cmd, "--marks: list too long");
+        return -1;
+    }
+    for (const char *p = marks; *p; ++p)
+    {
+        double v;
+        char *end;
+        v = strtod(p, &end);
+        if (end == p || (*end != ',' && *end != '\0') || !isfinite(v))
+        {
+            aenl_cli_error(k_cmd, "--marks: '%s' is not a comma-separated list of numbers", marks);
+            return -1;
+        }
+        p = end;
+        if (*p == '\0')
+        {
+            break;
+        }
+    }
+    size_t j = 0;
+    for (const char *p = marks; *p; ++p)
+    {
+        words[j++] = (char)((*p == ',') ? ' ' : *p);
+    }
+    words[j] = '\0';
+    return 0;
+}
+
+/* A record to plot against time. Validated before gnuplot sees it: a clear error beats
+ * gnuplot's. */
+static int timeseries_check(const char *in)
+{
+    aenl_table_t t;
+    aenl_err_t e;
+    aenl_err_clear(&e);
+    if (aenl_table_read(in, &t, &e) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", e.msg);
+        return -1;
+    }
+    const int ok = t.n_rows > 0 && t.n_cols >= 2;
+    if (!ok)
+    {
+        aenl_table_free(&t);
+        aenl_cli_error(k_cmd, "%s: a time series needs a time column, a channel and rows", in);
+        return -1;
+    }
+    if (!aenl_cli_is_time_column(t.names[0]))
+    {
+        const int is_moments = aenl_table_find(&t, "lag") >= 0;
+        aenl_cli_error(k_cmd,
+                       "%s: the first column '%s' is not a time column (t, time, tau or "
+                       "timestamp, with or without a unit)%s",
+                       in, t.names[0],
+                       is_moments ? "; this looks like an `aenl moments` output: plot it "
+                                    "with `aenl plot moments`"
+                                  : "");
+        aenl_table_free(&t);
+        return -1;
+    }
+    const int bad = aenl_cli_check_record(k_cmd, &t, in, -1);
+    aenl_table_free(&t);
+    return bad ? -1 : 0;
+}
+
+int aenl_cmd_plot(int argc, char **argv)
+{
+    plot_args_t a;
+    const int done = parse_args(argc, argv, &a);
+    if (done >= 0)
+    {
+        return done;
     }
     aenl_plot_var_t vars[6];
     size_t nv = 0;
@@ -159,99 +248,41 @@ int aenl_cmd_plot(int argc, char **argv)
     char lags[256];
     /* cppcheck-suppress variableScope */
     char mark_words[512] = "";
-    vars[nv++] = (aenl_plot_var_t){"in", in};
-    vars[nv++] = (aenl_plot_var_t){"title", title ? title : in};
-    if (strcmp(kind, "moments") == 0)
+    vars[nv++] = (aenl_plot_var_t){"in", a.in};
+    vars[nv++] = (aenl_plot_var_t){"title", a.title ? a.title : a.in};
+    if (strcmp(a.kind, "moments") == 0)
     {
-        if (moments_lags(in, lags, sizeof(lags)) != 0)
+        if (moments_lags(a.in, lags, sizeof(lags)) != 0)
         {
             return AENL_EXIT_USAGE;
         }
         vars[nv++] = (aenl_plot_var_t){"lags", lags};
-        if (marks != NULL)
+        if (a.marks != NULL)
         {
-            if (strlen(marks) >= sizeof(mark_words))
+            if (mark_words_of(a.marks, mark_words, sizeof(mark_words)) != 0)
             {
-                aenl_cli_error(k_cmd, "--marks: list too long");
                 return AENL_EXIT_USAGE;
             }
-            for (const char *p = marks; *p; ++p)
-            {
-                double v;
-                char *end;
-                v = strtod(p, &end);
-                if (end == p || (*end != ',' && *end != '\0') || !isfinite(v))
-                {
-                    aenl_cli_error(k_cmd, "--marks: '%s' is not a comma-separated list of numbers",
-                                   marks);
-                    return AENL_EXIT_USAGE;
-                }
-                p = end;
-                if (*p == '\0')
-                {
-                    break;
-                }
-            }
-            size_t j = 0;
-            for (const char *p = marks; *p; ++p)
-            {
-                mark_words[j++] = (char)((*p == ',') ? ' ' : *p);
-            }
-            mark_words[j] = '\0';
             vars[nv++] = (aenl_plot_var_t){"marks", mark_words};
         }
     }
-    else if (strcmp(kind, "timeseries") != 0)
+    else if (strcmp(a.kind, "timeseries") != 0)
     {
-        aenl_cli_error(k_cmd, "unknown kind '%s' (moments or timeseries)", kind);
+        aenl_cli_error(k_cmd, "unknown kind '%s' (moments or timeseries)", a.kind);
         return AENL_EXIT_USAGE;
     }
-    else
+    else if (timeseries_check(a.in) != 0)
     {
-        /* Validate the input before gnuplot sees it: a clear error beats gnuplot's. */
-        aenl_table_t t;
-        aenl_err_t e;
-        aenl_err_clear(&e);
-        if (aenl_table_read(in, &t, &e) != AENL_OK)
-        {
-            aenl_cli_error(k_cmd, "%s", e.msg);
-            return AENL_EXIT_USAGE;
-        }
-        const int ok = t.n_rows > 0 && t.n_cols >= 2;
-        if (!ok)
-        {
-            aenl_table_free(&t);
-            aenl_cli_error(k_cmd, "%s: a time series needs a time column, a channel and rows", in);
-            return AENL_EXIT_USAGE;
-        }
-        if (!aenl_cli_is_time_column(t.names[0]))
-        {
-            const int is_moments = aenl_table_find(&t, "lag") >= 0;
-            aenl_cli_error(k_cmd,
-                           "%s: the first column '%s' is not a time column (t, time, tau or "
-                           "timestamp, with or without a unit)%s",
-                           in, t.names[0],
-                           is_moments ? "; this looks like an `aenl moments` output: plot it "
-                                        "with `aenl plot moments`"
-                                      : "");
-            aenl_table_free(&t);
-            return AENL_EXIT_USAGE;
-        }
-        const int bad = aenl_cli_check_record(k_cmd, &t, in, -1);
-        aenl_table_free(&t);
-        if (bad)
-        {
-            return AENL_EXIT_USAGE;
-        }
+        return AENL_EXIT_USAGE;
     }
     aenl_err_t err;
     aenl_err_clear(&err);
-    const aenl_status_t st = aenl_plot_run(kind, vars, nv, out, &err);
+    const aenl_status_t st = aenl_plot_run(a.kind, vars, nv, a.out, &err);
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
-    printf("%s\n", out);
+    printf("%s\n", a.out);
     return AENL_EXIT_OK;
 }

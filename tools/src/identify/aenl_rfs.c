@@ -1162,13 +1162,20 @@ static int choose_law(double d[AENL_RFS_N_LAWS][RFS_B], double d_off[AENL_RFS_N_
     return law;
 }
 
-static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const double *tau,
-                             aenl_rfs_fit_t *out, aenl_err_t *err)
+/* Every law fitted to all data, and the fold gains of each over the linear law. */
+typedef struct
 {
-    memset(out, 0, sizeof(*out));
-    out->cls = AENL_CLASS_INSUFFICIENT;
-    rfs_work_t wk;
-    work_setup(&wk, r, ch, given, tau);
+    rfs_law_t law[AENL_RFS_N_LAWS];
+    int usable[AENL_RFS_N_LAWS];
+    double d[AENL_RFS_N_LAWS][RFS_B];     /* fold gains */
+    double d_off[AENL_RFS_N_LAWS][RFS_B]; /* the same with a rising-motion offset */
+    double rss_lin_cv;                    /* the linear law's test RSS over every fold */
+} rfs_cv_t;
+
+/* Each block has at least twice as many rows as the regression has unknowns; the rows used go
+ * into out either way. */
+static int enough_rows(const aenl_rfs_t *r, const rfs_work_t *wk, aenl_rfs_fit_t *out)
+{
     size_t n_used = 0, min_rows = (size_t)-1;
     for (size_t b = 0; b < RFS_B; ++b)
     {
@@ -1176,97 +1183,110 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
         min_rows = r->rows[b] < min_rows ? r->rows[b] : min_rows;
     }
     out->n_used = n_used;
-    if (min_rows < 2u * (wk.m + wk.k2))
-    {
-        return AENL_OK; /* insufficient */
-    }
-    aenl_status_t st = AENL_OK;
-    if (work_alloc(&wk) != 0)
+    return min_rows >= 2u * (wk->m + wk->k2);
+}
+
+/* The scratch, the sums over all blocks, their projection and the interior; on failure the
+ * scratch is freed and err says why. */
+static aenl_status_t work_prepare(rfs_work_t *wk, size_t ch, aenl_err_t *err)
+{
+    if (work_alloc(wk) != 0)
     {
         aenl_err_set(err, "out of memory");
-        work_free(&wk);
+        work_free(wk);
         return AENL_E_IO;
     }
-    gram_sum(&wk, -1, &wk.all);
-    if (project(&wk, &wk.all, &wk.pj) != 0)
+    gram_sum(wk, -1, &wk->all);
+    if (project(wk, &wk->all, &wk->pj) != 0)
     {
         aenl_err_set(err,
                      "restoring-force regression: the linear regressors of channel %zu are "
                      "degenerate",
                      ch);
-        work_free(&wk);
+        work_free(wk);
         return AENL_E_NUMERIC;
     }
-    interior(&wk);
-    rfs_law_t law[AENL_RFS_N_LAWS];
-    int usable[AENL_RFS_N_LAWS];
+    interior(wk);
+    return AENL_OK;
+}
+
+/* Every law fitted on all data; a law whose fit fails is not usable. */
+static void fit_laws(rfs_work_t *wk, rfs_cv_t *cv)
+{
     for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
     {
-        law[l].law = (aenl_rfs_law_t)l;
-        law[l].a = law[l].b = law[l].s = 0.0;
-        law[l].offset = 0;
-        usable[l] = law_fit_all(&wk, &law[l]) >= 0.0;
+        cv->law[l].law = (aenl_rfs_law_t)l;
+        cv->law[l].a = cv->law[l].b = cv->law[l].s = 0.0;
+        cv->law[l].offset = 0;
+        cv->usable[l] = law_fit_all(wk, &cv->law[l]) >= 0.0;
     }
-    double g_poly[RFS_MAX_Q] = {0.0};
-    (void)law_gain(&wk, &wk.pj, &law[AENL_RFS_POLY], g_poly);
-    /* cross-validation: each block out in turn (its projection is kept for the jackknife) */
-    double d[AENL_RFS_N_LAWS][RFS_B], d_off[AENL_RFS_N_LAWS][RFS_B];
-    double rss_lin_cv = 0.0;
-    for (int f = 0; f < RFS_B && st == AENL_OK; ++f)
+}
+
+/* The fold gains of fold f: the laws fitted without block f, scored on it. A law whose test
+ * fails on any fold is not usable. */
+static void fold_gains(rfs_work_t *wk, int f, double base, rfs_cv_t *cv)
+{
+    int ok = 1;
+    for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
     {
-        gram_sum(&wk, f, &wk.one);
-        gram_diff(&wk, &wk.all, &wk.one, &wk.tr);
-        if (project(&wk, &wk.tr, &wk.fold[f]) != 0)
+        cv->d[l][f] = 0.0;
+        if (l > 0 && cv->usable[l])
         {
-            st = AENL_E_NUMERIC;
-            break;
+            const double v = test_rss(wk, &wk->fold[f], &cv->law[l], &wk->one, &ok);
+            cv->d[l][f] = ok ? base - v : 0.0;
+            cv->usable[l] = cv->usable[l] && ok;
+        }
+        /* every law with a rising-motion offset that may change with amplitude; the
+         * offset's own fold gains, not the better of the law's with and without it on the
+         * fold scored (that would pick the competitor on the test data) */
+        cv->d_off[l][f] = cv->d[l][f];
+        if (l >= AENL_RFS_POLY && cv->usable[l])
+        {
+            rfs_law_t lw_off = cv->law[l];
+            lw_off.offset = 1;
+            const double v = test_rss(wk, &wk->fold[f], &lw_off, &wk->one, &ok);
+            cv->d_off[l][f] = ok ? base - v : cv->d[l][f];
+        }
+    }
+}
+
+/* Cross-validation: each block out in turn (its projection is kept for the jackknife). Nonzero
+ * when the regressors of a fold are degenerate. */
+static int cross_validate(rfs_work_t *wk, rfs_cv_t *cv)
+{
+    cv->rss_lin_cv = 0.0;
+    for (int f = 0; f < RFS_B; ++f)
+    {
+        gram_sum(wk, f, &wk->one);
+        gram_diff(wk, &wk->all, &wk->one, &wk->tr);
+        if (project(wk, &wk->tr, &wk->fold[f]) != 0)
+        {
+            return -1;
         }
         int ok = 1;
-        const double base = test_rss(&wk, &wk.fold[f], &law[0], &wk.one, &ok);
-        rss_lin_cv += base;
-        for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
-        {
-            d[l][f] = 0.0;
-            if (l > 0 && usable[l])
-            {
-                const double v = test_rss(&wk, &wk.fold[f], &law[l], &wk.one, &ok);
-                d[l][f] = ok ? base - v : 0.0;
-                usable[l] = usable[l] && ok;
-            }
-            /* every law with a rising-motion offset that may change with amplitude; the
-             * offset's own fold gains, not the better of the law's with and without it on the
-             * fold scored (that would pick the competitor on the test data) */
-            d_off[l][f] = d[l][f];
-            if (l >= AENL_RFS_POLY && usable[l])
-            {
-                rfs_law_t lw_off = law[l];
-                lw_off.offset = 1;
-                const double v = test_rss(&wk, &wk.fold[f], &lw_off, &wk.one, &ok);
-                d_off[l][f] = ok ? base - v : d[l][f];
-            }
-        }
+        const double base = test_rss(wk, &wk->fold[f], &cv->law[0], &wk->one, &ok);
+        cv->rss_lin_cv += base;
+        fold_gains(wk, f, base, cv);
     }
-    if (st != AENL_OK)
-    {
-        aenl_err_set(err,
-                     "restoring-force regression: degenerate regressors in a fold of "
-                     "channel %zu",
-                     ch);
-        work_free(&wk);
-        return st;
-    }
+    return 0;
+}
+
+/* The t and relative gain of every law, the chosen law and the evidence, into out; returns the
+ * chosen law. */
+static int score_laws(rfs_cv_t *cv, aenl_rfs_fit_t *out)
+{
     double D[AENL_RFS_N_LAWS];
     for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
     {
         D[l] = 0.0;
         for (int f = 0; f < RFS_B; ++f)
         {
-            D[l] += d[l][f];
+            D[l] += cv->d[l][f];
         }
-        out->t[l] = (l > 0 && usable[l]) ? batch_t(d[l], RFS_B) : 0.0;
-        out->gain[l] = rss_lin_cv > 0.0 ? D[l] / rss_lin_cv : 0.0;
+        out->t[l] = (l > 0 && cv->usable[l]) ? batch_t(cv->d[l], RFS_B) : 0.0;
+        out->gain[l] = cv->rss_lin_cv > 0.0 ? D[l] / cv->rss_lin_cv : 0.0;
     }
-    const int best = choose_law(d, d_off, usable, out->t, D);
+    const int best = choose_law(cv->d, cv->d_off, cv->usable, out->t, D);
     /* the evidence is that of the laws the same in both directions: a direction-dependent
      * offset alone also fits excitation that follows the motion (the kicks of a decay train) */
     out->evidence = 0.0;
@@ -1275,31 +1295,29 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
         out->evidence = out->t[l] > out->evidence ? out->t[l] : out->evidence;
     }
     out->law = (aenl_rfs_law_t)best;
-    /* the law's values at the tents, fitted on all data: a regressor for another channel */
-    if (best != AENL_RFS_LINEAR)
+    return best;
+}
+
+/* The law's values at the tents, fitted on all data: a regressor for another channel. */
+static void law_tents(rfs_work_t *wk, const rfs_law_t *lw, aenl_rfs_fit_t *out)
+{
+    double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES] = {0.0}, gb[RFS_MAX_Q] = {0.0};
+    const size_t q = law_map(wk, lw, T);
+    if (map_gain(wk, &wk->pj, T, q, gb) >= 0.0)
     {
-        double T[RFS_MAX_Q * 2 * AENL_RFS_MAX_NODES] = {0.0}, gb[RFS_MAX_Q] = {0.0};
-        const size_t q = law_map(&wk, &law[best], T);
-        if (map_gain(&wk, &wk.pj, T, q, gb) >= 0.0)
+        for (size_t k = 0; k < wk->k2; ++k)
         {
-            for (size_t k = 0; k < wk.k2; ++k)
+            for (size_t c = 0; c < q; ++c)
             {
-                for (size_t c = 0; c < q; ++c)
-                {
-                    out->tents[k] += T[c * wk.k2 + k] * gb[c];
-                }
+                out->tents[k] += T[c * wk->k2 + k] * gb[c];
             }
         }
     }
-    /* A symmetric two-stiffness law is freeplay only when the band is the softer part: d2 = -f,
-     * so a positive clip coefficient takes stiffness away inside. Stiffer inside than outside is
-     * a saturating spring: polynomial, softening. */
-    double g_gap[RFS_MAX_Q] = {0.0};
-    const int saturating = usable[AENL_RFS_GAP] &&
-                           law_gain(&wk, &wk.pj, &law[AENL_RFS_GAP], g_gap) >= 0.0 &&
-                           g_gap[0] < 0.0;
-    out->cls = law_class_of(out->law, saturating);
-    /* class weights: paired t of each law against the chosen one */
+}
+
+/* Class weights: paired t of each law against the chosen one, normalised over the classes. */
+static void class_weights(const rfs_cv_t *cv, int best, int saturating, aenl_rfs_fit_t *out)
+{
     double wsum = 0.0;
     for (int l = 0; l < AENL_RFS_N_LAWS; ++l)
     {
@@ -1308,13 +1326,13 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
         {
             tp = 0.0;
         }
-        else if (!usable[l] && l != AENL_RFS_LINEAR)
+        else if (!cv->usable[l] && l != AENL_RFS_LINEAR)
         {
             continue;
         }
         else
         {
-            tp = pair_t(d[best], d[l]);
+            tp = pair_t(cv->d[best], cv->d[l]);
             if (best == AENL_RFS_LINEAR)
             {
                 tp = AENL_RFS_T_CRIT - out->t[l]; /* how far the law is from being accepted */
@@ -1334,6 +1352,89 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
         out->prob[c] = wsum > 0.0 ? out->prob[c] / wsum : 0.0;
     }
     out->confidence = out->prob[out->cls];
+}
+
+/* The switching points of the chosen law lw and their block-jackknife errors, in channel ch's
+ * units. */
+static void switching_points(rfs_work_t *wk, const aenl_rfs_t *r, size_t ch, const rfs_law_t *lw,
+                             aenl_rfs_fit_t *out)
+{
+    double pt[4];
+    out->n_points = out->cls == AENL_CLASS_POLYNOMIAL ? 0u : law_points(lw, pt);
+    if (out->n_points == 0)
+    {
+        return;
+    }
+    double acc[4] = {0.0, 0.0, 0.0, 0.0}, acc2[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int f = 0; f < RFS_B; ++f)
+    {
+        rfs_law_t lf = *lw;
+        (void)law_search(wk, &wk->fold[f], &lf, 2.0, RFS_FINE * 2.0);
+        (void)law_search(wk, &wk->fold[f], &lf, 0.5, RFS_FINE * 0.5);
+        double pf[4] = {0.0, 0.0, 0.0, 0.0}; /* as many as pt: the search keeps the law */
+        (void)law_points(&lf, pf);
+        for (size_t i = 0; i < out->n_points; ++i)
+        {
+            acc[i] += pf[i];
+            acc2[i] += pf[i] * pf[i];
+        }
+    }
+    for (size_t i = 0; i < out->n_points; ++i)
+    {
+        const double mean = acc[i] / RFS_B;
+        const double var = acc2[i] / RFS_B - mean * mean;
+        out->points[i] = r->cfg.center[ch] + r->cfg.scale[ch] * pt[i];
+        /* the jackknife variance, plus that of the search grid's quantisation (a uniform
+         * error over one step), which a jackknife on a grid cannot see */
+        const double q = RFS_FINE * 0.5 * wk->cell;
+        out->point_std[i] =
+            r->cfg.scale[ch] * sqrt((double)(RFS_B - 1) * (var > 0.0 ? var : 0.0) + q * q / 12.0);
+    }
+}
+
+static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const double *tau,
+                             aenl_rfs_fit_t *out, aenl_err_t *err)
+{
+    memset(out, 0, sizeof(*out));
+    out->cls = AENL_CLASS_INSUFFICIENT;
+    rfs_work_t wk;
+    work_setup(&wk, r, ch, given, tau);
+    if (!enough_rows(r, &wk, out))
+    {
+        return AENL_OK; /* insufficient */
+    }
+    aenl_status_t st = work_prepare(&wk, ch, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    rfs_cv_t cv;
+    fit_laws(&wk, &cv);
+    double g_poly[RFS_MAX_Q] = {0.0};
+    (void)law_gain(&wk, &wk.pj, &cv.law[AENL_RFS_POLY], g_poly);
+    if (cross_validate(&wk, &cv) != 0)
+    {
+        aenl_err_set(err,
+                     "restoring-force regression: degenerate regressors in a fold of "
+                     "channel %zu",
+                     ch);
+        work_free(&wk);
+        return AENL_E_NUMERIC;
+    }
+    const int best = score_laws(&cv, out);
+    if (best != AENL_RFS_LINEAR)
+    {
+        law_tents(&wk, &cv.law[best], out);
+    }
+    /* A symmetric two-stiffness law is freeplay only when the band is the softer part: d2 = -f,
+     * so a positive clip coefficient takes stiffness away inside. Stiffer inside than outside is
+     * a saturating spring: polynomial, softening. */
+    double g_gap[RFS_MAX_Q] = {0.0};
+    const int saturating = cv.usable[AENL_RFS_GAP] &&
+                           law_gain(&wk, &wk.pj, &cv.law[AENL_RFS_GAP], g_gap) >= 0.0 &&
+                           g_gap[0] < 0.0;
+    out->cls = law_class_of(out->law, saturating);
+    class_weights(&cv, best, saturating, out);
     if (out->law == AENL_RFS_POLY)
     {
         /* d2 = -f: a negative cubic term stiffens as the motion leaves the centre (a quintic
@@ -1345,37 +1446,7 @@ static aenl_status_t analyse(const aenl_rfs_t *r, size_t ch, size_t given, const
     {
         out->hardening = -1; /* the saturating gap law */
     }
-    /* switching points and their block-jackknife errors */
-    double pt[4];
-    out->n_points = out->cls == AENL_CLASS_POLYNOMIAL ? 0u : law_points(&law[best], pt);
-    if (out->n_points > 0)
-    {
-        double acc[4] = {0.0, 0.0, 0.0, 0.0}, acc2[4] = {0.0, 0.0, 0.0, 0.0};
-        for (int f = 0; f < RFS_B; ++f)
-        {
-            rfs_law_t lf = law[best];
-            (void)law_search(&wk, &wk.fold[f], &lf, 2.0, RFS_FINE * 2.0);
-            (void)law_search(&wk, &wk.fold[f], &lf, 0.5, RFS_FINE * 0.5);
-            double pf[4];
-            (void)law_points(&lf, pf);
-            for (size_t i = 0; i < out->n_points; ++i)
-            {
-                acc[i] += pf[i];
-                acc2[i] += pf[i] * pf[i];
-            }
-        }
-        for (size_t i = 0; i < out->n_points; ++i)
-        {
-            const double mean = acc[i] / RFS_B;
-            const double var = acc2[i] / RFS_B - mean * mean;
-            out->points[i] = r->cfg.center[ch] + r->cfg.scale[ch] * pt[i];
-            /* the jackknife variance, plus that of the search grid's quantisation (a uniform
-             * error over one step), which a jackknife on a grid cannot see */
-            const double q = RFS_FINE * 0.5 * wk.cell;
-            out->point_std[i] = r->cfg.scale[ch] *
-                                sqrt((double)(RFS_B - 1) * (var > 0.0 ? var : 0.0) + q * q / 12.0);
-        }
-    }
+    switching_points(&wk, r, ch, &cv.law[best], out);
     work_free(&wk);
     return AENL_OK;
 }

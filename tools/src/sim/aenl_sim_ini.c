@@ -763,14 +763,10 @@ static aenl_status_t force_required(ini_ctx_t *c, const aenl_sim_run_t *r, int d
     return AENL_OK;
 }
 
-static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t *r)
+/* Two entries of one section name the same key (x and x_deg count as the same key). */
+static aenl_status_t check_duplicates(ini_ctx_t *c)
 {
-    const entry_t *e;
-    aenl_status_t st;
     size_t i, j;
-    int d;
-    aenl_sim_type_t type;
-    /* Duplicates (x and x_deg count as the same key). */
     for (i = 0; i < c->n; ++i)
     {
         for (j = 0; j < i; ++j)
@@ -797,122 +793,163 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
             }
         }
     }
-    e = find(c, "model", "type");
+    return AENL_OK;
+}
+
+/* [model] type, and the defaults of that type in m and r. */
+static aenl_status_t read_type(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t *r,
+                               aenl_sim_type_t *type)
+{
+    const entry_t *e = find(c, "model", "type");
     if (e == NULL)
     {
         return missing(c, 0, "type");
     }
     if (strcmp(e->value, "airfoil2dof") == 0)
     {
-        type = AENL_SIM_AIRFOIL2DOF;
+        *type = AENL_SIM_AIRFOIL2DOF;
     }
     else if (strcmp(e->value, "section3dof") == 0)
     {
-        type = AENL_SIM_SECTION3DOF;
+        *type = AENL_SIM_SECTION3DOF;
     }
     else
     {
         return bad(c, e, "expected airfoil2dof or section3dof");
     }
-    aenl_sim_model_default(m, type);
-    aenl_sim_run_default(r, type);
-    if (type == AENL_SIM_AIRFOIL2DOF && c->sec_line[3] > 0)
+    aenl_sim_model_default(m, *type);
+    aenl_sim_run_default(r, *type);
+    if (*type == AENL_SIM_AIRFOIL2DOF && c->sec_line[3] > 0)
     {
         aenl_err_set(c->err, "%s:%d: section [flap] is not valid for type airfoil2dof", c->path,
                      c->sec_line[3]);
         return AENL_E_ARG;
     }
-    /* Laws first: their kind decides the valid keys. */
+    return AENL_OK;
+}
+
+/* The law of DOF d (its section sec present): its kind, and the keys that kind cannot do
+ * without. */
+static aenl_status_t read_law(ini_ctx_t *c, int d, int sec, aenl_sim_law_t *law)
+{
+    const entry_t *e = find(c, sections[sec], "law");
+    if (e == NULL)
+    {
+        return missing(c, sec, "law");
+    }
+    if (strcmp(e->value, "linear") == 0)
+    {
+        law->kind = AENL_SIM_LAW_LINEAR;
+    }
+    else if (strcmp(e->value, "polynomial") == 0)
+    {
+        law->kind = AENL_SIM_LAW_POLYNOMIAL;
+    }
+    else if (strcmp(e->value, "freeplay") == 0)
+    {
+        law->kind = AENL_SIM_LAW_FREEPLAY;
+    }
+    else if (strcmp(e->value, "hysteresis") == 0)
+    {
+        law->kind = AENL_SIM_LAW_HYSTERESIS;
+    }
+    else
+    {
+        return bad(c, e, "expected linear, polynomial, freeplay or hysteresis");
+    }
+    if ((law->kind == AENL_SIM_LAW_FREEPLAY || law->kind == AENL_SIM_LAW_HYSTERESIS) &&
+        find(c, sections[sec], "delta") == NULL && find(c, sections[sec], "delta_deg") == NULL)
+    {
+        return missing(c, sec, d == AENL_SIM_DOF_PLUNGE ? "delta" : "delta_deg");
+    }
+    if (law->kind == AENL_SIM_LAW_POLYNOMIAL && find(c, sections[sec], "coeffs") == NULL)
+    {
+        return missing(c, sec, "coeffs");
+    }
+    return AENL_OK;
+}
+
+/* Laws first: their kind decides the valid keys. */
+static aenl_status_t read_laws(ini_ctx_t *c, aenl_sim_model_t *m)
+{
+    static const int sec_of_dof[3] = {1, 2, 3};
+    aenl_status_t st;
+    int d;
     for (d = 0; d < AENL_SIM_N_DOF; ++d)
     {
-        static const int sec_of_dof[3] = {1, 2, 3};
         const int sec = sec_of_dof[d];
-        aenl_sim_law_t *law = &m->law[d];
         if (c->sec_line[sec] == 0)
         {
             continue;
         }
-        e = find(c, sections[sec], "law");
-        if (e == NULL)
-        {
-            return missing(c, sec, "law");
-        }
-        if (strcmp(e->value, "linear") == 0)
-        {
-            law->kind = AENL_SIM_LAW_LINEAR;
-        }
-        else if (strcmp(e->value, "polynomial") == 0)
-        {
-            law->kind = AENL_SIM_LAW_POLYNOMIAL;
-        }
-        else if (strcmp(e->value, "freeplay") == 0)
-        {
-            law->kind = AENL_SIM_LAW_FREEPLAY;
-        }
-        else if (strcmp(e->value, "hysteresis") == 0)
-        {
-            law->kind = AENL_SIM_LAW_HYSTERESIS;
-        }
-        else
-        {
-            return bad(c, e, "expected linear, polynomial, freeplay or hysteresis");
-        }
-        if ((law->kind == AENL_SIM_LAW_FREEPLAY || law->kind == AENL_SIM_LAW_HYSTERESIS) &&
-            find(c, sections[sec], "delta") == NULL && find(c, sections[sec], "delta_deg") == NULL)
-        {
-            return missing(c, sec, d == AENL_SIM_DOF_PLUNGE ? "delta" : "delta_deg");
-        }
-        if (law->kind == AENL_SIM_LAW_POLYNOMIAL && find(c, sections[sec], "coeffs") == NULL)
-        {
-            return missing(c, sec, "coeffs");
-        }
-    }
-    e = find(c, "excitation", "type");
-    if (e != NULL)
-    {
-        if (strcmp(e->value, "turbulence") == 0)
-        {
-            r->turbulence = 1;
-        }
-        else if (strcmp(e->value, "kicks") == 0)
-        {
-            r->kicks = 1;
-        }
-        else if (strcmp(e->value, "sweep") == 0)
-        {
-            r->force = AENL_SIM_FORCE_SWEEP;
-        }
-        else if (strcmp(e->value, "multisine") == 0)
-        {
-            r->force = AENL_SIM_FORCE_MULTISINE;
-        }
-        else if (strcmp(e->value, "none") != 0)
-        {
-            return bad(c, e, "expected none, turbulence, kicks, sweep or multisine");
-        }
-    }
-    if (r->kicks || r->force != AENL_SIM_FORCE_NONE)
-    {
-        static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
-        const int n_dof = type == AENL_SIM_AIRFOIL2DOF ? 2 : 3;
-        if ((e = find(c, "excitation", "dof")) == NULL)
-        {
-            return missing(c, 5, "dof");
-        }
-        for (d = 0; d < n_dof && strcmp(e->value, k_dof[d]) != 0; ++d)
-        {
-        }
-        if (d == n_dof)
-        {
-            return bad(c, e,
-                       n_dof == 2 ? "expected pitch or plunge" : "expected pitch, plunge or flap");
-        }
-        r->kick_dof = (aenl_sim_dof_t)d;
-        r->force_dof = (aenl_sim_dof_t)d;
-        if ((st = force_required(c, r, d)) != AENL_OK)
+        if ((st = read_law(c, d, sec, &m->law[d])) != AENL_OK)
         {
             return st;
         }
+    }
+    return AENL_OK;
+}
+
+/* [excitation] type, which decides the excitation's valid and required keys. */
+static aenl_status_t read_excitation_type(ini_ctx_t *c, aenl_sim_run_t *r)
+{
+    const entry_t *e = find(c, "excitation", "type");
+    if (e == NULL)
+    {
+        return AENL_OK;
+    }
+    if (strcmp(e->value, "turbulence") == 0)
+    {
+        r->turbulence = 1;
+    }
+    else if (strcmp(e->value, "kicks") == 0)
+    {
+        r->kicks = 1;
+    }
+    else if (strcmp(e->value, "sweep") == 0)
+    {
+        r->force = AENL_SIM_FORCE_SWEEP;
+    }
+    else if (strcmp(e->value, "multisine") == 0)
+    {
+        r->force = AENL_SIM_FORCE_MULTISINE;
+    }
+    else if (strcmp(e->value, "none") != 0)
+    {
+        return bad(c, e, "expected none, turbulence, kicks, sweep or multisine");
+    }
+    return AENL_OK;
+}
+
+/* The DOF that kicks or a force drive, and the keys they cannot do without. */
+static aenl_status_t read_excitation_dof(ini_ctx_t *c, aenl_sim_run_t *r, aenl_sim_type_t type)
+{
+    static const char *const k_dof[3] = {"pitch", "plunge", "flap"};
+    const int n_dof = type == AENL_SIM_AIRFOIL2DOF ? 2 : 3;
+    const entry_t *e;
+    aenl_status_t st;
+    int d;
+    if (!r->kicks && r->force == AENL_SIM_FORCE_NONE)
+    {
+        return AENL_OK;
+    }
+    if ((e = find(c, "excitation", "dof")) == NULL)
+    {
+        return missing(c, 5, "dof");
+    }
+    for (d = 0; d < n_dof && strcmp(e->value, k_dof[d]) != 0; ++d)
+    {
+    }
+    if (d == n_dof)
+    {
+        return bad(c, e,
+                   n_dof == 2 ? "expected pitch or plunge" : "expected pitch, plunge or flap");
+    }
+    r->kick_dof = (aenl_sim_dof_t)d;
+    r->force_dof = (aenl_sim_dof_t)d;
+    if ((st = force_required(c, r, d)) != AENL_OK)
+    {
+        return st;
     }
     if (r->kicks)
     {
@@ -925,13 +962,14 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
             return missing(c, 5, d == AENL_SIM_DOF_PLUNGE ? "rate" : "rate_deg");
         }
     }
-    for (i = 0; i < c->n; ++i)
-    {
-        if ((st = apply_entry(c, &c->e[i], m, r)) != AENL_OK)
-        {
-            return st;
-        }
-    }
+    return AENL_OK;
+}
+
+/* After every entry is applied: the keys no default stands in for, and the bounds between
+ * keys. */
+static aenl_status_t check_applied(ini_ctx_t *c, aenl_sim_run_t *r, aenl_sim_type_t type)
+{
+    const entry_t *e;
     if (find(c, "model", type == AENL_SIM_AIRFOIL2DOF ? "ustar" : "velocity") == NULL)
     {
         return missing(c, 0, type == AENL_SIM_AIRFOIL2DOF ? "ustar" : "velocity");
@@ -963,6 +1001,31 @@ static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t
     {
         e = find(c, "run", "dt");
         return bad(c, e, "must not exceed duration");
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t interpret(ini_ctx_t *c, aenl_sim_model_t *m, aenl_sim_run_t *r)
+{
+    aenl_status_t st;
+    size_t i;
+    aenl_sim_type_t type = AENL_SIM_AIRFOIL2DOF; /* read_type sets it before any use */
+    if ((st = check_duplicates(c)) != AENL_OK || (st = read_type(c, m, r, &type)) != AENL_OK ||
+        (st = read_laws(c, m)) != AENL_OK || (st = read_excitation_type(c, r)) != AENL_OK ||
+        (st = read_excitation_dof(c, r, type)) != AENL_OK)
+    {
+        return st;
+    }
+    for (i = 0; i < c->n; ++i)
+    {
+        if ((st = apply_entry(c, &c->e[i], m, r)) != AENL_OK)
+        {
+            return st;
+        }
+    }
+    if ((st = check_applied(c, r, type)) != AENL_OK)
+    {
+        return st;
     }
     if ((st = aenl_sim_validate(m, c->model_only ? NULL : r, c->err)) != AENL_OK)
     {
