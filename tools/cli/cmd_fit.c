@@ -403,6 +403,8 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
     const aenl_em_model_t *m = &r->model;
     const size_t nx = m->n_x, nz = m->n_z;
     cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "schema", "aenl-fit/1");
+    cJSON_AddStringToObject(root, "aenl_version", AENL_VERSION);
     cJSON_AddStringToObject(root, "file", data);
     cJSON *ch = cJSON_CreateArray();
     for (size_t i = 0; i < nz; ++i)

@@ -231,6 +231,8 @@ static cJSON *json_sweep(const sweep_row_t *rows, long points)
 static int print_json(const flutter_args_t *a, const flutter_result_t *r)
 {
     cJSON *root = cJSON_CreateObject();
+    cJSON_AddStringToObject(root, "schema", "aenl-flutter/1");
+    cJSON_AddStringToObject(root, "aenl_version", AENL_VERSION);
     cJSON_AddStringToObject(root, "file", a->ini);
     cJSON_AddStringToObject(root, "model", model_name(&r->model));
     cJSON_AddItemToObject(root, "speed", num_or_null(r->fo.found, r->fo.speed));

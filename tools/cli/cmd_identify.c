@@ -629,6 +629,8 @@ static int print_json(const aenl_identify_result_t *r, const char *path)
     }
     if (root != NULL)
     {
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify/1"));
+        bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "verdict", verdict);
         bad |= add(root, "channels", chans);

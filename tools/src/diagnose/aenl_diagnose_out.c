@@ -397,6 +397,8 @@ char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_pa
     {
         return NULL;
     }
+    (void)cJSON_AddStringToObject(root, "schema", "aenl-diagnose/1");
+    (void)cJSON_AddStringToObject(root, "aenl_version", AENL_VERSION);
     cJSON *dis = cJSON_AddArrayToObject(root, "disagreement");
     for (size_t i = 0; dis != NULL && i < r->n_dis; ++i)
     {

@@ -157,8 +157,9 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "file", cJSON_CreateString(path));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/1"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
+        bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "method", cJSON_CreateString("test"));
         bad |= add(root, "level", num(r->level));
         bad |= add(model, "states", cJSON_CreateNumber((double)r->n_states));

@@ -1,0 +1,165 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file test_cli_json.c
+ * @brief Every JSON output against its schema in docs/schema: identify (conditional moments),
+ *        identify --method test (with a known input and linear controls), flutter (with and
+ *        without --sweep), fit and diagnose. The schema check itself is shown to fail on a
+ *        wrong type, a missing member, a member the schema does not name, a value outside an
+ *        enumeration or a range, and a schema keyword it does not implement.
+ */
+#include "aenl_cli_test.h"
+
+#include <cjson/cJSON.h>
+#include <stdlib.h>
+
+#include "aenl_schema_check.h"
+#include "unity.h"
+
+#define EXAMPLES AENL_SOURCE_DIR "/tools/examples/"
+#define SCHEMAS  AENL_SOURCE_DIR "/docs/schema/"
+/* NOLINTBEGIN(bugprone-suspicious-missing-comma) */
+
+void setUp(void)
+{
+}
+
+void tearDown(void)
+{
+}
+
+static cJSON *load_schema(const char *name)
+{
+    static char text[1 << 16];
+    char path[600];
+    (void)snprintf(path, sizeof(path), "%s%s.schema.json", SCHEMAS, name);
+    const size_t n = cli_slurp(path, text, sizeof(text));
+    TEST_ASSERT_TRUE_MESSAGE(n > 0 && n < sizeof(text) - 1u, path);
+    cJSON *s = cJSON_Parse(text);
+    TEST_ASSERT_NOT_NULL_MESSAGE(s, path);
+    return s;
+}
+
+/* The command's stdout is one JSON document that satisfies the named schema. */
+static void check_output(const char *schema, const char *const *args)
+{
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cJSON *doc = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(doc, r.out);
+    cJSON *s = load_schema(schema);
+    schema_fail_t f = {{0}, {0}};
+    memset(&f, 0, sizeof(f));
+    const int ok = schema_check(s, s, doc, "", &f);
+    char msg[600];
+    (void)snprintf(msg, sizeof(msg), "%s: %s at %s", schema, f.why, f.where);
+    TEST_ASSERT_TRUE_MESSAGE(ok, msg);
+    cJSON_Delete(s);
+    cJSON_Delete(doc);
+}
+
+static const char *simulated(const char *ini, const char *csv)
+{
+    const char *args[] = {"simulate", ini, "-o", csv, NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    return csv;
+}
+
+static void test_json_identify_and_flutter(void)
+{
+    const char *rec = simulated(EXAMPLES "paper_hysteresis_pitch.ini", "j_hyst.csv");
+    const char *id[] = {"identify", rec, "--json", NULL};
+    check_output("identify", id);
+    const char *fl[] = {"flutter", EXAMPLES "paper_polynomial_pitch.ini", "--json", NULL};
+    check_output("flutter", fl);
+    const char *fl3[] = {
+        "flutter", EXAMPLES "section3dof_multisine.ini", "--json", "--sweep", "--points", "3",
+        NULL};
+    check_output("flutter", fl3);
+}
+
+static void test_json_identify_test_with_input_and_controls(void)
+{
+    const char *ini = cli_file("j_ms.ini", "[model]\ntype = section3dof\nvelocity = 12\n\n"
+                                           "[flap]\nlaw = freeplay\ndelta_deg = 2\n"
+                                           "alpha_f_deg = -1\n\n[excitation]\ntype = multisine\n"
+                                           "dof = pitch\nrms_deg = 0.5\nf_min = 1\nf_max = 20\n"
+                                           "period = 2\nseed = 3\n\n[run]\nduration = 4\n"
+                                           "dt = 0.002\n\n[noise]\nsnr = 10\nseed = 7\n");
+    const char *rec = simulated(ini, "j_ms.csv");
+    const char *plain[] = {"identify", rec, "--method", "test", "--json", NULL};
+    check_output("identify-test", plain);
+    const char *full[] = {"identify", rec,      "--method",   "test", "--input",
+                          "f_pitch",  "--json", "--controls", "1",    NULL};
+    check_output("identify-test", full);
+}
+
+static void test_json_fit_and_diagnose(void)
+{
+    const char *rec = simulated(EXAMPLES "paper_polynomial_pitch.ini", "j_poly.csv");
+    const char *fit[] = {"fit", rec, "--thresholds", "alpha:0.0", "--iter", "5", "--json", NULL};
+    check_output("fit", fit);
+    const char *meas = simulated(EXAMPLES "diagnose_truth_airfoil2dof.ini", "j_dg.csv");
+    const char *dg[] = {
+        "diagnose", "--measured",  meas, "--model",    EXAMPLES "diagnose_base_airfoil2dof.ini",
+        "--json",   "--max-evals", "20", "--no-plots", NULL};
+    check_output("diagnose", dg);
+}
+
+/* The check fails where it should: each mutation of a valid document, and an unknown keyword. */
+static void test_schema_check_rejects(void)
+{
+    cJSON *s = load_schema("flutter");
+    static const char *const bad[] = {
+        "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\",\"model\":"
+        "\"airfoil2dof\",\"speed\":\"fast\",\"frequency\":1,\"unit\":\"U*\",\"frequency_unit\":"
+        "\"Hz\"}",
+        "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\",\"model\":"
+        "\"airfoil2dof\",\"frequency\":1,\"unit\":\"U*\",\"frequency_unit\":\"Hz\"}",
+        "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\",\"model\":"
+        "\"airfoil2dof\",\"speed\":1,\"frequency\":1,\"unit\":\"U*\",\"frequency_unit\":\"Hz\","
+        "\"extra\":1}",
+        "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\",\"model\":"
+        "\"airfoil3dof\",\"speed\":1,\"frequency\":1,\"unit\":\"U*\",\"frequency_unit\":\"Hz\"}",
+        "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\",\"model\":"
+        "\"airfoil2dof\",\"speed\":-1,\"frequency\":1,\"unit\":\"U*\",\"frequency_unit\":\"Hz\"}"};
+    static const char *const why[] = {"wrong type", "missing required member speed",
+                                      "member not in the schema", "enumerated", "minimum"};
+    const char *good = "{\"schema\":\"aenl-flutter/1\",\"aenl_version\":\"0\",\"file\":\"f\","
+                       "\"model\":\"airfoil2dof\",\"speed\":1,\"frequency\":null,\"unit\":\"U*\","
+                       "\"frequency_unit\":\"Hz\"}";
+    schema_fail_t f = {{0}, {0}};
+    cJSON *doc = cJSON_Parse(good);
+    TEST_ASSERT_TRUE_MESSAGE(schema_check(s, s, doc, "", &f), f.why);
+    cJSON_Delete(doc);
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+    {
+        doc = cJSON_Parse(bad[i]);
+        TEST_ASSERT_NOT_NULL(doc);
+        memset(&f, 0, sizeof(f));
+        TEST_ASSERT_FALSE_MESSAGE(schema_check(s, s, doc, "", &f), bad[i]);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.why, why[i]), f.why);
+        cJSON_Delete(doc);
+    }
+    cJSON_Delete(s);
+    cJSON *odd = cJSON_Parse("{\"type\":\"object\",\"pattern\":\"x\"}");
+    doc = cJSON_Parse("{}");
+    TEST_ASSERT_FALSE(schema_check(odd, odd, doc, "", &f));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(f.why, "pattern"), f.why);
+    cJSON_Delete(odd);
+    cJSON_Delete(doc);
+}
+
+/* NOLINTEND(bugprone-suspicious-missing-comma) */
+
+int main(void)
+{
+    UNITY_BEGIN();
+    RUN_TEST(test_schema_check_rejects);
+    RUN_TEST(test_json_identify_and_flutter);
+    RUN_TEST(test_json_identify_test_with_input_and_controls);
+    RUN_TEST(test_json_fit_and_diagnose);
+    return UNITY_END();
+}
