@@ -225,6 +225,16 @@ static void test_cli_plot_format_from_extension(void)
         TEST_ASSERT_TRUE_MESSAGE(n > 100, names[i]);
         TEST_ASSERT_EQUAL_INT_MESSAGE(0, strncmp(buf, sig[i], strlen(sig[i])), names[i]);
     }
+    /* column names with spaces and units, as spreadsheets write them */
+    (void)cli_file("spaced.csv", "Time [s],pitch angle,plunge\n0,1,2\n0.1,2,3\n0.2,1,1\n");
+    const char *spaced[] = {"plot", "timeseries", "spaced.csv", "-o", "spaced.png", NULL};
+    cli_run(&r, spaced);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    char path[600];
+    static char png[1 << 16];
+    (void)snprintf(path, sizeof(path), "%s/spaced.png", AENL_TEST_TMP_DIR);
+    TEST_ASSERT_TRUE(cli_slurp(path, png, sizeof(png)) > 100);
+    TEST_ASSERT_EQUAL_INT(0, strncmp(png, "\x89PNG", 4));
 }
 
 static void test_cli_simulate_same_seed_same_file(void)

@@ -504,16 +504,20 @@ static void test_cli_identify_with_a_known_input(void)
     const char *moments[] = {"identify", lin, "--input", "f_pitch", NULL};
     const char *controls[] = {"identify", lin, "--controls", "3", NULL};
     const char *bad_controls[] = {"identify", lin, "--method", "test", "--controls", "0", NULL};
-    const char *const *cases[] = {unknown, timecol,  twice,       as_channel,
-                                  moments, controls, bad_controls};
+    const char *empty[] = {"identify", lin, "--method", "test", "--input=", NULL};
+    const char *trailing[] = {"identify", lin, "--method", "test", "--input", "f_pitch,", NULL};
+    const char *const *cases[] = {unknown,  timecol,      twice, as_channel, moments,
+                                  controls, bad_controls, empty, trailing};
     const char *const words[] = {"no such column",
                                  "time column",
                                  "named twice",
                                  "also an --input",
                                  "goes with --method test",
                                  "goes with --method test",
-                                 "--controls"};
-    for (size_t i = 0; i < 7; ++i)
+                                 "--controls",
+                                 "not a list of column names",
+                                 "not a list of column names"};
+    for (size_t i = 0; i < 9; ++i)
     {
         cli_run(&r, cases[i]);
         TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);

@@ -838,8 +838,9 @@ static void test_csv_time_names(void)
     }
 }
 
-/* Uniform sampling: exact steps and printed times rounded to 1e-5 s at 1024 Hz (steps 8 % apart)
- * pass; a dropout and +-20 % jitter are caught at their row, with the step and the reference. */
+/* Uniform sampling: exact steps, times rounded to 1e-5 s at 1024 Hz (steps 8 % apart) and
+ * 2048 Hz printed with %g pass; a dropout and +-20 % jitter are caught at their row, with the
+ * step and the reference. */
 static void test_time_steps(void)
 {
     aenl_time_steps_t s;
@@ -850,6 +851,14 @@ static void test_time_steps(void)
     {
         const double t = floor((double)k / 1024.0 * 1e5 + 0.5) / 1e5;
         TEST_ASSERT_TRUE(aenl_time_steps_take(&s, t, &step, &ref));
+    }
+    /* 2048 Hz for 12 s printed with six significant digits (%g): 1e-4 s past 10 s */
+    memset(&s, 0, sizeof(s));
+    for (int k = 0; k < 24576; ++k)
+    {
+        char txt[32];
+        (void)snprintf(txt, sizeof(txt), "%g", (double)k / 2048.0);
+        TEST_ASSERT_TRUE_MESSAGE(aenl_time_steps_take(&s, strtod(txt, NULL), &step, &ref), txt);
     }
     memset(&s, 0, sizeof(s));
     int bad = -1;

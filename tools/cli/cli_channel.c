@@ -22,7 +22,7 @@ void aenl_cli_time_step_error(const char *cmd, const char *path, const char *col
                    "%s: column '%s', data row %zu: time step %.6g where the record's step is "
                    "%.6g (%s): the samples are taken as equally spaced; cut the record there or "
                    "resample it",
-                   path, column, row, step, ref, step > 1.5 * ref ? "a gap" : "uneven steps");
+                   path, column, row, step, ref, step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
 }
 
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,

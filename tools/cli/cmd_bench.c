@@ -274,13 +274,16 @@ int aenl_cmd_bench(int argc, char **argv)
     {
         printf(
             "usage: aenl bench [moments|simulate|fit|all]\n"
-            "       aenl bench diagnose [--long] [--seeds N] [--rk4] [--dryden]\n"
+            "       aenl bench diagnose [--long] [--seeds N] [--rk4] [--dryden] [--bound]\n"
             "                                         (hidden-effect matrix; minutes)\n"
             "       aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
-            "                           [--verbose]\n"
+            "                           [--verbose] [--regime R] [--rows N] [--from K] [--model]\n"
+            "                           [--unknown-gusts] [--method test]\n"
             "                                         (identification suite; minutes)\n"
             "       aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
+            "                       [--force-given]\n"
             "                                         (level of identify --method test; minutes)\n"
+            "Each kind's own --help (aenl bench null --help, ...) says more.\n"
             "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
             "double; minutes)\n");
         return AENL_EXIT_OK;

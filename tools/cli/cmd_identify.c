@@ -222,7 +222,7 @@ static int check_time(checked_t *c, aenl_err_t *err)
                          "is %.6g (%s): the samples are taken as equally spaced; cut the record "
                          "there or resample it",
                          c->path, name, c->rows, step, ref,
-                         step > 1.5 * ref ? "a gap" : "uneven steps");
+                         step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
             return -1;
         }
         c->t_prev[i] = t;

@@ -20,6 +20,11 @@ static long input_columns(const aenl_table_t *t, const char *path, const char *l
 {
     long n_in = 0;
     const char *p = list;
+    if (list[0] == '\0' || list[strlen(list) - 1u] == ',')
+    {
+        aenl_cli_error(k_cmd, "--input: '%s' is not a list of column names", list);
+        return -1;
+    }
     while (p != NULL && *p != '\0')
     {
         const char *comma = strchr(p, ',');

@@ -15,10 +15,13 @@ static const char *const k_cmd = "plot";
 
 static void help(void)
 {
-    printf("usage: aenl plot KIND IN.csv -o OUT.png [--title T] [--marks x1,x2,...]\n\n"
-           "KIND  moments     IN from `aenl moments`: mean and variance per lag (--marks draws\n"
-           "                  vertical lines, e.g. at switching points)\n"
-           "      timeseries  IN from `aenl simulate` or any record: every channel against time\n");
+    printf(
+        "usage: aenl plot KIND IN.csv -o OUT.png|OUT.svg|OUT.pdf [--title T] [--marks x1,...]\n\n"
+        "KIND  moments     IN from `aenl moments`: mean and variance per lag (--marks draws\n"
+        "                  vertical lines, e.g. at switching points)\n"
+        "      timeseries  IN from `aenl simulate` or any record whose first column is time:\n"
+        "                  every channel against time\n"
+        "The figure's format follows OUT's extension (PNG without one).\n");
 }
 
 /* A moments CSV as `aenl moments` writes it: whole lags >= 1, x finite and increasing within each

@@ -10,8 +10,11 @@ _aenl() {
     return
   fi
   if [[ $cur == -* ]]; then
-    local opts
-    opts=$(aenl "${COMP_WORDS[1]}" --help 2>/dev/null | grep -o -- '--[a-z][a-z0-9-]*' | sort -u)
+    local opts sub=("${COMP_WORDS[1]}")
+    # bench's kinds have their own options (aenl bench null --help)
+    [[ ${COMP_WORDS[1]} == bench && $COMP_CWORD -gt 2 && ${COMP_WORDS[2]} != -* ]] &&
+      sub+=("${COMP_WORDS[2]}")
+    opts=$(aenl "${sub[@]}" --help 2>/dev/null | grep -o -- '--[a-z][a-z0-9-]*' | sort -u)
     mapfile -t COMPREPLY < <(compgen -W "$opts --help" -- "$cur")
     return
   fi

@@ -2,7 +2,7 @@
 # `aenl diagnose`: conditional mean (rising and falling motion, top) and conditional standard
 # deviation (bottom) of one channel at the middle lag, measured (with a +-2 kernel-SE band),
 # baseline and updated model overlaid.
-# Variables: in (curves_<ch>.csv), out (PNG); optional: title, xlabel.
+# Variables: in (curves_<ch>.csv), out (the figure, in the format aenl_fmt names); optional: title, xlabel.
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'
 aenl_w = 900; aenl_h = 900; aenl_fs = 11

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # `aenl diagnose`: the gap per channel and in total before and after the update, with the
 # replicate noise floor (README "Diagnose: the gap metric"), on a log scale.
-# Variables: in (gaps.csv), out (PNG); optional: title.
+# Variables: in (gaps.csv), out (the figure, in the format aenl_fmt names); optional: title.
 if (!exists("title")) title = ''
 aenl_w = 800; aenl_h = 500; aenl_fs = 11
 load aenl_term_dir.'/terminal.gp'

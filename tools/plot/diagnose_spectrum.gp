@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # `aenl diagnose`: Welch power spectral density of one channel, measured, baseline and updated.
-# Variables: in (spectrum_<ch>.csv: f,measured,baseline,updated), out (PNG); optional: title.
+# Variables: in (spectrum_<ch>.csv: f,measured,baseline,updated), out (the figure, in the format aenl_fmt names); optional: title.
 if (!exists("title")) title = ''
 aenl_w = 900; aenl_h = 500; aenl_fs = 11
 load aenl_term_dir.'/terminal.gp'

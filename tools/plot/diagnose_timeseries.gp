@@ -2,10 +2,12 @@
 # `aenl diagnose`: time histories at the end of the record, one panel per channel, measured,
 # baseline and updated model (the simulated ones with the record's noise level).
 # Variables: in (timeseries.csv: t, then <ch>_measured,<ch>_baseline,<ch>_updated per channel),
-# out (PNG); optional: title.
+# out (the figure, in the format aenl_fmt names); optional: title.
 if (!exists("title")) title = ''
-hdr = system(sprintf("head -n 1 '%s' | tr -d '\\r' | tr ',' ' '", in))
-nch = (words(hdr) - 1) / 3
+# names are split at commas only (a channel's name may hold spaces)
+header_cmd = sprintf("head -n 1 '%s' | tr -d '\\r'", in)
+nch = (int(system(header_cmd . " | awk -F, '{print NF}'")) - 1) / 3
+colname(i) = system(sprintf("%s | cut -d, -f%d", header_cmd, i))
 aenl_w = 1000; aenl_h = (260 * nch + 80); aenl_fs = 10
 load aenl_term_dir.'/terminal.gp'
 set output out
@@ -17,7 +19,7 @@ set key top right horizontal
 set lmargin 12
 set multiplot layout nch, 1 title title noenhanced
 do for [c = 0:nch-1] {
-    name = word(hdr, 2 + 3 * c)
+    name = colname(2 + 3 * c)
     set ylabel name[1:strstrt(name, '_')-1] noenhanced
     if (c == nch - 1) { set xlabel 'time (model unit)' } else { unset xlabel }
     plot in using 1:(column(2 + 3 * c)) with lines lw 1 lc rgb '#1f4e9c' title 'measured', \

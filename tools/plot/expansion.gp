@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 # Lag expansion of the conditional mean (aenl moments --expansion): the restoring-force curve
 # (acceleration against the noise-free position, per direction) on top, the phase portrait
-# (velocity against position) below. Variables: in (CSV), out (PNG), title, xlabel.
+# (velocity against position) below. Variables: in (CSV), out (the figure, in the format aenl_fmt names), title, xlabel.
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'
 aenl_w = 900; aenl_h = 900; aenl_fs = 11

@@ -2,7 +2,7 @@
 # `aenl identify --plot`, figure 2 of a channel: conditional mean (top) and variance (bottom) for
 # the display lags (the paper's Figs. 5-9, j = -L), all pairs; the identified switching points are
 # dashed vertical lines.
-# Variables: in (CSV lag,x,mean,var), out (PNG), lags ("1 10 30"); optional: title, xlabel, marks.
+# Variables: in (CSV lag,x,mean,var), out (the figure, in the format aenl_fmt names), lags ("1 10 30"); optional: title, xlabel, marks.
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'
 if (!exists("marks")) marks = ''

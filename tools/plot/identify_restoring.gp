@@ -3,7 +3,7 @@
 # (lag expansion of the conditional mean: acceleration against the noise-free position), all pairs
 # and split by the direction of motion; flat across a freeplay gap, shifted between rising and
 # falling for hysteresis, curved for polynomial stiffness. Switching points: dashed vertical lines.
-# Variables: in (CSV dir,position,accel: dir 0 all, 1 rising, 2 falling), out (PNG); optional:
+# Variables: in (CSV dir,position,accel: dir 0 all, 1 rising, 2 falling), out (the figure, in the format aenl_fmt names); optional:
 # title, xlabel, marks ("x1 x2 ...").
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'

@@ -2,7 +2,7 @@
 # `aenl identify --plot`, figure 1 of a channel: the record. Top: the whole record as a min/max
 # envelope over bins of `per_bin` samples (bounded size whatever the record's length); bottom: the
 # last samples at full rate. Identified switching points are dashed horizontal lines.
-# Variables: env (CSV t,lo,hi), detail (CSV t,x), out (PNG); optional: title, ylabel, marks
+# Variables: env (CSV t,lo,hi), detail (CSV t,x), out (the figure, in the format aenl_fmt names); optional: title, ylabel, marks
 # ("x1 x2 ..."), per_bin (samples per envelope bin), tlabel (x-axis: the time column's name).
 if (!exists("title")) title = ''
 if (!exists("ylabel")) ylabel = 'x'

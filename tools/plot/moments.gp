@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 # Conditional mean (top) and variance (bottom) per lag, as in the paper's Figs. 5-9.
-# Variables: in (CSV from `aenl moments`), out (PNG), lags ("1 10 30"), title, xlabel;
+# Variables: in (CSV from `aenl moments`), out (the figure, in the format aenl_fmt names), lags ("1 10 30"), title, xlabel;
 # optional: marks ("x1 x2 ...": switching points drawn as vertical lines).
 if (!exists("title")) title = ''
 if (!exists("xlabel")) xlabel = 'x'

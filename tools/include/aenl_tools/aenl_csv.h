@@ -43,23 +43,29 @@ void aenl_csv_close(aenl_csv_t *csv);
  */
 int aenl_csv_is_time_name(const char *name);
 
-/** Largest relative departure of a time step from the record's step (gaps and jitter). */
+/** Largest relative departure of a time step from the record's step (jitter), beyond the
+ *  rounding of the two printed times. */
 #define AENL_TIME_STEP_TOL 0.1
+/** A step longer than this many times the record's step is a gap (a missing sample at least). */
+#define AENL_TIME_GAP 1.5
 
 /** Check of uniform sampling, one time value at a time (zero it before the first). */
 typedef struct aenl_time_steps
 {
     double t0, t_prev; /* first and last value seen */
     size_t k;          /* values seen */
+    double q_dec;      /* finest decimal resolution seen (0: none yet) */
+    int digits;        /* most significant digits seen */
 } aenl_time_steps_t;
 
 /**
- * @brief Take the next time value t (finite, larger than the last). Returns 1 when its step
- *        t − t_prev lies within AENL_TIME_STEP_TOL of the record's step so far, (t_prev −
- *        t0) / (k − 1): a mean over every earlier step, so the rounding of printed times does
- *        not accumulate in it. Returns 0 for a gap (a dropout, a missing sample) or jitter,
- *        with the step and the reference in *step and *ref. Every value before the third is
- *        accepted.
+ * @brief Take the next time value t (finite, larger than the last). The record's step so far
+ *        is (t_prev − t0) / (k − 1), a mean over every earlier step, so the rounding of printed
+ *        times does not accumulate in it. Returns 0 for a gap (a step longer than AENL_TIME_GAP
+ *        record steps) or for jitter (a step further from the record's step than
+ *        AENL_TIME_STEP_TOL of it and than the rounding of the two times as printed, judged from
+ *        the digits the column has shown: 12.3457 may be 1e-4 off), with the step and the reference
+ * in *step and *ref; else 1. Every value before the third is accepted.
  */
 int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *ref);
 

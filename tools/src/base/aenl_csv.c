@@ -983,9 +983,56 @@ int aenl_csv_is_time_name(const char *name)
     return 0;
 }
 
+/* The decimal resolution a time value was written with: 10^-k for the fewest decimals k
+ * (0..17) that reproduce it (12.3457 -> 1e-4), 0 for 0 (exact at any resolution). A value that
+ * happens to be round (12.3 in a record printed to 1e-4) reads coarser than it was written. */
+static double printed_resolution(double t)
+{
+    if (!(fabs(t) > 0.0))
+    {
+        return 0.0;
+    }
+    double p = 1.0;
+    for (int k = 0; k <= 17; ++k, p *= 10.0)
+    {
+        const double v = t * p;
+        if (fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v)))
+        {
+            return 1.0 / p;
+        }
+    }
+    return 0.0;
+}
+
+/* How far the printed t may be from the time it stands for. The column is written either with
+ * a fixed number of decimals (its finest resolution seen, s->q_dec) or with a fixed number of
+ * significant digits (the most seen, s->digits, which gives a resolution growing with |t|, as
+ * %g does); the larger of the two bounds holds under either. */
+static double rounding_of(const aenl_time_steps_t *s, double t)
+{
+    if (!(fabs(t) > 0.0))
+    {
+        return 0.0;
+    }
+    const double sig = pow(10.0, floor(log10(fabs(t))) - (double)s->digits + 1.0);
+    return fmax(s->q_dec, sig);
+}
+
+static void note_resolution(aenl_time_steps_t *s, double t)
+{
+    const double q = printed_resolution(t);
+    if (q > 0.0)
+    {
+        s->q_dec = (s->q_dec > 0.0) ? fmin(s->q_dec, q) : q;
+        const int d = (int)floor(log10(fabs(t))) - (int)lround(log10(q)) + 1;
+        s->digits = d > s->digits ? d : s->digits;
+    }
+}
+
 int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *ref)
 {
     int ok = 1;
+    note_resolution(s, t);
     if (s->k == 0)
     {
         s->t0 = t;
@@ -994,7 +1041,9 @@ int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *r
     {
         *step = t - s->t_prev;
         *ref = (s->t_prev - s->t0) / (double)(s->k - 1u);
-        ok = fabs(*step - *ref) <= AENL_TIME_STEP_TOL * *ref;
+        const double rounding = rounding_of(s, t) + rounding_of(s, s->t_prev);
+        ok = *step <= AENL_TIME_GAP * *ref &&
+             fabs(*step - *ref) <= fmax(AENL_TIME_STEP_TOL * *ref, rounding);
     }
     s->t_prev = t;
     s->k++;

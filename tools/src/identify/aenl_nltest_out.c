@@ -232,15 +232,18 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
         {
             (void)fprintf(out, " %s", input_names[p]);
         }
-        (void)fprintf(out, " (they drive the linear model and are not tested)\n");
+        (void)fprintf(out, r->n_inputs == 1
+                               ? " (it drives the linear model and is not tested)\n"
+                               : " (they drive the linear model and are not tested)\n");
     }
     (void)fprintf(out,
-                  "%s: %lu samples, %lu channels; linear state-space model with %lu states "
-                  "(%lu impulses)\n"
+                  "%s: %lu samples, %lu channel%s; linear state-space model with %lu states "
+                  "(%lu impulse%s)\n"
                   "test of a structural law against the linear model at level %.3g (each "
                   "channel at %.3g)\n\n",
                   path, (unsigned long)r->n_samples, (unsigned long)r->n_channels,
-                  (unsigned long)r->n_states, (unsigned long)r->n_impulses, r->level,
+                  r->n_channels == 1 ? "" : "s", (unsigned long)r->n_states,
+                  (unsigned long)r->n_impulses, r->n_impulses == 1 ? "" : "s", r->level,
                   r->level / (double)r->n_channels);
     (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s%s\n", "channel", "chi-square", "dof",
                   "p-value", "class", "weights poly/freeplay/hyst",
