@@ -993,13 +993,14 @@ static double printed_resolution(double t)
         return 0.0;
     }
     double p = 1.0;
-    for (int k = 0; k <= 17; ++k, p *= 10.0)
+    for (int k = 0; k <= 17; ++k)
     {
         const double v = t * p;
         if (fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v)))
         {
             return 1.0 / p;
         }
+        p *= 10.0;
     }
     return 0.0;
 }
