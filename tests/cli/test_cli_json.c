@@ -39,9 +39,16 @@ static cJSON *load_schema(const char *name)
     return s;
 }
 
-/* The command's stdout is one JSON document that satisfies the named schema. */
+/* The command's stdout is one JSON document that satisfies the named schema. The outputs'
+ * memory safety is checked elsewhere (valgrind of every subcommand), so the sanitizer build,
+ * where the runs take minutes, leaves this contract to the strict build. */
 static void check_output(const char *schema, const char *const *args)
 {
+#ifdef AENL_TEST_SANITIZED
+    (void)schema;
+    (void)args;
+    TEST_IGNORE_MESSAGE("the JSON contract: checked in the strict build");
+#endif
     cli_result_t r;
     cli_run(&r, args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);

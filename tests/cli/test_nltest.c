@@ -462,7 +462,7 @@ static void test_cli_identify_with_a_known_input(void)
     const char *lin_args[] = {"identify", lin,       "--method", "test",
                               "--input",  "f_pitch", "--json",   NULL};
     const char *fp_args[] = {"identify", fp,           "--method", "test", "--input=f_pitch",
-                             "--json",   "--controls", "4",        NULL};
+                             "--json",   "--controls", "2",        NULL};
     cli_result_t r;
     cli_run(&r, lin_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -484,10 +484,11 @@ static void test_cli_identify_with_a_known_input(void)
     TEST_ASSERT_EQUAL_STRING("freeplay", cJSON_GetObjectItem(v, "class")->valuestring);
     TEST_ASSERT_EQUAL_STRING("beta", cJSON_GetObjectItem(v, "channel")->valuestring);
     /* linear controls (the fitted linear model driven by the same force): none reaches beta */
-    TEST_ASSERT_EQUAL_INT(4, cJSON_GetObjectItem(root, "controls")->valueint);
+    TEST_ASSERT_EQUAL_INT(2, cJSON_GetObjectItem(root, "controls")->valueint);
     const cJSON *beta = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "channels"), 2);
     TEST_ASSERT_EQUAL_INT(0, cJSON_GetObjectItem(beta, "control_exceed")->valueint);
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.2, cJSON_GetObjectItem(beta, "control_p")->valuedouble);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.0 / 3.0,
+                              cJSON_GetObjectItem(beta, "control_p")->valuedouble);
     const cJSON *sp = cJSON_GetObjectItem(v, "switch_points");
     TEST_ASSERT_EQUAL_INT(2, cJSON_GetArraySize(sp));
     printf("flap freeplay with the force given: %.5f %.5f rad (truth -0.01745 0.01745)\n",
