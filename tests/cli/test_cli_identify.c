@@ -160,11 +160,11 @@ static void check_confidence(const cJSON *c, const char *what)
 /* The whole object, as docs/identify.md gives it; returns the verdict's channel object or NULL. */
 static const cJSON *check_contract(const cJSON *root, const char *file, int n_channels)
 {
-    static const char *const k_top[] = {"file", "verdict", "channels"};
+    static const char *const k_top[] = {"schema", "aenl_version", "file", "verdict", "channels"};
     static const char *const k_verdict[] = {"class", "channel", "switch_points", "confidence"};
     static const char *const k_channel[] = {
         "name", "class", "switch_points", "switch_point_std", "confidence", "bandwidth", "lags"};
-    check_keys(root, k_top, 3, "top level");
+    check_keys(root, k_top, 5, "top level");
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(root, "file");
     TEST_ASSERT_TRUE(cJSON_IsString(f));
     TEST_ASSERT_EQUAL_STRING(file, f->valuestring);

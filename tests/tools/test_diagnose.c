@@ -384,7 +384,9 @@ static void check_case(const char *name, int other_sim)
     TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_before")));
     TEST_ASSERT_TRUE(cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "gap_after")));
     TEST_ASSERT_TRUE(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(root, "updated_model")));
-    TEST_ASSERT_EQUAL_INT(5, cJSON_GetArraySize(root));
+    TEST_ASSERT_EQUAL_STRING("aenl-diagnose/1",
+                             cJSON_GetObjectItemCaseSensitive(root, "schema")->valuestring);
+    TEST_ASSERT_EQUAL_INT(7, cJSON_GetArraySize(root));
     cJSON_Delete(root);
     free(js);
     /* The updated INI loads and holds the named law. */
