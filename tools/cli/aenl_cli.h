@@ -38,8 +38,8 @@ const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
 
 /** 1 for the names a time column goes by (aenl_csv_is_time_name). */
 int aenl_cli_is_time_column(const char *name);
-/** The message for a time step that breaks uniform sampling (aenl_time_steps_take). */
-void aenl_cli_time_step_error(const char *cmd, const char *path, const char *column, size_t row,
+/** The message (into err) for a time step that breaks uniform sampling (aenl_time_steps_take). */
+void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
                               double step, double ref);
 /** Column of `channel` (or of the only non-time column when NULL); -1 after printing why. */
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,

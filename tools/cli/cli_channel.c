@@ -15,14 +15,15 @@ int aenl_cli_is_time_column(const char *name)
     return aenl_csv_is_time_name(name);
 }
 
-void aenl_cli_time_step_error(const char *cmd, const char *path, const char *column, size_t row,
+void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
                               double step, double ref)
 {
-    aenl_cli_error(cmd,
-                   "%s: column '%s', data row %zu: time step %.6g where the record's step is "
-                   "%.6g (%s): the samples are taken as equally spaced; cut the record there or "
-                   "resample it",
-                   path, column, row, step, ref, step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
+    aenl_err_set(err,
+                 "%s: column '%s', data row %zu: time step %.6g where the record's step is %.6g "
+                 "(%s): the samples are taken as equally spaced; cut the record there or "
+                 "resample it",
+                 path, column, row, step, ref,
+                 step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
 }
 
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
@@ -94,7 +95,10 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
                 double ref = 0.0;
                 if (!aenl_time_steps_take(&steps, v[r], &step, &ref))
                 {
-                    aenl_cli_time_step_error(cmd, path, t->names[c], r + 1u, step, ref);
+                    aenl_err_t e;
+                    aenl_err_clear(&e);
+                    aenl_cli_time_step_error(&e, path, t->names[c], r + 1u, step, ref);
+                    aenl_cli_error(cmd, "%s", e.msg);
                     return -1;
                 }
             }

@@ -217,12 +217,7 @@ static int check_time(checked_t *c, aenl_err_t *err)
         double ref = 0.0;
         if (!aenl_time_steps_take(&c->steps[i], t, &step, &ref))
         {
-            aenl_err_set(err,
-                         "%s: column '%s', data row %zu: time step %.6g where the record's step "
-                         "is %.6g (%s): the samples are taken as equally spaced; cut the record "
-                         "there or resample it",
-                         c->path, name, c->rows, step, ref,
-                         step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
+            aenl_cli_time_step_error(err, c->path, name, c->rows, step, ref);
             return -1;
         }
         c->t_prev[i] = t;
