@@ -52,9 +52,9 @@ static long input_columns(const aenl_table_t *t, const char *path, const char *l
                 return -1;
             }
         }
-        if (n_in == AENL_EM_MAX_U)
+        if (n_in == AENL_NLT_MAX_INPUT)
         {
-            aenl_cli_error(k_cmd, "--input: at most %d inputs", AENL_EM_MAX_U);
+            aenl_cli_error(k_cmd, "--input: at most %d inputs", AENL_NLT_MAX_INPUT);
             return -1;
         }
         in[n_in++] = (size_t)c;
@@ -86,7 +86,7 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
-    size_t in[AENL_EM_MAX_U];
+    size_t in[AENL_NLT_MAX_INPUT];
     const long n_in = inputs != NULL ? input_columns(&t, path, inputs, in) : 0;
     long only = -1;
     if (n_in < 0 ||
@@ -139,8 +139,8 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     {
         chan[j] = t.data + cols[j] * n;
     }
-    const double *in_cols[AENL_EM_MAX_U];
-    const char *in_names[AENL_EM_MAX_U];
+    const double *in_cols[AENL_NLT_MAX_INPUT];
+    const char *in_names[AENL_NLT_MAX_INPUT];
     for (long k = 0; k < n_in; ++k)
     {
         in_cols[k] = t.data + in[k] * n;

@@ -65,7 +65,7 @@
 
 #define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
 #define AENL_EM_MAX_X     32 /**< states */
-#define AENL_EM_MAX_U     4  /**< known inputs */
+#define AENL_EM_MAX_U     8  /**< known inputs */
 
 /** Default opts.steady_tol: relative tolerance of the steady-state covariance reuse. */
 #define AENL_EM_STEADY_TOL 1e-10

@@ -50,6 +50,7 @@
 
 #define AENL_NLT_MAX_CH     8 /**< channels of a record */
 #define AENL_NLT_MAX_POINTS 4 /**< switching points of one law */
+#define AENL_NLT_MAX_INPUT  4 /**< known inputs (each drives the model with two values per step) */
 
 /** Candidate laws, in the order of the weight arrays. */
 typedef enum
@@ -69,8 +70,10 @@ typedef struct aenl_nlt_opts
     size_t em_iter;    /**< EM iterations of the linear fit (default 200) */
     const double *const *input; /**< known inputs (a measured force), n_input columns of the
                                      record's n samples (NULL: none): they drive the linear
-                                     model, x_{t+1} = A x_t + B u_t + b, and are not tested */
-    size_t n_input;             /**< at most AENL_EM_MAX_U */
+                                     model with their values at both ends of a step (a
+                                     first-order hold), x_{t+1} = A x_t + B0 u_t + B1 u_{t+1}
+                                     + b, and are not tested */
+    size_t n_input;             /**< at most AENL_NLT_MAX_INPUT */
     size_t n_controls;          /**< linear controls (default 0: none): records simulated from the
                                      fitted linear model, driven by the same inputs, with Gaussian
                                      noise of the fitted covariances, each tested like the record */

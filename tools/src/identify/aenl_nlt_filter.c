@@ -424,70 +424,136 @@ static double chi2_quantile_upper(double alpha, double k)
     return 0.5 * (lo + hi);
 }
 
-/* Impulses: samples whose whitened innovation lies beyond the chi-square quantile at
- * NLT_IMPULSE_LEVEL (a linear Gaussian record has about n times that many). A tap, a kick or a
- * gust front moves the state by more than the model's Gaussian noise allows, and a filter that
- * believes its state goes on mispredicting for many samples after it, in a way that depends on
- * where the motion is: the test would read that as a law. The filter is run again with its
- * covariance widened at each impulse by the filtered states' own covariance (the state may have
- * moved anywhere in its usual range). *n_imp receives the count. */
-aenl_status_t nlt_kf_rerun_with_resets(kf_t *k, const aenl_em_model_t *m, const double *ys,
-                                       size_t *n_imp, aenl_err_t *err)
+/* Impulses: instants at which the state jumped (a tap, a kick, a gust front), found by the
+ * generalised likelihood ratio of a jump (Willsky and Jones). A jump nu into sample tau leaves
+ * the filter's predicted state wrong by Phi(t, tau) nu at every later t (Phi(tau, tau) = I,
+ * Phi(t + 1, tau) = A (I - K_t C) Phi(t, tau)), so the whitened innovations move by
+ * W_t C Phi(t, tau) nu. Its least-squares estimate over the rest of the record has the statistic
+ * q_tau = r' G^-1 r, with r = sum_t Phi' (W_t C)' eps_t and G = sum_t Phi' (W_t C)' (W_t C) Phi,
+ * both by a backward recursion; without a jump q_tau is chi-square with nx degrees of freedom. An
+ * instant whose q lies beyond the quantile at NLT_IMPULSE_LEVEL and is a local maximum of q is an
+ * impulse. The evidence of a jump that the measurement noise hides in any one sample (a rate jump
+ * seen through displacements) accumulates over the samples the filter needs to absorb it, which a
+ * test of single innovations misses; and a filter that believes its state goes on mispredicting
+ * after a jump in a way that follows the motion, which the law test would read as a law.
+ * Instants are added to flag (n entries; those set stay set); *n_imp receives the number set. */
+aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, aenl_err_t *err)
 {
     const size_t n = k->n;
     const size_t nz = k->nz;
     const size_t nx = k->nx;
-    const double thr = chi2_quantile_upper(NLT_IMPULSE_LEVEL, (double)nz);
-    unsigned char *flag = (unsigned char *)calloc(n, 1);
-    if (flag == NULL)
+    const double thr = chi2_quantile_upper(NLT_IMPULSE_LEVEL, (double)nx);
+    double *q = (double *)malloc(n * sizeof(double));
+    if (q == NULL)
     {
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
-    size_t cnt = 0;
-    for (size_t t = 0; t < n; ++t)
+    double r[NLT_MAX_X] = {0};
+    double G[NLT_MAX_X * NLT_MAX_X] = {0};
+    for (size_t tt = n; tt-- > 0;)
     {
-        double q = 0.0;
-        for (size_t j = 0; j < nz; ++j)
+        const double *F = k->F + k->slot[tt] * nx * nx;
+        const double *W = k->WC + k->slot[tt] * nz * nx;
+        const double *e = k->eps + tt * nz;
+        double r2[NLT_MAX_X] = {0};
+        double T[NLT_MAX_X * NLT_MAX_X] = {0};
+        double G2[NLT_MAX_X * NLT_MAX_X] = {0};
+        for (size_t i = 0; i < nx; ++i) /* r <- W' e + F' r */
         {
-            q += k->eps[t * nz + j] * k->eps[t * nz + j];
-        }
-        flag[t] = k->used[t] && q > thr;
-        cnt += flag[t];
-    }
-    *n_imp = cnt;
-    aenl_status_t st = AENL_OK;
-    if (cnt > 0)
-    {
-        double mean[NLT_MAX_X] = {0};
-        double P_reset[NLT_MAX_X * NLT_MAX_X] = {0};
-        for (size_t i = 0; i < nx; ++i)
-        {
-            for (size_t t = 0; t < n; ++t)
+            double v = 0.0;
+            for (size_t j = 0; j < nz; ++j)
             {
-                mean[i] += k->xs[i * n + t];
+                v += W[j * nx + i] * e[j];
             }
-            mean[i] /= (double)n;
+            for (size_t l = 0; l < nx; ++l)
+            {
+                v += F[l * nx + i] * r[l];
+            }
+            r2[i] = v;
         }
+        memcpy(r, r2, nx * sizeof(double));
+        nlt_mat_mul(G, F, T, nx, nx, nx); /* G <- W' W + F' G F */
         for (size_t i = 0; i < nx; ++i)
         {
             for (size_t j = 0; j <= i; ++j)
             {
-                double c = 0.0;
-                for (size_t t = 0; t < n; ++t)
+                double v = 0.0;
+                for (size_t l = 0; l < nz; ++l)
                 {
-                    c += (k->xs[i * n + t] - mean[i]) * (k->xs[j * n + t] - mean[j]);
+                    v += W[l * nx + i] * W[l * nx + j];
                 }
-                P_reset[i * nx + j] = c / (double)n;
-                P_reset[j * nx + i] = c / (double)n;
+                for (size_t l = 0; l < nx; ++l)
+                {
+                    v += F[l * nx + i] * T[l * nx + j];
+                }
+                G2[i * nx + j] = v;
+                G2[j * nx + i] = v;
             }
         }
-        nlt_kf_free(k);
-        k->n = n;
-        k->nz = nz;
-        k->nx = nx;
-        st = nlt_kf_run(k, m, ys, flag, P_reset, err);
+        memcpy(G, G2, nx * nx * sizeof(double));
+        /* q = r' G^-1 r by a Cholesky factor (0 when G is not positive definite) */
+        double L[NLT_MAX_X * NLT_MAX_X];
+        memcpy(L, G, nx * nx * sizeof(double));
+        double x[NLT_MAX_X];
+        memcpy(x, r, nx * sizeof(double));
+        if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nx, L, (lapack_int)nx) == 0)
+        {
+            nlt_lower_solve(L, x, nx);
+            double v = 0.0;
+            for (size_t i = 0; i < nx; ++i)
+            {
+                v += x[i] * x[i];
+            }
+            q[tt] = v;
+        }
+        else
+        {
+            q[tt] = 0.0;
+        }
     }
-    free(flag);
-    return st;
+    size_t cnt = 0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
+        if (k->used[t] && peak && q[t] > thr)
+        {
+            flag[t] = 1;
+        }
+        cnt += flag[t] ? 1u : 0u;
+    }
+    free(q);
+    *n_imp = cnt;
+    return AENL_OK;
+}
+
+/* The covariance of the filtered states of run k over the record into P (nx x nx): the state's
+ * usual range, by which the filter's covariance is widened at an impulse (the state may have
+ * moved anywhere in it). */
+void nlt_state_range(const kf_t *k, double *P)
+{
+    const size_t n = k->n;
+    const size_t nx = k->nx;
+    double mean[NLT_MAX_X] = {0};
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t t = 0; t < n; ++t)
+        {
+            mean[i] += k->xs[i * n + t];
+        }
+        mean[i] /= (double)n;
+    }
+    for (size_t i = 0; i < nx; ++i)
+    {
+        for (size_t j = 0; j <= i; ++j)
+        {
+            double c = 0.0;
+            for (size_t t = 0; t < n; ++t)
+            {
+                c += (k->xs[i * n + t] - mean[i]) * (k->xs[j * n + t] - mean[j]);
+            }
+            P[i * nx + j] = c / (double)n;
+            P[j * nx + i] = c / (double)n;
+        }
+    }
 }

@@ -23,10 +23,13 @@
 #include "aenl_tools/aenl_stats.h"
 #include "aenl_nlt_internal.h"
 
-#define NLT_N_QUANT     25 /* coarse switching-point grid: points evenly over the motion */
-#define NLT_N_FINE      9  /* fine grid points per switching point */
-#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
-#define NLT_STAGE1_LAWS 4                 /* u^2, u^3, d, d u */
+#define NLT_N_QUANT   25 /* coarse switching-point grid: points evenly over the motion */
+#define NLT_N_FINE    9  /* fine grid points per switching point */
+#define NLT_CHI2_1_95 3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
+#define NLT_HOLD      2u                /* values of an input per step: at its start and its end */
+/* every input's two values fit among the EM fit's inputs */
+typedef char nlt_inputs_fit[(NLT_HOLD * AENL_NLT_MAX_INPUT <= AENL_EM_MAX_U) ? 1 : -1];
+#define NLT_STAGE1_LAWS 4 /* u^2, u^3, d, d u */
 
 /* ---- stage 2: the laws along a fixed direction ----------------------------------------------- */
 
@@ -982,9 +985,9 @@ static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const ae
         aenl_err_set(err, "aenl_nlt_run: options out of range");
         return AENL_E_ARG;
     }
-    if (opts->n_input > AENL_EM_MAX_U || (opts->n_input > 0 && opts->input == NULL))
+    if (opts->n_input > AENL_NLT_MAX_INPUT || (opts->n_input > 0 && opts->input == NULL))
     {
-        aenl_err_set(err, "the test takes at most %d inputs", AENL_EM_MAX_U);
+        aenl_err_set(err, "the test takes at most %d inputs", AENL_NLT_MAX_INPUT);
         return AENL_E_ARG;
     }
     for (size_t p = 0; p < opts->n_input; ++p)
@@ -1056,7 +1059,7 @@ static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx,
     eo.dt = 1.0;
     memset(em, 0, sizeof(*em));
     aenl_status_t st = aenl_em_fit(ys, n, m, &eo, em, err);
-    while (st == AENL_E_NOT_PD && eo.max_iter > 4u)
+    while (st == AENL_E_NOT_PD && eo.max_iter > 1u)
     {
         eo.max_iter /= 2u;
         aenl_em_result_free(em);
@@ -1235,7 +1238,7 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     }
     aenl_nlt_opts_t o = *opts;
     o.n_controls = 0;
-    o.input = m->n_u > 0 ? in_col : NULL;
+    o.input = m->n_u > 0 ? in_col : NULL; /* the record's inputs: their first n_input series */
     aenl_rng_t g;
     for (size_t b = 0; b < opts->n_controls; ++b)
     {
@@ -1347,6 +1350,7 @@ static aenl_status_t scale_inputs(const aenl_nlt_opts_t *opts, size_t n, double 
                                   run_t *rn, aenl_err_t *err)
 {
     const size_t n_in = opts->n_input;
+    const size_t n_eff = NLT_HOLD * n_in;
     if (n_in > 0 && in_col == NULL)
     {
         aenl_err_set(err, "out of memory");
@@ -1371,10 +1375,18 @@ static aenl_status_t scale_inputs(const aenl_nlt_opts_t *opts, size_t n, double 
         const double sd = sqrt(var);
         for (size_t t = 0; t < n; ++t)
         {
-            in[t * n_in + p] = opts->input[p][t] / sd;
-            in_col[p * n + t] = opts->input[p][t] / sd;
+            const double v = opts->input[p][t] / sd;
+            in[t * n_eff + p] = v;
+            in_col[p * n + t] = v;
+            /* and its value at the step's end: the structure feels the force change over the
+             * step (a first-order hold), which a model driven by the value at its start alone
+             * misses in a way that follows the motion */
+            const double w = opts->input[p][t + 1u < n ? t + 1u : t] / sd;
+            in[t * n_eff + n_in + p] = w;
+            in_col[(n_in + p) * n + t] = w;
         }
         rn->in_col[p] = in_col + p * n;
+        rn->in_col[n_in + p] = in_col + (n_in + p) * n;
     }
     return AENL_OK;
 }
@@ -1466,6 +1478,46 @@ static void summarise(aenl_nlt_result_t *res, double pmin, size_t n_ch)
     }
 }
 
+/* The filter of ys with the model of em, restarted at the impulses: they are found in a run
+ * without restarts, and the filter is run again with its covariance widened at each of them by
+ * the filtered states' own covariance (the state may have moved anywhere in its usual range).
+ * *n_impulses receives their number. */
+static aenl_status_t filter_with_impulses(const double *ys, const run_t *rn,
+                                          const aenl_em_result_t *em, kf_t *kf, size_t *n_impulses,
+                                          aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    unsigned char *flag = (unsigned char *)calloc(n, 1);
+    if (flag == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    size_t cnt = 0;
+    aenl_status_t st = nlt_kf_run(kf, &em->model, ys, NULL, NULL, err);
+    if (st == AENL_OK)
+    {
+        st = nlt_impulses(kf, flag, &cnt, err);
+    }
+    if (st == AENL_OK && cnt > 0)
+    {
+        double P_imp[NLT_MAX_X * NLT_MAX_X] = {0};
+        nlt_state_range(kf, P_imp);
+        const double *in = kf->in;
+        const size_t n_in = kf->n_in;
+        nlt_kf_free(kf);
+        kf->n = n;
+        kf->nz = rn->nz;
+        kf->nx = em->model.n_x;
+        kf->in = in;
+        kf->n_in = n_in;
+        st = nlt_kf_run(kf, &em->model, ys, flag, P_imp, err);
+    }
+    *n_impulses = cnt;
+    free(flag);
+    return st;
+}
+
 /* The linear model of the scaled record ys and its Kalman filter pass into kf (set up here even
  * when st, the status so far, is a failure: the run frees it either way). */
 static aenl_status_t fit_and_filter(aenl_status_t st, const double *ys, const double *in,
@@ -1475,7 +1527,7 @@ static aenl_status_t fit_and_filter(aenl_status_t st, const double *ys, const do
 {
     const size_t n = rn->n;
     const size_t n_ch = rn->nz;
-    const size_t n_in = rn->opts->n_input;
+    const size_t n_in = rn->n_in;
     memset(em, 0, sizeof(*em));
     if (st == AENL_OK)
     {
@@ -1489,11 +1541,7 @@ static aenl_status_t fit_and_filter(aenl_status_t st, const double *ys, const do
     kf->n_in = n_in;
     if (st == AENL_OK)
     {
-        st = nlt_kf_run(kf, &em->model, ys, NULL, NULL, err);
-    }
-    if (st == AENL_OK)
-    {
-        st = nlt_kf_rerun_with_resets(kf, &em->model, ys, n_impulses, err);
+        st = filter_with_impulses(ys, rn, em, kf, n_impulses, err);
     }
     return st;
 }
@@ -1566,7 +1614,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     {
         return st;
     }
-    const size_t n_in = opts->n_input;
+    const size_t n_in = NLT_HOLD * opts->n_input;
     double *in = n_in > 0 ? (double *)malloc(n * n_in * sizeof(double)) : NULL;
     if (n_in > 0 && in == NULL)
     {
