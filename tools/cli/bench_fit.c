@@ -17,22 +17,15 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "aenl_cli.h"
 #include "aenl/aenl_skf.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_sim.h"
 
 #include <lapacke.h>
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint64_t g_rng = 0x9E3779B97F4A7C15ull;
 
@@ -97,9 +90,9 @@ static double time_em_tol(const double *y, size_t n, size_t states, size_t iters
     aenl_em_result_t r;
     aenl_err_t err;
     aenl_err_clear(&err);
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     const aenl_status_t st = aenl_em_fit(y, n, 2, &o, &r, &err);
-    const double t = now_s() - t0;
+    const double t = aenl_now_s() - t0;
     if (st != AENL_OK)
     {
         printf("  EM failed: %s\n", err.msg);
@@ -167,13 +160,13 @@ static void skf_step_bench(void)
     {
         aenl_skf_reset(&f);
         aenl_skf_out_t out;
-        const double t0 = now_s();
+        const double t0 = aenl_now_s();
         for (size_t k = 0; k < n; ++k)
         {
             aenl_skf_step(&f, &z[2 * k], &out);
             sink += out.nis;
         }
-        const double t = (now_s() - t0) / (double)n;
+        const double t = (aenl_now_s() - t0) / (double)n;
         best = t < best ? t : best;
     }
     free(z);
@@ -531,7 +524,7 @@ static void must_show(ms_errs_t *rec0)
     aenl_em_result_t fit;
     aenl_err_t err;
     aenl_err_clear(&err);
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     double *y = NULL;
     size_t n = 0;
     char ini[4200];
@@ -556,7 +549,7 @@ static void must_show(ms_errs_t *rec0)
            "samples, alpha and xi; %d states, %zu SQUAREM iterations (log-likelihood %.3f, last "
            "gain %.1e per iteration), %.1f s):\n",
            sm.airfoil.ustar, run.turb_intensity, run.snr, n, MS_STATES, fit.n_iter,
-           fit.loglik_final, gain, now_s() - t0);
+           fit.loglik_final, gain, aenl_now_s() - t0);
     printf("    true/identified frequency (cycles per tau) and damping of the true sub-models'"
            " oscillatory pairs (goal: within 2 %%);\n    CRB floor: 1-sigma relative error of"
            " the best unbiased estimate of that pair alone from this mode's transitions\n");
@@ -669,7 +662,7 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
             size_t n = 0;
             aenl_em_result_t fit;
             memset(&q, 0, sizeof(q));
-            const double t0 = now_s();
+            const double t0 = aenl_now_s();
             if (fit_record(&sm, &run, &y, &n, &fit, &err) != AENL_OK)
             {
                 printf("    record %zu: %s\n", r, err.msg);
@@ -679,7 +672,7 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
             printf("    record %zu (seeds %llu, %llu; %zu iterations, %.0f s): within 2 %% %d of "
                    "%d:",
                    r, (unsigned long long)run.turb_seed, (unsigned long long)run.noise_seed,
-                   fit.n_iter, now_s() - t0, n_ok, n_cmp);
+                   fit.n_iter, aenl_now_s() - t0, n_ok, n_cmp);
             free(y);
             aenl_em_result_free(&fit);
         }

@@ -22,17 +22,16 @@
  * |predicted − true| / δ, pooled over the points; cases where the channel gives no point are
  * counted apart, and so are cases where the number of points differs.
  */
-#define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 
 #include "aenl_cli.h"
 #include "aenl/aenl.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_identify.h"
@@ -45,13 +44,6 @@ static const char *const k_cmd = "bench identify";
 
 static const char *const k_snr_name[N_SNR] = {"inf", "10", "3", "2"};
 static const char *k_cls_short[N_PRED] = {"insuff", "linear", "poly", "freeplay", "hyster"};
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /** Score of one case. */
 typedef struct outcome
@@ -635,12 +627,12 @@ static void time_update(const aenl_eval_case_t *c, const aenl_identify_channel_t
         tm->status = AENL_OK;
         for (int round = 0; round < 5 && tm->status == AENL_OK; ++round)
         {
-            const double t0 = now_s();
+            const double t0 = aenl_now_s();
             for (int r = 0; r < reps && tm->status == AENL_OK; ++r)
             {
                 tm->status = aenl_classifier_update(cls, m);
             }
-            best = fmin(best, (now_s() - t0) / reps);
+            best = fmin(best, (aenl_now_s() - t0) / reps);
         }
         tm->ns = 1e9 * best;
         tm->used = aenl_classifier_result(cls)->n_nodes;
@@ -891,9 +883,9 @@ static int make_case(const args_t *a, size_t i, tally_t *t, aenl_eval_case_t *c)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     const aenl_status_t st = aenl_eval_case_make_with(a->seed, i, &a->sim, c, &err);
-    t->t_gen += now_s() - t0;
+    t->t_gen += aenl_now_s() - t0;
     if (st != AENL_OK)
     {
         ++t->gen_failures;
@@ -922,9 +914,9 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
     aenl_nlt_opts_default(&opts);
     aenl_nlt_result_t res;
     aenl_err_clear(&err);
-    double t0 = now_s();
+    double t0 = aenl_now_s();
     const aenl_status_t sti = aenl_nlt_run_columns(c.cols, n, nc, &opts, &res, &err);
-    t->t_id += now_s() - t0;
+    t->t_id += aenl_now_s() - t0;
     a->samples += n * nc;
     if (sti != AENL_OK)
     {
@@ -970,16 +962,16 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
     const size_t n = a->rows > 0 && (size_t)a->rows < c.n_samples ? (size_t)a->rows : c.n_samples;
     aenl_identify_arrays_source(&src, &ctx, c.cols, c.names, c.n_channels, n);
     aenl_err_clear(&err);
-    double t0 = now_s();
+    double t0 = aenl_now_s();
     const aenl_status_t sti = aenl_identify_run(&src, &opts, &res, &err);
-    t->t_id += now_s() - t0;
+    t->t_id += aenl_now_s() - t0;
     outcome_t o;
     if (a->model && sti == AENL_OK)
     {
         score(&c, &res, &o); /* the record alone */
         t->alone[2][c.stratum.snr_level][0] += (size_t)o.class_ok;
         t->alone[2][c.stratum.snr_level][1] += (size_t)o.channel_ok;
-        t0 = now_s();
+        t0 = aenl_now_s();
         ++t->n_model;
         if (model_test(&c, n, a->unknown_gusts, &res, &err) != AENL_OK)
         {
@@ -1012,7 +1004,7 @@ static int run_case(const args_t *a, size_t i, tally_t *t, FILE *tsv, timing_t *
                    i, aenl_diagnose_effect_name(res.model.effect2),
                    aenl_diagnose_dof_name(res.model.dof2));
         }
-        t->t_model += now_s() - t0;
+        t->t_model += aenl_now_s() - t0;
     }
     if (sti != AENL_OK)
     {
@@ -1114,7 +1106,7 @@ int aenl_bench_identify(int argc, char **argv)
         printf("\n");
     }
     (void)fflush(stdout);
-    const double t_start = now_s();
+    const double t_start = aenl_now_s();
     for (long i = a.from; i < a.cases; ++i)
     {
         aenl_eval_stratum_t so;
@@ -1132,7 +1124,7 @@ int aenl_bench_identify(int argc, char **argv)
         }
         (void)fflush(stdout);
     }
-    const double wall = now_s() - t_start;
+    const double wall = aenl_now_s() - t_start;
     if (tsv != NULL && fclose(tsv) != 0)
     {
         aenl_cli_error(k_cmd, "error writing results.tsv");

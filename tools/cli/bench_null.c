@@ -12,15 +12,14 @@
  * length, excitation and noise from its own seeded generator, so it is the same record in any
  * run and alone (--from). Figures are printed, never asserted.
  */
-#define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "aenl_cli.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_sim.h"
@@ -38,13 +37,6 @@ static const char *const k_cmd = "bench null";
 static const char *const k_regime[N_REG] = {"free decay",        "kicked train", "turbulence 1st",
                                             "turbulence Dryden", "swept sine",   "multisine"};
 static const double k_snr[N_NOISE] = {0.0, 10.0, 5.0, 3.0, 2.0};
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static double unif(aenl_rng_t *g, double a, double b)
 {
@@ -228,10 +220,10 @@ static int run_record(size_t i, const null_args_t *a, double *secs, int *reg, in
         o.n_input = 1;
     }
     aenl_nlt_result_t res;
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     const aenl_status_t st = aenl_nlt_run_columns(cols, n, nc, &o, &res, &err);
     free(force);
-    *secs = now_s() - t0;
+    *secs = aenl_now_s() - t0;
     int out = -1;
     if (st != AENL_OK)
     {

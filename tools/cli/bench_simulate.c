@@ -4,24 +4,16 @@
  * @brief `aenl bench simulate`: wall time of the event-located integrator on 100 s of the 3-DOF
  *        flap-freeplay case at 1 kHz output, against a naive fixed-step RK4 of equal accuracy.
  */
-#define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "aenl_cli.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_tools/aenl_sim.h"
 
 static const char *const k_cmd = "bench simulate";
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static void bench_case(aenl_sim_model_t *m, aenl_sim_run_t *r)
 {
@@ -82,13 +74,13 @@ int aenl_bench_simulate(int argc, char **argv)
         "alpha(0) = 1 deg; 100 s at 1 kHz output; host, double):\n");
     for (rep = 0; rep < 3; ++rep)
     {
-        const double t0 = now_s();
+        const double t0 = aenl_now_s();
         if (aenl_sim_simulate(&m, &run, &res, &err) != AENL_OK)
         {
             aenl_cli_error(k_cmd, "%s", err.msg);
             return AENL_EXIT_FAIL;
         }
-        best = fmin(best, now_s() - t0);
+        best = fmin(best, aenl_now_s() - t0);
         if (rep < 2)
         {
             aenl_sim_result_free(&res);
@@ -126,14 +118,14 @@ int aenl_bench_simulate(int argc, char **argv)
     {
         const double h = 1e-4 * ldexp(1.0, -k); /* halved each round */
         double t0, wall, e;
-        t0 = now_s();
+        t0 = aenl_now_s();
         if (aenl_sim_simulate_rk4(&m, &acc, h, &rk, &err) != AENL_OK)
         {
             aenl_sim_result_free(&ref);
             aenl_cli_error(k_cmd, "%s", err.msg);
             return AENL_EXIT_FAIL;
         }
-        wall = now_s() - t0;
+        wall = aenl_now_s() - t0;
         e = rel_error(&rk, &ref);
         cost_per_step = wall / (double)rk.info.n_steps;
         aenl_sim_result_free(&rk);
@@ -175,13 +167,13 @@ int aenl_bench_simulate(int argc, char **argv)
         if (rk_wall < 60.0)
         {
             /* Affordable: time the whole 100 s RK4 run at that step. */
-            const double t0 = now_s();
+            const double t0 = aenl_now_s();
             if (aenl_sim_simulate_rk4(&m, &run, h_need, &rk, &err) != AENL_OK)
             {
                 aenl_cli_error(k_cmd, "%s", err.msg);
                 return AENL_EXIT_FAIL;
             }
-            rk_wall = now_s() - t0;
+            rk_wall = aenl_now_s() - t0;
             aenl_sim_result_free(&rk);
             timed = 1;
         }

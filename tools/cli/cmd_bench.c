@@ -12,20 +12,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
-#include <time.h>
 #include <unistd.h>
 
 #include "aenl_cli.h"
 #include "aenl/aenl_moments.h"
+#include "aenl_tools/aenl_clock.h"
 
 static const char *const k_cmd = "bench";
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 /* A noisy two-mode oscillation (AR(2) driven by a xorshift generator): realistic node coverage. */
 static void bench_signal(double *x, size_t n)
@@ -136,18 +129,18 @@ static void bench_moments_case(const char *name, uint16_t n_grid, uint16_t n_lag
     for (int rep = 0; rep < 3; ++rep)
     {
         aenl_moments_reset(m);
-        const double t0 = now_s();
+        const double t0 = aenl_now_s();
         for (size_t i = 0; i < n_stream; ++i)
         {
             aenl_moments_push(m, x[i]);
         }
-        const double t = now_s() - t0;
+        const double t = aenl_now_s() - t0;
         best_stream = t < best_stream ? t : best_stream;
     }
     double sink = 0.0;
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     direct_eval(x, n_direct, &c, &sink);
-    const double t_direct = now_s() - t0;
+    const double t_direct = aenl_now_s() - t0;
     const double ns_stream = 1e9 * best_stream / (double)n_stream;
     const double ns_direct = 1e9 * t_direct / (double)n_direct;
     printf("  %-9s %4u nodes x %2u lags, split: stream %8.1f ns/sample | direct %10.1f ns/sample "

@@ -6,15 +6,14 @@
  *        then Nelder-Mead on the gap, common random numbers), choose with a parameter penalty,
  *        and build the updated model (docs/diagnose.md).
  */
-#define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "aenl_diagnose_internal.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_tools/aenl_rng.h"
 
 #define N_CH_MAX AENL_SIM_MAX_Q
@@ -32,13 +31,6 @@
 
 /* Runaway bound of every candidate simulation, in measured stds (see ctx_t.bound). */
 #define RUNAWAY_LIMIT 20.0
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o)
 {
@@ -1912,7 +1904,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     {
         return st;
     }
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     size_t n_ch = 0;
     const char *const *names = aenl_diagnose_channel_names(base->type, &n_ch);
     r->n_channels = n_ch;
@@ -1953,7 +1945,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     {
         measurement_snr(r);
         r->n_sims = d->x.n_sims;
-        r->seconds = now_s() - t0;
+        r->seconds = aenl_now_s() - t0;
     }
     return st;
 }
