@@ -64,6 +64,22 @@ void nlt_kf_free(kf_t *k)
     memset(k, 0, sizeof(*k));
 }
 
+/* The run's results freed, its set-up (length, sizes, inputs) kept for another run. */
+void nlt_kf_clear_run(kf_t *k)
+{
+    const size_t n = k->n;
+    const size_t nz = k->nz;
+    const size_t nx = k->nx;
+    const double *in = k->in;
+    const size_t n_in = k->n_in;
+    nlt_kf_free(k);
+    k->n = n;
+    k->nz = nz;
+    k->nx = nx;
+    k->in = in;
+    k->n_in = n_in;
+}
+
 static int kf_new_slot(kf_t *k)
 {
     if (k->n_slots == k->cap_slots)
@@ -451,14 +467,16 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
     }
     double r[NLT_MAX_X] = {0};
     double G[NLT_MAX_X * NLT_MAX_X] = {0};
+    double L[NLT_MAX_X * NLT_MAX_X] = {0}; /* Cholesky factor of G (lower) */
+    int L_ok = 0;
+    int steady = 0; /* G, like the filter's covariance, depends on the slots only: once it has
+                       converged inside a run of one slot, it and its factor stay */
     for (size_t tt = n; tt-- > 0;)
     {
         const double *F = k->F + k->slot[tt] * nx * nx;
         const double *W = k->WC + k->slot[tt] * nz * nx;
         const double *e = k->eps + tt * nz;
         double r2[NLT_MAX_X] = {0};
-        double T[NLT_MAX_X * NLT_MAX_X] = {0};
-        double G2[NLT_MAX_X * NLT_MAX_X] = {0};
         for (size_t i = 0; i < nx; ++i) /* r <- W' e + F' r */
         {
             double v = 0.0;
@@ -473,44 +491,48 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
             r2[i] = v;
         }
         memcpy(r, r2, nx * sizeof(double));
-        nlt_mat_mul(G, F, T, nx, nx, nx); /* G <- W' W + F' G F */
-        for (size_t i = 0; i < nx; ++i)
+        const int same = tt + 1u < n && k->slot[tt] == k->slot[tt + 1u];
+        steady = steady && same;
+        if (!steady)
         {
-            for (size_t j = 0; j <= i; ++j)
+            double T[NLT_MAX_X * NLT_MAX_X] = {0};
+            double G2[NLT_MAX_X * NLT_MAX_X] = {0};
+            nlt_mat_mul(G, F, T, nx, nx, nx); /* G <- W' W + F' G F */
+            for (size_t i = 0; i < nx; ++i)
             {
-                double v = 0.0;
-                for (size_t l = 0; l < nz; ++l)
+                for (size_t j = 0; j <= i; ++j)
                 {
-                    v += W[l * nx + i] * W[l * nx + j];
+                    double v = 0.0;
+                    for (size_t l = 0; l < nz; ++l)
+                    {
+                        v += W[l * nx + i] * W[l * nx + j];
+                    }
+                    for (size_t l = 0; l < nx; ++l)
+                    {
+                        v += F[l * nx + i] * T[l * nx + j];
+                    }
+                    G2[i * nx + j] = v;
+                    G2[j * nx + i] = v;
                 }
-                for (size_t l = 0; l < nx; ++l)
-                {
-                    v += F[l * nx + i] * T[l * nx + j];
-                }
-                G2[i * nx + j] = v;
-                G2[j * nx + i] = v;
             }
+            steady = same && rel_close(G2, G, nx * nx, NLT_STEADY_TOL);
+            memcpy(G, G2, nx * nx * sizeof(double));
+            memcpy(L, G, nx * nx * sizeof(double));
+            L_ok = LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nx, L, (lapack_int)nx) == 0;
         }
-        memcpy(G, G2, nx * nx * sizeof(double));
-        /* q = r' G^-1 r by a Cholesky factor (0 when G is not positive definite) */
-        double L[NLT_MAX_X * NLT_MAX_X];
-        memcpy(L, G, nx * nx * sizeof(double));
+        /* q = r' G^-1 r by the factor (0 when G is not positive definite) */
         double x[NLT_MAX_X];
         memcpy(x, r, nx * sizeof(double));
-        if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nx, L, (lapack_int)nx) == 0)
+        double v = 0.0;
+        if (L_ok)
         {
             nlt_lower_solve(L, x, nx);
-            double v = 0.0;
             for (size_t i = 0; i < nx; ++i)
             {
                 v += x[i] * x[i];
             }
-            q[tt] = v;
         }
-        else
-        {
-            q[tt] = 0.0;
-        }
+        q[tt] = v;
     }
     size_t cnt = 0;
     for (size_t t = 0; t < n; ++t)

@@ -13,13 +13,12 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_nltest.h"
 
-#define NLT_MAX_X      12    /* states of the linear model */
-#define NLT_STEADY_TOL 1e-11 /* relative change of P at which the filter is taken as steady */
-#define NLT_RIDGE      1e-10 /* relative ridge on the scaled normal equations */
-#define NLT_IMPULSE_LEVEL                                                                          \
-    1e-4                 /* upper tail of a jump statistic taken for an impulse (per sample) */
-#define NLT_ROW_BLOCK 32 /* samples whose regression rows update G together */
-#define NLT_NUIS_MAX  (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
+#define NLT_MAX_X         12    /* states of the linear model */
+#define NLT_STEADY_TOL    1e-11 /* relative change of P at which the filter is taken as steady */
+#define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
+#define NLT_IMPULSE_LEVEL 1e-4  /* tail of a jump statistic taken for an impulse */
+#define NLT_ROW_BLOCK     32    /* samples whose regression rows update G together */
+#define NLT_NUIS_MAX      (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
 
 typedef struct
 {
@@ -67,6 +66,8 @@ void nlt_mat_mul(const double *restrict a, const double *restrict b, double *res
 void nlt_lower_solve(const double *l, double *x, size_t n);
 
 void nlt_kf_free(kf_t *k);
+
+void nlt_kf_clear_run(kf_t *k);
 
 aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
                          const unsigned char *reset, const double *P_reset, aenl_err_t *err);

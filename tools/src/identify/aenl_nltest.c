@@ -23,13 +23,14 @@
 #include "aenl_tools/aenl_stats.h"
 #include "aenl_nlt_internal.h"
 
-#define NLT_N_QUANT   25 /* coarse switching-point grid: points evenly over the motion */
-#define NLT_N_FINE    9  /* fine grid points per switching point */
-#define NLT_CHI2_1_95 3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
-#define NLT_HOLD      2u                /* values of an input per step: at its start and its end */
+#define NLT_N_QUANT     25 /* coarse switching-point grid: points evenly over the motion */
+#define NLT_N_FINE      9  /* fine grid points per switching point */
+#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
+#define NLT_HOLD        2u /* values of an input per step: at its start and its end */
+#define NLT_STAGE1_LAWS 4  /* u^2, u^3, d, d u */
+
 /* every input's two values fit among the EM fit's inputs */
 typedef char nlt_inputs_fit[(NLT_HOLD * AENL_NLT_MAX_INPUT <= AENL_EM_MAX_U) ? 1 : -1];
-#define NLT_STAGE1_LAWS 4 /* u^2, u^3, d, d u */
 
 /* ---- stage 2: the laws along a fixed direction ----------------------------------------------- */
 
@@ -1503,14 +1504,7 @@ static aenl_status_t filter_with_impulses(const double *ys, const run_t *rn,
     {
         double P_imp[NLT_MAX_X * NLT_MAX_X] = {0};
         nlt_state_range(kf, P_imp);
-        const double *in = kf->in;
-        const size_t n_in = kf->n_in;
-        nlt_kf_free(kf);
-        kf->n = n;
-        kf->nz = rn->nz;
-        kf->nx = em->model.n_x;
-        kf->in = in;
-        kf->n_in = n_in;
+        nlt_kf_clear_run(kf);
         st = nlt_kf_run(kf, &em->model, ys, flag, P_imp, err);
     }
     *n_impulses = cnt;
