@@ -236,9 +236,10 @@ static int run_record(size_t i, const null_args_t *a, double *secs, int *reg, in
         {
             char snr[16];
             (void)snprintf(snr, sizeof(snr), run.snr > 0.0 ? "%g" : "inf", run.snr);
-            printf("  %3zu %-18s %-11s SNR %-4s %6zu samples  %-12s p %.2e  %.1f s\n", i,
-                   k_regime[*reg], nc == 2 ? "airfoil2dof" : "section3dof", snr, n,
-                   aenl_nlt_class_name(res.verdict_class, res.undetermined),
+            printf("  %3zu %-18s %-11s SNR %-4s %6zu samples %2zu states %3zu impulses  %-12s "
+                   "p %.2e  %.1f s\n",
+                   i, k_regime[*reg], nc == 2 ? "airfoil2dof" : "section3dof", snr, n, res.n_states,
+                   res.n_impulses, aenl_nlt_class_name(res.verdict_class, res.undetermined),
                    res.verdict >= 0 ? res.ch[res.verdict].p : 1.0, *secs);
         }
     }
