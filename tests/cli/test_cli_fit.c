@@ -9,6 +9,7 @@
  *        Bad input: exit 2, one message on stderr, nothing on stdout, no output file.
  */
 #include "aenl_cli_test.h"
+#include "aenl_test_rand.h"
 #include "aenl_tools/aenl_io.h" /* AENL_PRINTF_LIKE */
 
 #include <cjson/cJSON.h>
@@ -40,17 +41,6 @@ static void fmt(char *out, size_t cap, const char *f, ...)
 }
 static uint64_t g_lcg = 77u;
 
-static double uni(void)
-{
-    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
-    return ((double)(g_lcg >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double gauss(void)
-{
-    return sqrt(-2.0 * log(uni())) * cos(2.0 * PI * uni());
-}
-
 /* Outer modes: oscillator 1 at 0.30 rad/sample, inner mode at 0.18; oscillator 2 at 0.55. */
 static const double k_th1[3] = {0.30, 0.18, 0.30};
 
@@ -62,7 +52,7 @@ static const char *write_record(const char *name, size_t n)
     for (size_t k = 0; k < n && pos + 128 < sizeof(text); ++k)
     {
         pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%.3f,%.9f,%.9f\n", DT * (double)k,
-                                x[0] + 0.03 * gauss(), x[2] + 0.02 * gauss());
+                                x[0] + 0.03 * test_gauss(&g_lcg), x[2] + 0.02 * test_gauss(&g_lcg));
         const int s = x[0] < -0.2 ? 0 : (x[0] < 0.2 ? 1 : 2);
         const double c1 = (s == 1 ? 0.99 : 0.985) * cos(k_th1[s]);
         const double s1 = (s == 1 ? 0.99 : 0.985) * sin(k_th1[s]);
@@ -70,10 +60,10 @@ static const char *write_record(const char *name, size_t n)
         const double off = (s == 0) ? -0.2 : (s == 2 ? 0.2 : 0.0);
         const double d0 = x[0] - off;
         double xn[4];
-        xn[0] = off + c1 * d0 - s1 * x[1] + 0.03 * x[2] + 0.05 * gauss();
-        xn[1] = s1 * d0 + c1 * x[1] + 0.05 * gauss();
-        xn[2] = 0.05 * x[0] + c2 * x[2] - s2 * x[3] + 0.05 * gauss();
-        xn[3] = s2 * x[2] + c2 * x[3] + 0.05 * gauss();
+        xn[0] = off + c1 * d0 - s1 * x[1] + 0.03 * x[2] + 0.05 * test_gauss(&g_lcg);
+        xn[1] = s1 * d0 + c1 * x[1] + 0.05 * test_gauss(&g_lcg);
+        xn[2] = 0.05 * x[0] + c2 * x[2] - s2 * x[3] + 0.05 * test_gauss(&g_lcg);
+        xn[3] = s2 * x[2] + c2 * x[3] + 0.05 * test_gauss(&g_lcg);
         memcpy(x, xn, sizeof(x));
     }
     return cli_file(name, text);

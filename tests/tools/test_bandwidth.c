@@ -12,6 +12,8 @@
 
 #include "unity.h"
 
+#include "aenl_test_rand.h"
+
 #include "aenl_tools/aenl_bandwidth.h"
 
 static aenl_err_t g_err;
@@ -29,20 +31,6 @@ void tearDown(void)
 
 /* ---- deterministic data -------------------------------------------------------------------- */
 
-static double lcg_uniform(void) /* (0, 1) */
-{
-    g_lcg = g_lcg * 6364136223846793005ULL + 1442695040888963407ULL;
-    return ((double)(g_lcg >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double lcg_normal(void) /* Box-Muller */
-{
-    const double two_pi = 6.283185307179586477;
-    double u1 = lcg_uniform();
-    double u2 = lcg_uniform();
-    return sqrt(-2.0 * log(u1)) * cos(two_pi * u2);
-}
-
 /* AR(2) x_t = 1.6 x_{t-1} − 0.8 x_{t-2} + e_t, plus measurement noise of std `noise`. */
 static double *make_ar2(size_t n, double noise)
 {
@@ -53,12 +41,12 @@ static double *make_ar2(size_t n, double noise)
     TEST_ASSERT_NOT_NULL(x);
     for (i = 0; i < n + 200; ++i)
     {
-        double c = 1.6 * a - 0.8 * b + lcg_normal();
+        double c = 1.6 * a - 0.8 * b + test_gauss(&g_lcg);
         b = a;
         a = c;
         if (i >= 200)
         {
-            x[i - 200] = c + noise * lcg_normal();
+            x[i - 200] = c + noise * test_gauss(&g_lcg);
         }
     }
     return x;
@@ -73,7 +61,7 @@ static double *make_sine_ar(size_t n, double noise_std)
     TEST_ASSERT_NOT_NULL(x);
     for (i = 0; i < n + 100; ++i)
     {
-        a = 2.0 * sin(a) + noise_std * lcg_normal();
+        a = 2.0 * sin(a) + noise_std * test_gauss(&g_lcg);
         if (i >= 100)
         {
             x[i - 100] = a;
@@ -248,7 +236,7 @@ static void test_bw_select_white_noise_has_no_minimum(void)
     TEST_ASSERT_NOT_NULL(x);
     for (i = 0; i < n; ++i)
     {
-        x[i] = lcg_normal();
+        x[i] = test_gauss(&g_lcg);
     }
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_bw_select(x, n, lag1, 1, NULL, &r, &g_err));
     TEST_ASSERT_EQUAL_INT(AENL_BW_RULE, r.method);

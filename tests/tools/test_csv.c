@@ -20,6 +20,8 @@
 
 #include "unity.h"
 
+#include "aenl_test_rand.h"
+
 #include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_io.h"
 
@@ -86,12 +88,6 @@ static int count_entries_with(const char *part)
 
 static uint64_t g_lcg = 88172645463325252ULL;
 
-static double lcg_uniform(void)
-{
-    g_lcg = g_lcg * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(g_lcg >> 11) * (1.0 / 9007199254740992.0);
-}
-
 static double bits_to_double(uint64_t b)
 {
     double d;
@@ -143,12 +139,12 @@ static void test_table_round_trip_is_bit_exact(void)
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_table_alloc(&t, n_rows, 3, names, &g_err));
     for (i = 0; i < n_rows; ++i)
     {
-        uint64_t bits = ((uint64_t)(lcg_uniform() * 4294967296.0) << 32) |
-                        (uint64_t)(lcg_uniform() * 4294967296.0);
+        uint64_t bits = ((uint64_t)(test_uniform0(&g_lcg) * 4294967296.0) << 32) |
+                        (uint64_t)(test_uniform0(&g_lcg) * 4294967296.0);
         double v = bits_to_double(bits);
         aenl_table_col(&t, 0)[i] = (double)i * 0.1;
         aenl_table_col(&t, 1)[i] = isfinite(v) ? v : 1.0 / 3.0; /* random bit patterns */
-        aenl_table_col(&t, 2)[i] = (lcg_uniform() - 0.5) * 1e-3;
+        aenl_table_col(&t, 2)[i] = (test_uniform0(&g_lcg) - 0.5) * 1e-3;
     }
     /* Corner values. */
     aenl_table_col(&t, 1)[0] = -0.0;

@@ -18,6 +18,8 @@
 
 #include "unity.h"
 
+#include "aenl_test_rand.h"
+
 #include "aenl/aenl_skf.h"
 #include "aenl_tools/aenl_em.h"
 
@@ -34,17 +36,6 @@ void tearDown(void)
 }
 
 static uint64_t g_lcg;
-
-static double uni(void)
-{
-    g_lcg = g_lcg * 6364136223846793005ull + 1442695040888963407ull;
-    return ((double)(g_lcg >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double gauss(void)
-{
-    return sqrt(-2.0 * log(uni())) * cos(2.0 * PI * uni());
-}
 
 /* ---- the true model: two coupled damped oscillators; outputs x0 and x2 ----------------------- */
 
@@ -112,14 +103,14 @@ static double *simulate_truth(const truth_t *t, size_t n, uint64_t seed, int *co
     count[0] = count[1] = count[2] = 0;
     for (size_t k = 0; k < n; ++k)
     {
-        y[k * NZ + 0] = x[0] + t->r_std[0] * gauss();
-        y[k * NZ + 1] = x[2] + t->r_std[1] * gauss();
+        y[k * NZ + 0] = x[0] + t->r_std[0] * test_gauss(&g_lcg);
+        y[k * NZ + 1] = x[2] + t->r_std[1] * test_gauss(&g_lcg);
         const int s = x[0] < t->thr[0] ? 0 : (x[0] < t->thr[1] ? 1 : 2);
         count[s]++;
         double xn[NX];
         for (int i = 0; i < NX; ++i)
         {
-            xn[i] = t->b[s][i] + t->q_std * gauss();
+            xn[i] = t->b[s][i] + t->q_std * test_gauss(&g_lcg);
             for (int j = 0; j < NX; ++j)
             {
                 xn[i] += t->A[s][i][j] * x[j];
@@ -374,9 +365,9 @@ static double *simulate_rank1(size_t n, uint64_t seed, double A[NX][NX])
     double x[NX] = {0.0};
     for (size_t k = 0; k < n; ++k)
     {
-        y[k * NZ + 0] = x[0] + 0.01 * gauss();
-        y[k * NZ + 1] = x[2] + 0.01 * gauss();
-        const double u = gauss();
+        y[k * NZ + 0] = x[0] + 0.01 * test_gauss(&g_lcg);
+        y[k * NZ + 1] = x[2] + 0.01 * test_gauss(&g_lcg);
+        const double u = test_gauss(&g_lcg);
         double xn[NX];
         for (int i = 0; i < NX; ++i)
         {
@@ -757,12 +748,12 @@ static void test_em_with_a_known_input_recovers_the_markov_parameters(void)
     {
         const double tk = (double)k / (double)n;
         u[k] = sin(2.0 * PI * (0.01 * (double)k + 0.5 * 0.2 * tk * (double)k)); /* 0.01..0.21 */
-        y[k * NZ] = x[0] + 0.05 * gauss();
-        y[k * NZ + 1] = x[2] + 0.05 * gauss();
+        y[k * NZ] = x[0] + 0.05 * test_gauss(&g_lcg);
+        y[k * NZ + 1] = x[2] + 0.05 * test_gauss(&g_lcg);
         double xn[NX];
         for (size_t i = 0; i < NX; ++i)
         {
-            xn[i] = B[i] * u[k] + 0.01 * gauss();
+            xn[i] = B[i] * u[k] + 0.01 * test_gauss(&g_lcg);
             for (size_t j = 0; j < NX; ++j)
             {
                 xn[i] += A[i][j] * x[j];

@@ -12,6 +12,8 @@
 #include "aenl_tools/aenl_rfs.h"
 #include "unity.h"
 
+#include "aenl_test_rand.h"
+
 void setUp(void)
 {
 }
@@ -24,17 +26,6 @@ void tearDown(void)
 #define DT     0.05
 
 static uint64_t g_rng;
-
-static double uni(void)
-{
-    g_rng = g_rng * 6364136223846793005ull + 1442695040888963407ull;
-    return ((double)(g_rng >> 11) + 0.5) * (1.0 / 9007199254740992.0);
-}
-
-static double gauss(void)
-{
-    return sqrt(-2.0 * log(uni())) * cos(6.283185307179586 * uni());
-}
 
 typedef enum
 {
@@ -104,8 +95,8 @@ static double *simulate(law_t law, uint64_t seed)
             const double q = p0 * p0;
             f0 = p0 * (1.0 - 3.0 * q + 4.5 * q * q);
         }
-        const double a0 = -f0 - 0.3 * (p0 - p1) - 0.06 * v0 + 0.25 * gauss() / sqrt(DT);
-        const double a1 = -f1 - 0.3 * (p1 - p0) - 0.08 * v1 + 0.25 * gauss() / sqrt(DT);
+        const double a0 = -f0 - 0.3 * (p0 - p1) - 0.06 * v0 + 0.25 * test_gauss(&g_rng) / sqrt(DT);
+        const double a1 = -f1 - 0.3 * (p1 - p0) - 0.08 * v1 + 0.25 * test_gauss(&g_rng) / sqrt(DT);
         v0 += DT * a0;
         v1 += DT * a1;
         p0 += DT * v0;
