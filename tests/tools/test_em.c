@@ -836,6 +836,104 @@ static void test_em_with_a_known_input_recovers_the_markov_parameters(void)
     free(u);
 }
 
+/* The floor of a mode against an independent computation: the AR(2) process's autocovariances
+ * summed from its impulse response (not the closed form), the covariance of (a1, a2) as their
+ * inverse over n, and the map to (f, zeta) differentiated by central differences. */
+static void floor_reference(double f, double zeta, double dt, double n, double *sf, double *sz)
+{
+    const double wd = 2.0 * PI * f;
+    const double sig = zeta * wd / sqrt(1.0 - zeta * zeta);
+    const double r = exp(-sig * dt);
+    const double a[2] = {2.0 * r * cos(wd * dt), -r * r};
+    double g0 = 0.0;
+    double g1 = 0.0;
+    double p2 = 0.0;
+    double p1 = 1.0; /* psi_0 */
+    for (int k = 0; k < 2000000; ++k)
+    {
+        const double p0 = k == 0 ? 1.0 : a[0] * p1 + a[1] * p2;
+        if (k > 0)
+        {
+            g1 += p1 * p0;
+        }
+        g0 += p0 * p0;
+        p2 = k == 0 ? 0.0 : p1;
+        p1 = p0;
+        if (k > 10 && fabs(p0) < 1e-300)
+        {
+            break;
+        }
+    }
+    const double det = g0 * g0 - g1 * g1;
+    const double cov[2][2] = {{g0 / det / n, -g1 / det / n}, {-g1 / det / n, g0 / det / n}};
+    double jac[2][2]; /* d(f, zeta) / d(a1, a2) */
+    for (int j = 0; j < 2; ++j)
+    {
+        double out[2][2];
+        for (int sgn = 0; sgn < 2; ++sgn)
+        {
+            double b[2] = {a[0], a[1]};
+            const double h = 1e-8 * fabs(a[j]); /* acos is steep near 1: a small step */
+            b[j] += sgn ? h : -h;
+            const double th = acos(b[0] / (2.0 * sqrt(-b[1])));
+            const double S = -0.5 * log(-b[1]);
+            out[sgn][0] = th / (2.0 * PI * dt);
+            out[sgn][1] = S / sqrt(S * S + th * th);
+        }
+        for (int i = 0; i < 2; ++i)
+        {
+            jac[i][j] = (out[1][i] - out[0][i]) / (2.0 * 1e-8 * fabs(a[j]));
+        }
+    }
+    double v[2];
+    for (int i = 0; i < 2; ++i)
+    {
+        v[i] = jac[i][0] * (jac[i][0] * cov[0][0] + jac[i][1] * cov[1][0]) +
+               jac[i][1] * (jac[i][0] * cov[0][1] + jac[i][1] * cov[1][1]);
+    }
+    *sf = sqrt(v[0]) / f;
+    *sz = sqrt(v[1]) / zeta;
+}
+
+static void test_em_mode_floor_matches_an_independent_computation(void)
+{
+    static const double k_case[][4] = {/* f, zeta, dt, n */
+                                       {0.0092, 0.209, 0.5, 20000.0},
+                                       {0.0334, 0.106, 0.5, 20000.0},
+                                       {12.0, 0.02, 0.002, 5000.0},
+                                       {0.3, 0.6, 0.25, 800.0}};
+    for (size_t c = 0; c < sizeof(k_case) / sizeof(k_case[0]); ++c)
+    {
+        double sf = 0.0;
+        double sz = 0.0;
+        double rf = 0.0;
+        double rz = 0.0;
+        TEST_ASSERT_EQUAL_INT(1, aenl_em_mode_floor(k_case[c][0], k_case[c][1], k_case[c][2],
+                                                    k_case[c][3], &sf, &sz));
+        floor_reference(k_case[c][0], k_case[c][1], k_case[c][2], k_case[c][3], &rf, &rz);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-5 * rf, rf, sf);
+        TEST_ASSERT_DOUBLE_WITHIN(1e-5 * rz, rz, sz);
+    }
+    /* n transitions give 1/sqrt(n) */
+    double s1 = 0.0;
+    double z1 = 0.0;
+    double s4 = 0.0;
+    double z4 = 0.0;
+    TEST_ASSERT_EQUAL_INT(1, aenl_em_mode_floor(0.05, 0.1, 1.0, 1000.0, &s1, &z1));
+    TEST_ASSERT_EQUAL_INT(1, aenl_em_mode_floor(0.05, 0.1, 1.0, 4000.0, &s4, &z4));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.5 * s1, s4);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12, 0.5 * z1, z4);
+    /* undefined: no damping, overdamped, at Nyquist, too few transitions; nothing written */
+    double keep = -1.0;
+    double keep2 = -1.0;
+    TEST_ASSERT_EQUAL_INT(0, aenl_em_mode_floor(0.05, 0.0, 1.0, 1000.0, &keep, &keep2));
+    TEST_ASSERT_EQUAL_INT(0, aenl_em_mode_floor(0.05, 1.0, 1.0, 1000.0, &keep, &keep2));
+    TEST_ASSERT_EQUAL_INT(0, aenl_em_mode_floor(0.5, 0.1, 1.0, 1000.0, &keep, &keep2));
+    TEST_ASSERT_EQUAL_INT(0, aenl_em_mode_floor(0.05, 0.1, 1.0, 2.0, &keep, &keep2));
+    TEST_ASSERT_EQUAL_DOUBLE(-1.0, keep);
+    TEST_ASSERT_EQUAL_DOUBLE(-1.0, keep2);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -849,5 +947,6 @@ int main(void)
     RUN_TEST(test_em_rejects_bad_options);
     RUN_TEST(test_em_with_a_known_input_recovers_the_markov_parameters);
     RUN_TEST(test_em_core_filter_converges_to_lapacke_dare);
+    RUN_TEST(test_em_mode_floor_matches_an_independent_computation);
     return UNITY_END();
 }

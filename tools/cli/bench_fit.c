@@ -338,28 +338,6 @@ static void amplitude(const double *a, size_t k0, size_t n, size_t stride, doubl
     *centre = 0.5 * (mx + mn);
 }
 
-/* Cramer-Rao bound of one damped mode of frequency f (cycles per time unit, damped) and damping
- * ratio zeta from n transitions at step dt, in the most favourable case: the mode alone, driven
- * by white noise and observed without noise (an AR(2) process, whose parameters (a1, a2) have the
- * asymptotic covariance [[1 - a2^2, -a1 (1 + a2)], [., 1 - a2^2]] / n). Relative standard
- * deviations of f and zeta; no unbiased estimator from these data does better. */
-static void crb_mode(double f, double zeta, double dt, double n, double *sf, double *sz)
-{
-    const double wd = 2.0 * MS_PI * f, wn = wd / sqrt(1.0 - zeta * zeta), sg = zeta * wn;
-    const double r = exp(-sg * dt), th = wd * dt, a1 = 2.0 * r * cos(th), a2 = -r * r;
-    const double m11 = (1.0 - a2 * a2) / n, m12 = -a1 * (1.0 + a2) / n;
-    /* theta = acos(a1 / (2 sqrt(-a2))), sigma dt = -ln(-a2) / 2 */
-    const double g1 = -1.0 / (2.0 * r * sin(th)), g2 = -cos(th) / (2.0 * r * r * sin(th));
-    const double h2 = 0.5 / (r * r);
-    const double v_th = g1 * g1 * m11 + 2.0 * g1 * g2 * m12 + g2 * g2 * m11;
-    const double v_sg = h2 * h2 * m11, c_ts = g1 * h2 * m12 + g2 * h2 * m11;
-    const double S = sg * dt, T = th, q = S * S + T * T;
-    const double dz_ds = T * T / (q * sqrt(q)), dz_dt = -S * T / (q * sqrt(q));
-    const double v_z = dz_ds * dz_ds * v_sg + 2.0 * dz_ds * dz_dt * c_ts + dz_dt * dz_dt * v_th;
-    *sf = sqrt(v_th) / T;
-    *sz = sqrt(v_z) / (S / sqrt(q));
-}
-
 /* True sub-model of EM mode s (pitch slope outer 1 / inner) against the identified one: every
  * true oscillatory pair with damping < 0.5, matched to the identified pair nearest in frequency,
  * with the Cramer-Rao floor of that pair for the transitions of the mode. The true values are
@@ -401,8 +379,9 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
         }
         shown = 1;
         const double ft = tm[i].frequency / (2.0 * MS_PI * u); /* omega/omega_alpha -> per tau */
-        double cf, cz;
-        crb_mode(ft, tm[i].damping, em->dt, n_tr, &cf, &cz);
+        double cf = NAN;
+        double cz = NAN;
+        (void)aenl_em_mode_floor(ft, tm[i].damping, em->dt, n_tr, &cf, &cz);
         size_t best = no;
         for (size_t j = 0; j < no; ++j)
         {

@@ -403,7 +403,7 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
     const aenl_em_model_t *m = &r->model;
     const size_t nx = m->n_x, nz = m->n_z;
     cJSON *root = cJSON_CreateObject();
-    cJSON_AddStringToObject(root, "schema", "aenl-fit/1");
+    cJSON_AddStringToObject(root, "schema", "aenl-fit/2");
     cJSON_AddStringToObject(root, "aenl_version", AENL_VERSION);
     cJSON_AddStringToObject(root, "file", data);
     cJSON *ch = cJSON_CreateArray();
@@ -433,6 +433,7 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
         aenl_err_t err;
         aenl_err_clear(&err);
         cJSON *eig = cJSON_CreateArray(), *fr = cJSON_CreateArray(), *dz = cJSON_CreateArray();
+        cJSON *fr_floor = cJSON_CreateArray(), *dz_floor = cJSON_CreateArray();
         if (aenl_em_modal(m, s, e, &n_eig, &n_osc, &err) == AENL_OK)
         {
             for (size_t i = 0; i < n_eig; ++i)
@@ -447,14 +448,22 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
                 }
                 if (pair)
                 {
+                    double sf = NAN;
+                    double sz = NAN;
+                    (void)aenl_em_mode_floor(e[i].frequency, e[i].damping, m->dt,
+                                             (double)r->mode_count[s], &sf, &sz);
                     cJSON_AddItemToArray(fr, cJSON_CreateNumber(e[i].frequency));
                     cJSON_AddItemToArray(dz, cJSON_CreateNumber(e[i].damping));
+                    cJSON_AddItemToArray(fr_floor, num_or_null(sf));
+                    cJSON_AddItemToArray(dz_floor, num_or_null(sz));
                 }
             }
         }
         cJSON_AddItemToObject(o, "eig", eig);
         cJSON_AddItemToObject(o, "frequency", fr);
         cJSON_AddItemToObject(o, "damping", dz);
+        cJSON_AddItemToObject(o, "frequency_floor", fr_floor);
+        cJSON_AddItemToObject(o, "damping_floor", dz_floor);
         cJSON_AddItemToArray(modes, o);
     }
     cJSON_AddItemToObject(root, "modes", modes);
@@ -494,7 +503,15 @@ static void print_text(const aenl_em_result_t *r, const char *data, const char *
         {
             for (size_t i = 0; i < n_osc; ++i)
             {
-                printf(" f %.6g zeta %.4g;", e[i].frequency, e[i].damping);
+                double sf = NAN;
+                double sz = NAN;
+                printf(" f %.6g zeta %.4g", e[i].frequency, e[i].damping);
+                if (aenl_em_mode_floor(e[i].frequency, e[i].damping, m->dt,
+                                       (double)r->mode_count[s], &sf, &sz))
+                {
+                    printf(" (floor %.3g %% / %.3g %%)", 100.0 * sf, 100.0 * sz);
+                }
+                printf(";");
             }
         }
         printf("\n");

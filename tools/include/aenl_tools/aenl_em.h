@@ -205,6 +205,18 @@ aenl_status_t aenl_em_modal(const aenl_em_model_t *m, size_t mode, aenl_em_eig_t
                             size_t *n_eig, size_t *n_osc, aenl_err_t *err);
 
 /**
+ * @brief The Cramer-Rao floor of one oscillatory mode: the relative standard deviations *sf of
+ *        its frequency and *sz of its damping ratio that no unbiased estimate from n transitions
+ *        at step dt beats, in the most favourable case (the mode alone, driven by white noise,
+ *        observed without noise). f in cycles per time unit of dt, 0 < zeta < 1.
+ * @return 1, or 0 (nothing written) when the floor is not defined: zeta outside (0, 1), f or dt
+ *         not positive, f at or above the Nyquist frequency, fewer than 3 transitions.
+ * @note A record's own noise, other modes and a split between modes make the real spread larger:
+ *       the floor says how far a 2 % goal is from what the data can hold.
+ */
+int aenl_em_mode_floor(double f, double zeta, double dt, double n, double *sf, double *sz);
+
+/**
  * @brief Noise-free simulation of the identified model from x_init (NULL: m->x0): y = C x,
  *        n samples into y_out (n x n_z), modes from the thresholds on (C x)[switch_channel].
  */

@@ -3123,6 +3123,42 @@ aenl_status_t aenl_em_modal(const aenl_em_model_t *m, size_t mode, aenl_em_eig_t
     return AENL_OK;
 }
 
+/* The mode as an AR(2) process x_k = a1 x_{k-1} + a2 x_{k-2} + e_k, a1 = 2 r cos(theta),
+ * a2 = -r^2, r = exp(-zeta w_n dt), theta = w_d dt: its least-squares estimate, efficient for
+ * Gaussian e, has the asymptotic covariance [[1 - a2^2, -a1 (1 + a2)], [., 1 - a2^2]] / n, which
+ * the delta method carries to theta and to sigma dt = -ln(r), then to f = theta / (2 pi dt)
+ * and zeta = S / sqrt(S^2 + theta^2) (S = sigma dt). */
+int aenl_em_mode_floor(double f, double zeta, double dt, double n, double *sf, double *sz)
+{
+    const double two_pi = 6.283185307179586477;
+    const double th = two_pi * f * dt;
+    if (!(f > 0.0) || !(zeta > 0.0) || !(zeta < 1.0) || !(dt > 0.0) || !(n >= 3.0) ||
+        !(th < 0.5 * two_pi) || sf == NULL || sz == NULL)
+    {
+        return 0;
+    }
+    const double S = th * zeta / sqrt(1.0 - zeta * zeta); /* sigma dt, sigma = zeta w_n */
+    const double r = exp(-S);
+    const double a1 = 2.0 * r * cos(th);
+    const double a2 = -r * r;
+    const double m11 = (1.0 - a2 * a2) / n;
+    const double m12 = -a1 * (1.0 + a2) / n;
+    /* theta = acos(a1 / (2 sqrt(-a2))), S = -ln(-a2) / 2: their gradients in (a1, a2) */
+    const double g1 = -1.0 / (2.0 * r * sin(th));
+    const double g2 = -cos(th) / (2.0 * r * r * sin(th));
+    const double h2 = 0.5 / (r * r);
+    const double v_th = g1 * g1 * m11 + 2.0 * g1 * g2 * m12 + g2 * g2 * m11;
+    const double v_s = h2 * h2 * m11;
+    const double c_ts = g1 * h2 * m12 + g2 * h2 * m11;
+    const double q = S * S + th * th;
+    const double dz_ds = th * th / (q * sqrt(q));
+    const double dz_dt = -S * th / (q * sqrt(q));
+    const double v_z = dz_ds * dz_ds * v_s + 2.0 * dz_ds * dz_dt * c_ts + dz_dt * dz_dt * v_th;
+    *sf = sqrt(v_th) / th;
+    *sz = sqrt(v_z) / (S / sqrt(q));
+    return 1;
+}
+
 aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, size_t n,
                                double *y_out, aenl_err_t *err)
 {
