@@ -108,6 +108,9 @@ static void test_json_fit_and_diagnose(void)
     const char *rec = simulated(EXAMPLES "paper_polynomial_pitch.ini", "j_poly.csv");
     const char *fit[] = {"fit", rec, "--thresholds", "alpha:0.0", "--iter", "5", "--json", NULL};
     check_output("fit", fit);
+    const char *boot[] = {"fit",         rec, "--thresholds", "alpha:0.0", "--iter", "5",
+                          "--bootstrap", "2", "--json",       NULL};
+    check_output("fit", boot);
     const char *meas = simulated(EXAMPLES "diagnose_truth_airfoil2dof.ini", "j_dg.csv");
     const char *dg[] = {
         "diagnose", "--measured",  meas, "--model",    EXAMPLES "diagnose_base_airfoil2dof.ini",

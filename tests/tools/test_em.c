@@ -22,6 +22,8 @@
 
 #include "aenl/aenl_skf.h"
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_rng.h"
+#include "aenl_tools/aenl_sort.h"
 
 #define NX 4
 #define NZ 2
@@ -934,6 +936,169 @@ static void test_em_mode_floor_matches_an_independent_computation(void)
     TEST_ASSERT_EQUAL_DOUBLE(-1.0, keep2);
 }
 
+/* ---- noisy simulation and the parametric bootstrap ------------------------------------------ */
+
+/* One damped oscillator seen through its first state: A = rho rot(theta), C = [1 0]. */
+static void oscillator(aenl_em_model_t *m, double rho, double theta, double q, double r)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_alloc(m, 2, 1, 1, &err));
+    m->dt = 1.0;
+    m->A[0] = rho * cos(theta);
+    m->A[1] = -rho * sin(theta);
+    m->A[2] = rho * sin(theta);
+    m->A[3] = rho * cos(theta);
+    m->Q[0] = q * q;
+    m->Q[3] = q * q;
+    m->C[0] = 1.0;
+    m->R[0] = r * r;
+}
+
+static void test_em_noisy_simulation_has_the_models_covariances(void)
+{
+    aenl_em_model_t m;
+    oscillator(&m, 0.95, 0.4, 0.1, 0.05);
+    /* the stationary state covariance by iterating P <- A P A' + Q (the reference) */
+    double P[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int it = 0; it < 5000; ++it)
+    {
+        double AP[4];
+        double Pn[4];
+        for (int i = 0; i < 2; ++i)
+        {
+            for (int j = 0; j < 2; ++j)
+            {
+                AP[i * 2 + j] = m.A[i * 2] * P[j] + m.A[i * 2 + 1] * P[2 + j];
+            }
+        }
+        for (int i = 0; i < 2; ++i)
+        {
+            for (int j = 0; j < 2; ++j)
+            {
+                Pn[i * 2 + j] =
+                    AP[i * 2] * m.A[j * 2] + AP[i * 2 + 1] * m.A[j * 2 + 1] + m.Q[i * 2 + j];
+            }
+        }
+        memcpy(P, Pn, sizeof(P));
+    }
+    memcpy(m.P0, P, sizeof(P)); /* start in the stationary distribution */
+    const double var_y = P[0] + m.R[0];
+    const double cov_1 = m.A[0] * P[0] + m.A[1] * P[2]; /* E y_{k+1} y_k = (A P)_{00} */
+    const size_t n = 200000;
+    double *y = (double *)malloc(n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 11u);
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_simulate_noisy(&m, NULL, n, &g, y, &err));
+    double s0 = 0.0;
+    double s1 = 0.0;
+    for (size_t k = 0; k < n; ++k)
+    {
+        s0 += y[k] * y[k];
+        s1 += k + 1u < n ? y[k + 1u] * y[k] : 0.0;
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(0.05 * var_y, var_y, s0 / (double)n);
+    TEST_ASSERT_DOUBLE_WITHIN(0.05 * var_y, cov_1, s1 / (double)(n - 1u));
+    /* without a generator it is the noise-free simulation */
+    double *z = (double *)malloc(100 * sizeof(double));
+    double *w = (double *)malloc(100 * sizeof(double));
+    TEST_ASSERT_NOT_NULL(z);
+    TEST_ASSERT_NOT_NULL(w);
+    m.x0[0] = 1.0;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_simulate_noisy(&m, NULL, 100, NULL, z, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_simulate(&m, NULL, 100, w, &err));
+    TEST_ASSERT_EQUAL_MEMORY(w, z, 100 * sizeof(double));
+    TEST_ASSERT_DOUBLE_WITHIN(1e-15, pow(0.95, 10) * cos(4.0), z[10]);
+    free(w);
+    free(z);
+    free(y);
+    aenl_em_model_free(&m);
+}
+
+/* Median of v (n values, reordered) and 1.4826 x its median absolute deviation. */
+static double robust_sd(double *v, size_t n)
+{
+    qsort(v, n, sizeof(double), aenl_cmp_double);
+    const double med = aenl_quantile_sorted(v, n, 0.5);
+    for (size_t k = 0; k < n; ++k)
+    {
+        v[k] = fabs(v[k] - med);
+    }
+    qsort(v, n, sizeof(double), aenl_cmp_double);
+    return 1.482602218505602 * aenl_quantile_sorted(v, n, 0.5);
+}
+
+/* The bootstrap's standard error on one record against the spread of the same fit over many
+ * independent records of the true model (the quantity it estimates). */
+static void test_em_bootstrap_standard_error_matches_the_spread_over_records(void)
+{
+    enum
+    {
+        N_REC = 200,
+        N_BOOT = 200
+    };
+    const size_t n = 2000;
+    aenl_em_model_t truth;
+    oscillator(&truth, 0.97, 0.3, 0.1, 0.05);
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.n_states = 2;
+    o.max_iter = 100;
+    double *y = (double *)malloc(n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    double f_fit[N_REC];
+    double z_fit[N_REC];
+    aenl_em_result_t keep;
+    memset(&keep, 0, sizeof(keep));
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    for (size_t k = 0; k < N_REC; ++k)
+    {
+        aenl_rng_t g;
+        aenl_rng_seed(&g, 1000u + k);
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_simulate_noisy(&truth, NULL, n, &g, y, &err));
+        aenl_em_result_t r;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_em_fit(y, n, 1, &o, &r, &err), err.msg);
+        aenl_em_eig_t e[2];
+        size_t ne = 0;
+        size_t no = 0;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_modal(&r.model, 0, e, &ne, &no, &err));
+        TEST_ASSERT_EQUAL_size_t(1, no);
+        f_fit[k] = e[0].frequency;
+        z_fit[k] = e[0].damping;
+        if (k == 0)
+        {
+            keep = r;
+        }
+        else
+        {
+            aenl_em_result_free(&r);
+        }
+    }
+    const double sd_f = robust_sd(f_fit, N_REC);
+    const double sd_z = robust_sd(z_fit, N_REC);
+    aenl_em_boot_t b;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_bootstrap(&keep, &o, n, N_BOOT, 7u, &b, &err));
+    TEST_ASSERT_EQUAL_size_t(N_BOOT, b.n_ok);
+    TEST_ASSERT_EQUAL_size_t(1, b.n_pairs[0]);
+    /* each robust spread from 200 values scatters by about 8 %, their ratio by about 12 % */
+    TEST_ASSERT_TRUE(b.f_sd[0][0] > 0.7 * sd_f && b.f_sd[0][0] < 1.4 * sd_f);
+    TEST_ASSERT_TRUE(b.z_sd[0][0] > 0.7 * sd_z && b.z_sd[0][0] < 1.4 * sd_z);
+    /* the maximum-likelihood fit of a well-excited mode is nearly unbiased */
+    TEST_ASSERT_TRUE(fabs(b.f_bias[0][0]) < b.f_sd[0][0]);
+    /* bad arguments leave the result alone */
+    aenl_em_boot_t b2;
+    memset(&b2, 0x5a, sizeof(b2));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_bootstrap(&keep, &o, n, 0, 7u, &b2, &err));
+    TEST_ASSERT_EQUAL_UINT8(0x5a, ((unsigned char *)&b2)[0]);
+    aenl_em_result_free(&keep);
+    aenl_em_model_free(&truth);
+    free(y);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -948,5 +1113,7 @@ int main(void)
     RUN_TEST(test_em_with_a_known_input_recovers_the_markov_parameters);
     RUN_TEST(test_em_core_filter_converges_to_lapacke_dare);
     RUN_TEST(test_em_mode_floor_matches_an_independent_computation);
+    RUN_TEST(test_em_noisy_simulation_has_the_models_covariances);
+    RUN_TEST(test_em_bootstrap_standard_error_matches_the_spread_over_records);
     return UNITY_END();
 }

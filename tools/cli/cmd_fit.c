@@ -23,7 +23,8 @@ static void help(void)
     printf("usage: aenl fit DATA.csv --thresholds CH:T1[,T2,...] [--states N] [--iter K]\n"
            "                [--channels A,B] [--freeze A,b,Q,R,x0] [--free-c] [--refine]\n"
            "                [--modes-from-data] [--tol REL] [--init arx|subspace] [--plain-em]\n"
-           "                [--json] [-o model.ini] [--c-header model.h] [--name IDENT]\n\n"
+           "                [--bootstrap N] [--seed S] [--json] [-o model.ini]\n"
+           "                [--c-header model.h] [--name IDENT]\n\n"
            "Identifies x_k = A_s x_{k-1} + b_s + v, y_k = C x_k + w by EM (Kalman filter + RTS\n"
            "smoother, closed-form M-step), the mode s chosen by the thresholds on channel CH (the\n"
            "seed paper's freeplay: --thresholds alpha:ALPHA_F,ALPHA_F+DELTA). Every data column\n"
@@ -36,6 +37,10 @@ static void help(void)
            "delay-embedding regression (--init subspace: covariance-driven stochastic subspace).\n"
            "A lightly excited, heavily damped mode needs hundreds of iterations: check that the\n"
            "log-likelihood has levelled off (--json loglik, or --tol).\n"
+           "Each oscillatory pair comes with its Cramer-Rao floor (the spread no unbiased\n"
+           "estimate from the mode's samples beats); --bootstrap N adds standard errors and\n"
+           "biases from N records simulated from the fit with its noise and fitted again (N\n"
+           "times the fit's cost; --seed S, default 1).\n"
            "--json prints {\"modes\": [...], \"C\", \"R\", \"loglik\": [...]}, modes in ascending\n"
            "order of their threshold interval. --c-header writes a const aenl_skf_model_t.\n");
 }
@@ -109,7 +114,7 @@ static void ident_from_path(const char *path, char *out, size_t cap)
 typedef struct
 {
     const char *data, *thr, *channels, *freeze, *out_ini, *out_h, *name;
-    long states, iter;
+    long states, iter, bootstrap, seed;
     int json, refine, free_c, modes_from_data, plain_em, init;
     double tol;
 } fit_args_t;
@@ -148,10 +153,11 @@ static const char **text_option(const char *o, fit_args_t *a)
 static int is_setting(const char *o)
 {
     return strcmp(o, "--states") == 0 || strcmp(o, "--iter") == 0 || strcmp(o, "--tol") == 0 ||
-           strcmp(o, "--init") == 0;
+           strcmp(o, "--init") == 0 || strcmp(o, "--bootstrap") == 0 || strcmp(o, "--seed") == 0;
 }
 
-/* The value v of --init, --states, --iter or --tol: 0, or -1 after printing what is wrong. */
+/* The value v of --init, --states, --iter, --bootstrap, --seed or --tol: 0, or -1 after printing
+ * what is wrong. */
 static int parse_setting(const char *o, const char *v, fit_args_t *a)
 {
     if (strcmp(o, "--init") == 0)
@@ -180,6 +186,20 @@ static int parse_setting(const char *o, const char *v, fit_args_t *a)
     else if (strcmp(o, "--iter") == 0)
     {
         if (aenl_cli_parse_long(k_cmd, "--iter", v, 0, 100000, &a->iter) != 0)
+        {
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--bootstrap") == 0)
+    {
+        if (aenl_cli_parse_long(k_cmd, "--bootstrap", v, 0, 10000, &a->bootstrap) != 0)
+        {
+            return -1;
+        }
+    }
+    else if (strcmp(o, "--seed") == 0)
+    {
+        if (aenl_cli_parse_long(k_cmd, "--seed", v, 0, 2147483647L, &a->seed) != 0)
         {
             return -1;
         }
@@ -231,6 +251,7 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
 {
     memset(a, 0, sizeof(*a));
     a->iter = 50;
+    a->seed = 1;
     for (int i = 1; i < argc; ++i)
     {
         const char *o = argv[i];
@@ -398,7 +419,20 @@ static int time_step(const aenl_table_t *t, const char *path, double *dt)
     return 0;
 }
 
-static void print_json(const aenl_em_result_t *r, const char *data, const char *const *names)
+/* The bootstrap's figure q of pair i of mode s as a JSON array member; null where not
+ * determined. */
+static cJSON *boot_array(const double (*q)[AENL_EM_MAX_X / 2], size_t s, size_t n)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (size_t i = 0; i < n; ++i)
+    {
+        cJSON_AddItemToArray(a, num_or_null(q[s][i]));
+    }
+    return a;
+}
+
+static void print_json(const aenl_em_result_t *r, const aenl_em_boot_t *boot, const char *data,
+                       const char *const *names)
 {
     const aenl_em_model_t *m = &r->model;
     const size_t nx = m->n_x, nz = m->n_z;
@@ -464,6 +498,20 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
         cJSON_AddItemToObject(o, "damping", dz);
         cJSON_AddItemToObject(o, "frequency_floor", fr_floor);
         cJSON_AddItemToObject(o, "damping_floor", dz_floor);
+        if (boot != NULL)
+        {
+            const size_t np = boot->n_pairs[s];
+            cJSON_AddItemToObject(o, "frequency_se", boot_array(boot->f_sd, s, np));
+            cJSON_AddItemToObject(o, "damping_se", boot_array(boot->z_sd, s, np));
+            cJSON_AddItemToObject(o, "frequency_bias", boot_array(boot->f_bias, s, np));
+            cJSON_AddItemToObject(o, "damping_bias", boot_array(boot->z_bias, s, np));
+            cJSON *found = cJSON_CreateArray();
+            for (size_t i = 0; i < np; ++i)
+            {
+                cJSON_AddItemToArray(found, cJSON_CreateNumber((double)boot->found[s][i]));
+            }
+            cJSON_AddItemToObject(o, "pair_found", found);
+        }
         cJSON_AddItemToArray(modes, o);
     }
     cJSON_AddItemToObject(root, "modes", modes);
@@ -472,6 +520,13 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
     cJSON_AddItemToObject(root, "loglik", json_vector(r->loglik, r->n_iter));
     cJSON_AddNumberToObject(root, "loglik_final", r->loglik_final);
     cJSON_AddNumberToObject(root, "missing", (double)r->n_missing);
+    if (boot != NULL)
+    {
+        cJSON *b = cJSON_CreateObject();
+        cJSON_AddNumberToObject(b, "requested", (double)boot->n_requested);
+        cJSON_AddNumberToObject(b, "refits", (double)boot->n_ok);
+        cJSON_AddItemToObject(root, "bootstrap", b);
+    }
     char *text = cJSON_Print(root);
     if (text != NULL)
     {
@@ -481,7 +536,37 @@ static void print_json(const aenl_em_result_t *r, const char *data, const char *
     cJSON_Delete(root);
 }
 
-static void print_text(const aenl_em_result_t *r, const char *data, const char *const *names)
+/* One estimate v with its standard error se (also relative), its one-channel floor (relative;
+ * when has_floor) and its bias. */
+static void print_estimate(const char *what, double v, double se, double floor_rel, int has_floor,
+                           double bias)
+{
+    printf("  %s %.6g +- %.2g (%.3g %%", what, v, se, 100.0 * se / fabs(v));
+    if (has_floor)
+    {
+        printf("; floor %.3g %%", 100.0 * floor_rel);
+    }
+    printf("; bias %+.2g)", bias);
+}
+
+/* Pair i of mode s on its own line with the bootstrap's standard errors and biases (or how
+ * few refits found it). */
+static void print_pair_boot(const aenl_em_eig_t *e, const aenl_em_boot_t *boot, size_t s, size_t i,
+                            double sf, double sz, int has_floor)
+{
+    if (!isfinite(boot->f_sd[s][i]))
+    {
+        printf("  f %.6g  zeta %.4g  (the pair is found in %zu of %zu refits: not determined)\n",
+               e->frequency, e->damping, boot->found[s][i], boot->n_ok);
+        return;
+    }
+    print_estimate("f", e->frequency, boot->f_sd[s][i], sf, has_floor, boot->f_bias[s][i]);
+    print_estimate("zeta", e->damping, boot->z_sd[s][i], sz, has_floor, boot->z_bias[s][i]);
+    printf("\n");
+}
+
+static void print_text(const aenl_em_result_t *r, const aenl_em_boot_t *boot, const char *data,
+                       const char *const *names)
 {
     const aenl_em_model_t *m = &r->model;
     printf("%s: %zu outputs, %zu states, %zu modes switching on %s, dt %g\n", data, m->n_z, m->n_x,
@@ -490,6 +575,19 @@ static void print_text(const aenl_em_result_t *r, const char *data, const char *
     {
         printf("log-likelihood %.6f -> %.6f in %zu iterations\n", r->loglik[0], r->loglik_final,
                r->n_iter);
+    }
+    const int per_line = boot != NULL && boot->n_ok > 0; /* a line per pair, with its errors */
+    if (per_line)
+    {
+        printf("parametric bootstrap: %zu of %zu records simulated from the fit, fitted again; "
+               "+- standard error, bias = their median - the fit\n",
+               boot->n_ok, boot->n_requested);
+    }
+    else if (boot != NULL)
+    {
+        printf("parametric bootstrap: none of the %zu records simulated from the fit could be "
+               "fitted again (no standard errors)\n",
+               boot->n_requested);
     }
     for (size_t s = 0; s < m->n_modes; ++s)
     {
@@ -501,17 +599,31 @@ static void print_text(const aenl_em_result_t *r, const char *data, const char *
                s + 1 == m->n_modes ? HUGE_VAL : m->thresholds[s], r->mode_count[s]);
         if (aenl_em_modal(m, s, e, &n_eig, &n_osc, &err) == AENL_OK)
         {
+            if (per_line)
+            {
+                printf("\n");
+            }
             for (size_t i = 0; i < n_osc; ++i)
             {
                 double sf = NAN;
                 double sz = NAN;
+                const int has_floor = aenl_em_mode_floor(e[i].frequency, e[i].damping, m->dt,
+                                                         (double)r->mode_count[s], &sf, &sz);
+                if (per_line && i < boot->n_pairs[s])
+                {
+                    print_pair_boot(&e[i], boot, s, i, sf, sz, has_floor);
+                    continue;
+                }
                 printf(" f %.6g zeta %.4g", e[i].frequency, e[i].damping);
-                if (aenl_em_mode_floor(e[i].frequency, e[i].damping, m->dt,
-                                       (double)r->mode_count[s], &sf, &sz))
+                if (has_floor)
                 {
                     printf(" (floor %.3g %% / %.3g %%)", 100.0 * sf, 100.0 * sz);
                 }
                 printf(";");
+            }
+            if (per_line)
+            {
+                continue;
             }
         }
         printf("\n");
@@ -715,6 +827,18 @@ int aenl_cmd_fit(int argc, char **argv)
         aenl_cli_error(k_cmd, "%s: %s", a.data, err.msg);
         return AENL_EXIT_USAGE;
     }
+    /* before any output is written: a failure leaves nothing behind */
+    aenl_em_boot_t boot;
+    if (a.bootstrap > 0)
+    {
+        st = aenl_em_bootstrap(&r, &o, rec.n, (size_t)a.bootstrap, (uint64_t)a.seed, &boot, &err);
+        if (st != AENL_OK)
+        {
+            aenl_cli_error(k_cmd, "%s", err.msg);
+            aenl_em_result_free(&r);
+            return aenl_cli_exit(st);
+        }
+    }
     st = write_model(&a, &r.model, &err);
     if (st != AENL_OK)
     {
@@ -722,13 +846,14 @@ int aenl_cmd_fit(int argc, char **argv)
         aenl_em_result_free(&r);
         return AENL_EXIT_USAGE;
     }
+    const aenl_em_boot_t *bp = a.bootstrap > 0 ? &boot : NULL;
     if (a.json)
     {
-        print_json(&r, a.data, rec.names);
+        print_json(&r, bp, a.data, rec.names);
     }
     else
     {
-        print_text(&r, a.data, rec.names);
+        print_text(&r, bp, a.data, rec.names);
     }
     aenl_em_result_free(&r);
     return AENL_EXIT_OK;

@@ -122,6 +122,8 @@ vg 2 "unknown subcommand" bogus
 # fit: a few EM iterations on the simulated record (success), then its error paths.
 vg 0 "fit --json -o --c-header" fit long.csv --thresholds alpha:-0.004,0.004 --states 4 \
   --iter 3 --json -o fit.ini --c-header fit.h
+vg 0 "fit --bootstrap" fit long.csv --thresholds alpha:-0.004,0.004 --states 4 --iter 3 \
+  --bootstrap 2 --json
 vg 2 "fit: unknown threshold channel" fit long.csv --thresholds nope:0 -o x.ini
 vg 2 "fit: ragged row" fit ragged.csv --thresholds alpha:0 -o x.ini
 vg 2 "fit: unwritable output" fit long.csv --thresholds alpha:0 -o /nonexistent/x.ini

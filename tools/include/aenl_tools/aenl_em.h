@@ -62,6 +62,7 @@
 
 #include "aenl/aenl_skf.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_rng.h"
 
 #define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
 #define AENL_EM_MAX_X     32 /**< states */
@@ -222,6 +223,47 @@ int aenl_em_mode_floor(double f, double zeta, double dt, double n, double *sf, d
  */
 aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, size_t n,
                                double *y_out, aenl_err_t *err);
+
+/**
+ * @brief Simulation of the identified model with its noise, as the model says a record is made:
+ *        x_0 ~ N(x0, P0) (x_init, when given, without noise), x_{k+1} = A_s x_k + b_s + w_k with
+ *        w_k ~ N(0, Q_s), y_k = C x_k + v_k with v_k ~ N(0, R), the mode s from the thresholds on
+ *        the noise-free output (C x_k)[switch_channel]. Draws from rng; rng NULL is
+ *        aenl_em_simulate.
+ * @return AENL_OK; AENL_E_NUMERIC when a covariance has no square root or the state diverges.
+ */
+aenl_status_t aenl_em_simulate_noisy(const aenl_em_model_t *m, const double *x_init, size_t n,
+                                     aenl_rng_t *rng, double *y_out, aenl_err_t *err);
+
+/** The spread of a fit's modal estimates by a parametric bootstrap (aenl_em_bootstrap): per mode
+ *  s and oscillatory pair i of the fitted model (in aenl_em_modal's order). */
+typedef struct aenl_em_boot
+{
+    size_t n_requested;                                  /**< replicates asked for */
+    size_t n_ok;                                         /**< replicates whose refit succeeded */
+    size_t n_pairs[AENL_EM_MAX_MODES];                   /**< oscillatory pairs of each mode */
+    size_t found[AENL_EM_MAX_MODES][AENL_EM_MAX_X / 2];  /**< refits in which the pair is found */
+    double f_sd[AENL_EM_MAX_MODES][AENL_EM_MAX_X / 2];   /**< frequency's standard error */
+    double z_sd[AENL_EM_MAX_MODES][AENL_EM_MAX_X / 2];   /**< damping ratio's standard error */
+    double f_bias[AENL_EM_MAX_MODES][AENL_EM_MAX_X / 2]; /**< median of the refits - the fit */
+    double z_bias[AENL_EM_MAX_MODES][AENL_EM_MAX_X / 2];
+} aenl_em_boot_t;
+
+/**
+ * @brief Standard errors and biases of the modal estimates by a parametric bootstrap: n_boot
+ *        records of n samples simulated from the fitted model with its noise
+ *        (aenl_em_simulate_noisy, seeded from seed), each fitted again with opts (the fit's own
+ *        options) but the fitted thresholds held (no refinement). A pair of the fit and one of
+ *        the refit match when each is the other's nearest in log frequency (found counts the
+ *        refits with a match); the standard error is 1.4826 times the median absolute deviation
+ *        of the matched values (robust to the rare refit that swaps two pairs), the bias their
+ *        median less the fit's value; NaN for a pair found in fewer than 2 or in at most half of
+ *        the refits. Costs n_boot fits.
+ * @return AENL_OK (also when some refits fail: out->n_ok says how many succeeded); AENL_E_ARG
+ *         bad arguments or a model with inputs; AENL_E_DIM out of memory.
+ */
+aenl_status_t aenl_em_bootstrap(const aenl_em_result_t *fit, const aenl_em_opts_t *opts, size_t n,
+                                size_t n_boot, uint64_t seed, aenl_em_boot_t *out, aenl_err_t *err);
 
 /**
  * @brief The core filter's model (threshold switching, no hysteresis band, dir from the change of

@@ -14,6 +14,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_rng.h"
 
 #include <lapacke.h>
 #include <math.h>
@@ -3159,8 +3160,73 @@ int aenl_em_mode_floor(double f, double zeta, double dt, double n, double *sf, d
     return 1;
 }
 
+/* A square root L (L L' = S) of the symmetric positive semidefinite n x n matrix S, from its
+ * eigen-decomposition: a fitted noise covariance may be singular to rounding, where a Cholesky
+ * factor fails; eigenvalues below zero by rounding count as zero. 0, or -1 on failure. */
+static int psd_sqrt(const double *S, size_t n, double *L)
+{
+    double V[AENL_EM_MAX_X * AENL_EM_MAX_X];
+    double w[AENL_EM_MAX_X];
+    memcpy(V, S, n * n * sizeof(double));
+    if (LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'V', 'U', (lapack_int)n, V, (lapack_int)n, w) != 0)
+    {
+        return -1;
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < n; ++j)
+        {
+            L[i * n + j] = V[i * n + j] * sqrt(fmax(w[j], 0.0));
+        }
+    }
+    return 0;
+}
+
+/* v += L z, z standard normal draws of g (L n x n). */
+static void add_noise(const double *L, size_t n, aenl_rng_t *g, double *v)
+{
+    double z[AENL_EM_MAX_X];
+    for (size_t j = 0; j < n; ++j)
+    {
+        z[j] = aenl_rng_gauss(g);
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+        double acc = 0.0;
+        for (size_t j = 0; j < n; ++j)
+        {
+            acc += L[i * n + j] * z[j];
+        }
+        v[i] += acc;
+    }
+}
+
+/* The noise covariances' square roots for a noisy simulation: Lq (n_modes x nx x nx), Lr, Lp. */
+static aenl_status_t noise_roots(const aenl_em_model_t *m, double *Lq, double *Lr, double *Lp,
+                                 aenl_err_t *err)
+{
+    const size_t nx = m->n_x;
+    int bad = psd_sqrt(m->R, m->n_z, Lr) != 0 || psd_sqrt(m->P0, nx, Lp) != 0;
+    for (size_t s = 0; s < m->n_modes && !bad; ++s)
+    {
+        bad = psd_sqrt(m->Q + s * nx * nx, nx, Lq + s * nx * nx) != 0;
+    }
+    if (bad)
+    {
+        aenl_err_set(err, "simulate: a noise covariance has no square root");
+        return AENL_E_NUMERIC;
+    }
+    return AENL_OK;
+}
+
 aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, size_t n,
                                double *y_out, aenl_err_t *err)
+{
+    return aenl_em_simulate_noisy(m, x_init, n, NULL, y_out, err);
+}
+
+aenl_status_t aenl_em_simulate_noisy(const aenl_em_model_t *m, const double *x_init, size_t n,
+                                     aenl_rng_t *rng, double *y_out, aenl_err_t *err)
 {
     if (has_inputs(m, "aenl_em_simulate", err))
     {
@@ -3172,10 +3238,34 @@ aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, s
         return AENL_E_ARG;
     }
     const size_t nx = m->n_x, nz = m->n_z;
+    double *Lq = NULL;
+    double Lr[AENL_EM_MAX_X * AENL_EM_MAX_X];
+    double Lp[AENL_EM_MAX_X * AENL_EM_MAX_X];
+    if (rng != NULL)
+    {
+        Lq = (double *)malloc(m->n_modes * nx * nx * sizeof(double));
+        if (Lq == NULL)
+        {
+            aenl_err_set(err, "out of memory");
+            return AENL_E_DIM;
+        }
+        const aenl_status_t st = noise_roots(m, Lq, Lr, Lp, err);
+        if (st != AENL_OK)
+        {
+            free(Lq);
+            return st;
+        }
+    }
     double x[AENL_EM_MAX_X], xn[AENL_EM_MAX_X];
     memcpy(x, x_init ? x_init : m->x0, nx * sizeof(double));
-    for (size_t k = 0; k < n; ++k)
+    if (rng != NULL && x_init == NULL)
     {
+        add_noise(Lp, nx, rng, x); /* x_0 ~ N(x0, P0) */
+    }
+    aenl_status_t st = AENL_OK;
+    for (size_t k = 0; k < n && st == AENL_OK; ++k)
+    {
+        double *y = y_out + k * nz;
         for (size_t r = 0; r < nz; ++r)
         {
             double acc = 0.0;
@@ -3183,9 +3273,10 @@ aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, s
             {
                 acc += m->C[r * nx + j] * x[j];
             }
-            y_out[k * nz + r] = acc;
+            y[r] = acc;
         }
-        const size_t s = mode_of(m->thresholds, m->n_modes, y_out[k * nz + m->switch_channel]);
+        /* the mode follows the motion, not its measurement */
+        const size_t s = mode_of(m->thresholds, m->n_modes, y[m->switch_channel]);
         const double *A = m->A + s * nx * nx, *b = m->b + s * nx;
         for (size_t i = 0; i < nx; ++i)
         {
@@ -3196,14 +3287,20 @@ aenl_status_t aenl_em_simulate(const aenl_em_model_t *m, const double *x_init, s
             }
             xn[i] = acc;
         }
+        if (rng != NULL)
+        {
+            add_noise(Lr, nz, rng, y);
+            add_noise(Lq + s * nx * nx, nx, rng, xn);
+        }
         memcpy(x, xn, nx * sizeof(double));
         if (!isfinite(x[0]))
         {
             aenl_err_set(err, "simulation diverged at sample %zu", k);
-            return AENL_E_NUMERIC;
+            st = AENL_E_NUMERIC;
         }
     }
-    return AENL_OK;
+    free(Lq);
+    return st;
 }
 
 /* ---- export -----------------------------------------------------------------------------------
