@@ -965,16 +965,16 @@ static void test_em_noisy_simulation_has_the_models_covariances(void)
     {
         double AP[4];
         double Pn[4];
-        for (int i = 0; i < 2; ++i)
+        for (size_t i = 0; i < 2; ++i)
         {
-            for (int j = 0; j < 2; ++j)
+            for (size_t j = 0; j < 2; ++j)
             {
                 AP[i * 2 + j] = m.A[i * 2] * P[j] + m.A[i * 2 + 1] * P[2 + j];
             }
         }
-        for (int i = 0; i < 2; ++i)
+        for (size_t i = 0; i < 2; ++i)
         {
-            for (int j = 0; j < 2; ++j)
+            for (size_t j = 0; j < 2; ++j)
             {
                 Pn[i * 2 + j] =
                     AP[i * 2] * m.A[j * 2] + AP[i * 2 + 1] * m.A[j * 2 + 1] + m.Q[i * 2 + j];

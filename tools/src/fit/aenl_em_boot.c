@@ -133,6 +133,11 @@ aenl_status_t aenl_em_bootstrap(const aenl_em_result_t *fit, const aenl_em_opts_
         return AENL_E_ARG;
     }
     const aenl_em_model_t *m = &fit->model;
+    if (m->n_z == 0 || m->n_x == 0 || m->n_modes == 0)
+    {
+        aenl_err_set(err, "bootstrap: the fit holds no model");
+        return AENL_E_ARG;
+    }
     if (m->n_u > 0)
     {
         aenl_err_set(err, "bootstrap: the model has known inputs, which it does not simulate");
