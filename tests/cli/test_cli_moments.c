@@ -239,6 +239,43 @@ static void test_cli_moments_rejects_bad_input(void)
     expect_rejected(a21, "fewer than two full oscillations");
 }
 
+/* A time column under a name of its own: --time names it; without it, the column is a channel
+ * and a note on stderr says so. */
+static void test_cli_time_column_named_by_option(void)
+{
+    static char text[1 << 20];
+    size_t pos = (size_t)snprintf(text, sizeof(text), "elapsed,alpha,xi\n");
+    for (size_t i = 0; i < 3000 && pos + 128 < sizeof(text); ++i)
+    {
+        const double t = 0.01 * (double)i;
+        const double a = exp(-0.05 * t) * sin(6.0 * t) + 0.05 * sin(37.0 * t + 1.0);
+        pos += (size_t)snprintf(text + pos, sizeof(text) - pos, "%.4f,%.9f,%.6f\n", t, a,
+                                0.5 * a + 0.01 * cos(11.0 * t));
+    }
+    const char *data = cli_file("elapsed.csv", text);
+    cli_result_t r;
+    const char *named[] = {"identify", data, "--method", "test", "--time", "elapsed", NULL};
+    cli_run(&r, named);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.err_lines, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "3000 samples, 2 channels"), r.out);
+    TEST_ASSERT_NULL(strstr(r.out, "\nelapsed "));
+    const char *unnamed[] = {"identify", data, "--method", "test", NULL};
+    cli_run(&r, unnamed);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "3000 samples, 3 channels"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "has no time column"), r.err);
+    const char *json[] = {"identify", data, "--method", "test", "--json", NULL};
+    cli_run(&r, json); /* a JSON output keeps stderr quiet */
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.err_lines, r.err);
+    const char *mom[] = {"moments", data,      "--channel", "alpha",           "--bandwidth", "0.2",
+                         "--time",  "elapsed", "-o",        "out_elapsed.csv", NULL};
+    cli_run(&r, mom);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.err_lines, r.err);
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -246,5 +283,6 @@ int main(void)
     RUN_TEST(test_cli_moments_reports_cv_bandwidth);
     RUN_TEST(test_cli_moments_expansion_of_a_sinusoid);
     RUN_TEST(test_cli_moments_rejects_bad_input);
+    RUN_TEST(test_cli_time_column_named_by_option);
     return UNITY_END();
 }

@@ -36,7 +36,15 @@ int aenl_cli_positional(const char *cmd, const char *arg, const char **slot, con
 /** The value after option argv[*i] (advancing *i), or NULL after printing "needs a value". */
 const char *aenl_cli_value(const char *cmd, int argc, char **argv, int *i);
 
-/** 1 for the names a time column goes by (aenl_csv_is_time_name). */
+/** The command's time column by name (--time COL); NULL (the default): known by its name. */
+void aenl_cli_set_time_column(const char *name);
+/** The name set by aenl_cli_set_time_column, or NULL. */
+const char *aenl_cli_time_column(void);
+/** Notes on stderr on (1, the default) or off (0: a JSON output, whose stderr stays quiet). */
+void aenl_cli_set_notes(int on);
+/** The note on stderr for a record without a time column (how it is read, how to name one). */
+void aenl_cli_note_no_time(const char *cmd, const char *path);
+/** 1 for the record's time column: the one --time names, else aenl_csv_is_time_name's. */
 int aenl_cli_is_time_column(const char *name);
 /** The message (into err) for a time step that breaks uniform sampling (aenl_time_steps_take). */
 void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
@@ -49,8 +57,9 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
 #define AENL_CLI_MAX_ABS 1e120
 
 /**
- * @brief Check a record before use: every time column (aenl_cli_is_time_column) holds finite,
- *        strictly increasing, equally spaced values (within AENL_TIME_STEP_TOL), and column `col`
+ * @brief Check a record before use: the column --time names exists (a note on stderr when the
+ *        record has no time column at all), every time column (aenl_cli_is_time_column) holds
+ * finite, strictly increasing, equally spaced values (within AENL_TIME_STEP_TOL), and column `col`
  * (all non-time columns when col < 0) holds at least one finite value and none beyond
  * +-AENL_CLI_MAX_ABS. On failure prints one message naming the file, the column and the data row,
  * and returns -1; else 0.

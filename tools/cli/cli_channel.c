@@ -10,9 +10,80 @@
 
 #include "aenl_cli.h"
 
+/* The time column's name given to this process's command (--time COL); NULL: known by its name.
+ * One command runs per process, so the setting is the command's. */
+static const char *g_time_column = NULL;
+
+void aenl_cli_set_time_column(const char *name)
+{
+    g_time_column = name;
+}
+
+const char *aenl_cli_time_column(void)
+{
+    return g_time_column;
+}
+
 int aenl_cli_is_time_column(const char *name)
 {
-    return aenl_csv_is_time_name(name);
+    return aenl_csv_is_time_column(name, g_time_column);
+}
+
+/* Notes on stderr go with a table; a JSON output's reader wants a quiet stderr on success. */
+static int g_notes = 1;
+
+void aenl_cli_set_notes(int on)
+{
+    g_notes = on;
+}
+
+void aenl_cli_note_no_time(const char *cmd, const char *path)
+{
+    if (!g_notes)
+    {
+        return;
+    }
+    fprintf(stderr,
+            "aenl %s: note: %s has no time column (t, time, tau or timestamp, or the one --time "
+            "names): every column is a channel, and lags count samples\n",
+            cmd, path);
+}
+
+/* The column names of t, comma-separated, into buf (cut when too long). */
+static void column_list(const aenl_table_t *t, char *buf, size_t cap)
+{
+    buf[0] = '\0';
+    for (size_t i = 0; i < t->n_cols; ++i)
+    {
+        const size_t len = strlen(buf);
+        if (len + strlen(t->names[i]) + 3 < cap)
+        {
+            (void)snprintf(buf + len, cap - len, "%s%s", i ? ", " : "", t->names[i]);
+        }
+    }
+}
+
+/* 0 when the record has the time column --time names (or none was named), else -1 after the
+ * message; without any time column, a note on stderr says how the record is read. */
+static int check_time_column(const char *cmd, const aenl_table_t *t, const char *path)
+{
+    char names[512];
+    if (g_time_column != NULL && aenl_table_find(t, g_time_column) < 0)
+    {
+        column_list(t, names, sizeof(names));
+        aenl_cli_error(cmd, "%s: --time: no column '%s' (columns: %s)", path, g_time_column, names);
+        return -1;
+    }
+    size_t n_time = 0;
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        n_time += aenl_cli_is_time_column(t->names[c]) ? 1u : 0u;
+    }
+    if (n_time == 0)
+    {
+        aenl_cli_note_no_time(cmd, path);
+    }
+    return 0;
 }
 
 void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
@@ -34,16 +105,8 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
         const long c = aenl_table_find(t, channel);
         if (c < 0)
         {
-            char names[512] = "";
-            for (size_t i = 0; i < t->n_cols; ++i)
-            {
-                const size_t len = strlen(names);
-                if (len + strlen(t->names[i]) + 3 < sizeof(names))
-                {
-                    (void)snprintf(names + len, sizeof(names) - len, "%s%s", i ? ", " : "",
-                                   t->names[i]);
-                }
-            }
+            char names[512];
+            column_list(t, names, sizeof(names));
             aenl_cli_error(cmd, "%s: no channel '%s' (columns: %s)", path, channel, names);
         }
         return c;
@@ -68,6 +131,10 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
 
 int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *path, long col)
 {
+    if (check_time_column(cmd, t, path) != 0)
+    {
+        return -1;
+    }
     for (size_t c = 0; c < t->n_cols; ++c)
     {
         const double *v = aenl_table_col(t, c);

@@ -206,7 +206,7 @@ static int model_verdict(aenl_identify_result_t *r, const char *csv, const char 
     }
     if (st == AENL_OK)
     {
-        st = aenl_identify_model_test(r, &t, &base, &run, &err);
+        st = aenl_identify_model_test(r, &t, &base, &run, NULL, &err);
     }
     aenl_table_free(&t);
     if (st != AENL_OK)
@@ -234,7 +234,7 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
     aenl_identify_source_t src;
     aenl_identify_csv_t ctx;
     aenl_identify_result_t r;
-    aenl_status_t st = aenl_identify_csv_source(&src, &ctx, csv, &err);
+    aenl_status_t st = aenl_identify_csv_source(&src, &ctx, csv, NULL, &err);
     if (st == AENL_OK)
     {
         aenl_identify_opts_t o;

@@ -56,6 +56,8 @@ static void help(void)
         "                 fits within twice its floor, records of the baseline that the\n"
         "                 record's summaries are ranked among (the report says whether they\n"
         "                 agree); 32..4096, default 64; 0: neither (keep the gap's fit)\n"
+        "--time COL       the record's time column is COL (default: the one named t, time,\n"
+        "                 tau or timestamp, alone or with a unit)\n"
         "--no-plots       no figures\n"
         "-v               progress on stderr\n");
 }
@@ -284,9 +286,14 @@ static int parse_args(int argc, char **argv, diag_args_t *d)
         {
             value = &d->out;
         }
+        else if (strcmp(a, "--time") == 0)
+        {
+            value = &d->o.time_column;
+        }
         else if (strcmp(a, "--json") == 0)
         {
             d->json = 1;
+            aenl_cli_set_notes(0);
         }
         else if (strcmp(a, "--no-plots") == 0)
         {
@@ -314,6 +321,7 @@ static int parse_args(int argc, char **argv, diag_args_t *d)
             return AENL_EXIT_USAGE;
         }
     }
+    aenl_cli_set_time_column(d->o.time_column);
     if (d->measured == NULL || d->model == NULL)
     {
         aenl_cli_error(k_cmd, "needs --measured DATA.csv and --model BASE.ini (aenl diagnose "

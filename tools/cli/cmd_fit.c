@@ -24,12 +24,13 @@ static void help(void)
            "                [--channels A,B] [--freeze A,b,Q,R,x0] [--free-c] [--refine]\n"
            "                [--modes-from-data] [--tol REL] [--init arx|subspace] [--plain-em]\n"
            "                [--bootstrap N] [--seed S] [--json] [-o model.ini]\n"
-           "                [--c-header model.h] [--name IDENT]\n\n"
+           "                [--c-header model.h] [--name IDENT] [--time COL]\n\n"
            "Identifies x_k = A_s x_{k-1} + b_s + v, y_k = C x_k + w by EM (Kalman filter + RTS\n"
            "smoother, closed-form M-step), the mode s chosen by the thresholds on channel CH (the\n"
            "seed paper's freeplay: --thresholds alpha:ALPHA_F,ALPHA_F+DELTA). Every data column\n"
            "other than the time column is an output (or those of --channels, CH included).\n"
-           "The sample step comes from the time column (t, time, tau or timestamp; uniform).\n"
+           "The sample step comes from the time column (t, time, tau or timestamp, or the one\n"
+           "--time COL names; uniform).\n"
            "Frequencies are |Im s|/(2 pi) with s = ln(lambda)/dt, in cycles per unit of the time\n"
            "column (Hz for seconds); damping = -Re s/|s|.\n"
            "Defaults: 4 states per output, 50 iterations, C = [I 0] fixed, thresholds as given.\n"
@@ -113,7 +114,7 @@ static void ident_from_path(const char *path, char *out, size_t cap)
 
 typedef struct
 {
-    const char *data, *thr, *channels, *freeze, *out_ini, *out_h, *name;
+    const char *data, *thr, *channels, *freeze, *out_ini, *out_h, *name, *time_column;
     long states, iter, bootstrap, seed;
     int json, refine, free_c, modes_from_data, plain_em, init;
     double tol;
@@ -145,6 +146,10 @@ static const char **text_option(const char *o, fit_args_t *a)
     if (strcmp(o, "--name") == 0)
     {
         return &a->name;
+    }
+    if (strcmp(o, "--time") == 0)
+    {
+        return &a->time_column;
     }
     return NULL;
 }
@@ -278,6 +283,8 @@ static int parse_args(int argc, char **argv, fit_args_t *a)
             return -1;
         }
     }
+    aenl_cli_set_notes(!a->json);
+    aenl_cli_set_time_column(a->time_column);
     if (a->data == NULL)
     {
         aenl_cli_error(k_cmd, "no data file (usage: aenl fit DATA.csv --thresholds CH:LO,HI)");

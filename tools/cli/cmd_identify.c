@@ -38,14 +38,15 @@ static void help(void)
         "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
         "                     [--no-prefilter] [--forced] [--model BASE.ini]\n"
         "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n"
-        "                     [--input COL[,COL]] [--controls N]\n\n"
+        "                     [--input COL[,COL]] [--controls N]\n"
+        "       (either form: [--time COL])\n\n"
         "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
         "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
         "switching points in the channel's units with their standard errors, and names the\n"
         "channel that carries the nonlinearity. Every column is a channel except the time\n"
-        "column (t, time, tau or timestamp, with or without a unit: checked finite,\n"
-        "increasing and evenly spaced); the file is read twice, one row at a time, never held\n"
-        "whole.\n\n"
+        "column (t, time, tau or timestamp, with or without a unit, or the one --time COL\n"
+        "names: checked finite, increasing and evenly spaced); the file is read twice, one row\n"
+        "at a time, never held whole.\n\n"
         "--json          one JSON object: file, verdict {class, channel, switch_points,\n"
         "                confidence}, channels [{name, class, switch_points, switch_point_std,\n"
         "                confidence, bandwidth, lags}] (docs/identify.md)\n"
@@ -99,7 +100,7 @@ static void help(void)
 #define MAX_TIME_COLS 4
 
 /* A source that forwards the CSV source's rows and checks what aenl_cli_check_record checks on a
- * table, row by row: every time column (aenl_csv_is_time_name) finite, strictly increasing and
+ * table, row by row: every time column (aenl_cli_is_time_column) finite, strictly increasing and
  * equally spaced,
  * values within +-AENL_CLI_MAX_ABS, at least one finite and two distinct values per channel read,
  * at least one data row. It also counts the rows and keeps the time of the row last read (the
@@ -142,7 +143,7 @@ static aenl_status_t checked_open(void *ctx, aenl_err_t *err)
         const aenl_csv_t *csv = (const aenl_csv_t *)c->csv->csv;
         for (size_t k = 0; k < aenl_csv_n_cols(csv) && c->n_time < MAX_TIME_COLS; ++k)
         {
-            if (aenl_csv_is_time_name(aenl_csv_col_name(csv, k)))
+            if (aenl_cli_is_time_column(aenl_csv_col_name(csv, k)))
             {
                 if (c->n_time == 0)
                 {
@@ -150,6 +151,10 @@ static aenl_status_t checked_open(void *ctx, aenl_err_t *err)
                 }
                 c->t_col[c->n_time++] = k;
             }
+        }
+        if (c->n_time == 0 && c->n_rows_total == 0)
+        {
+            aenl_cli_note_no_time(k_cmd, c->path);
         }
     }
     return st;
@@ -331,6 +336,14 @@ static int parse_value_option(const char *o, int argc, char **argv, int *i, args
             return -1;
         }
     }
+    else if (strcmp(o, "--time") == 0)
+    {
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
+        aenl_cli_set_time_column(v);
+    }
     else if (strcmp(o, "--level") == 0)
     {
         if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
@@ -469,6 +482,7 @@ static int parse_args(int argc, char **argv, args_t *a)
         if (strcmp(o, "--json") == 0)
         {
             a->json = 1;
+            aenl_cli_set_notes(0);
             continue;
         }
         if (strcmp(o, "--no-prefilter") == 0)
@@ -1418,7 +1432,8 @@ static int model_test(const args_t *a, const aenl_sim_model_t *base, const aenl_
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
-    const aenl_status_t st = aenl_identify_model_test(res, &t, base, run, &err);
+    const aenl_status_t st =
+        aenl_identify_model_test(res, &t, base, run, aenl_cli_time_column(), &err);
     aenl_table_free(&t);
     if (st != AENL_OK)
     {
@@ -1560,7 +1575,8 @@ int aenl_cmd_identify(int argc, char **argv)
     aenl_identify_csv_t csv_ctx;
     memset(&csv_src, 0, sizeof(csv_src));
     memset(&csv_ctx, 0, sizeof(csv_ctx));
-    if (aenl_identify_csv_source(&csv_src, &csv_ctx, a.data, &err) != AENL_OK)
+    if (aenl_identify_csv_source(&csv_src, &csv_ctx, a.data, aenl_cli_time_column(), &err) !=
+        AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
         aenl_identify_csv_free(&csv_ctx);

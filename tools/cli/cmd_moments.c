@@ -24,7 +24,7 @@ static void help(void)
         "                    [--bandwidth cv|H] [--direction all|rising|falling] [--no-split]\n"
         "                    [--forgetting LAMBDA] [-o out.csv] [--plot out.png]\n"
         "                    [--prefilter auto|off|F] [--lags auto] [--expansion exp.csv]\n"
-        "                    [--plot-expansion exp.png]\n\n"
+        "                    [--plot-expansion exp.png] [--time COL]\n\n"
         "Kernel estimates of E(X_n | X_{n-L} = x) and Var(X_n | X_{n-L} = x) on a grid, for each\n"
         "lag L (the paper's j = -L). CSV columns: lag,x,mean,var,n_eff,se (after '#' lines that\n"
         "give the source, the bandwidth and how it was chosen). Without -o the CSV goes to "
@@ -39,14 +39,16 @@ static void help(void)
         "                    dir,x,position,velocity,accel,se_position,se_velocity,se_accel\n"
         "                    (dir 0 all, 1 rising, 2 falling; per sample units); accel against\n"
         "                    position is the restoring-force curve (needs >= 3 lags)\n"
-        "--plot-expansion F  figure of it: acceleration and velocity against position\n");
+        "--plot-expansion F  figure of it: acceleration and velocity against position\n"
+        "--time COL          the time column is COL (default: the one named t, time, tau or\n"
+        "                    timestamp, alone or with a unit)\n");
 }
 
 /* What the command line asks for: the record, the channel, the estimator's options and the outputs
  * (NULL when not asked for). */
 typedef struct moments_args
 {
-    const char *data, *channel, *out, *plot, *expansion, *plot_expansion;
+    const char *data, *channel, *out, *plot, *expansion, *plot_expansion, *time_column;
     int dir; /* aenl_dir_t of the curves written */
     aenl_curves_opts_t o;
 } moments_args_t;
@@ -208,6 +210,10 @@ static const char **text_option(const char *name, moments_args_t *a)
     {
         return &a->plot;
     }
+    if (strcmp(name, "--time") == 0)
+    {
+        return &a->time_column;
+    }
     return NULL;
 }
 
@@ -280,6 +286,7 @@ static int parse_args(int argc, char **argv, moments_args_t *a)
             return -1;
         }
     }
+    aenl_cli_set_time_column(a->time_column);
     return 0;
 }
 

@@ -42,6 +42,11 @@ void aenl_csv_close(aenl_csv_t *csv);
  * without a space ("t_s", "Time [s]", "time (ms)", "TIMESTAMP").
  */
 int aenl_csv_is_time_name(const char *name);
+/**
+ * 1 when the column called name is the record's time column: the one named time_column exactly,
+ * when that is given (a user's name for it, `--time COL`), else one aenl_csv_is_time_name knows.
+ */
+int aenl_csv_is_time_column(const char *name, const char *time_column);
 
 /** Largest relative departure of a time step from the record's step (jitter), beyond the
  *  rounding of the two printed times. */

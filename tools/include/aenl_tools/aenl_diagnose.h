@@ -97,6 +97,8 @@ typedef struct aenl_diagnose_opts
                                    (aenl_diagnose_fit_summaries: a quarter for the
                                    sensitivities), 32..4096; 0: no summary fit (64) */
     int verbose;              /**< 1: progress lines on stderr */
+    const char *time_column;  /**< the record's time column by name; NULL (default): the column
+                                   aenl_csv_is_time_name knows */
 } aenl_diagnose_opts_t;
 
 /** One calibrated candidate. */

@@ -167,12 +167,14 @@ typedef struct aenl_identify_result
 void aenl_identify_opts_default(aenl_identify_opts_t *o);
 
 /** Sources. aenl_identify_csv_source opens the file once to read the header (err set, E_IO/E_ARG
- *  on failure); release with aenl_identify_csv_free. */
+ *  on failure; E_ARG when time_column is given and no column has that name); the time column is
+ *  the one named time_column, or (NULL) one aenl_csv_is_time_name knows; release with
+ *  aenl_identify_csv_free. */
 void aenl_identify_arrays_source(aenl_identify_source_t *src, aenl_identify_arrays_t *ctx,
                                  const double *const *cols, const char *const *names, size_t n_cols,
                                  size_t n_rows);
 aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identify_csv_t *ctx,
-                                       const char *path, aenl_err_t *err);
+                                       const char *path, const char *time_column, aenl_err_t *err);
 void aenl_identify_csv_free(aenl_identify_csv_t *ctx);
 
 /**
@@ -222,9 +224,10 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
  *        the verdict stays the first's. Minutes on long records.
  * @return AENL_OK; the errors of aenl_diagnose_run (AENL_E_ARG a record or model it cannot use,
  *         AENL_E_DIM a capacity) and of aenl_identify_apply_model; res unchanged on error.
+ * @note time_column names the record's time column (NULL: one aenl_csv_is_time_name knows).
  */
 aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_table_t *record,
                                        const aenl_sim_model_t *base, const aenl_sim_run_t *run,
-                                       aenl_err_t *err);
+                                       const char *time_column, aenl_err_t *err);
 
 #endif /* AENL_TOOLS_IDENTIFY_H */

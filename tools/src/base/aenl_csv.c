@@ -947,6 +947,11 @@ static int is_unit(const char *s, size_t n)
     return 0;
 }
 
+int aenl_csv_is_time_column(const char *name, const char *time_column)
+{
+    return time_column != NULL ? strcmp(name, time_column) == 0 : aenl_csv_is_time_name(name);
+}
+
 int aenl_csv_is_time_name(const char *name)
 {
     static const char *const k_time[] = {"timestamp", "time", "tau", "t"};

@@ -787,12 +787,12 @@ static void spec_step(const spec_t *sp, double *step)
 
 static aenl_status_t take_record(const aenl_table_t *t, const aenl_sim_run_t *run,
                                  aenl_diagnose_result_t *r, const char *const *names,
-                                 aenl_err_t *err)
+                                 const char *time_column, aenl_err_t *err)
 {
     long tc = -1;
     for (size_t c = 0; c < t->n_cols; ++c)
     {
-        if (aenl_csv_is_time_name(t->names[c]))
+        if (aenl_csv_is_time_column(t->names[c], time_column))
         {
             tc = (long)c;
             break;
@@ -800,7 +800,8 @@ static aenl_status_t take_record(const aenl_table_t *t, const aenl_sim_run_t *ru
     }
     if (tc < 0)
     {
-        aenl_err_set(err, "no time column (t, t_s, time, time_s or tau)");
+        aenl_err_set(err, "no time column (t, time, tau or timestamp, alone or with a unit; "
+                          "another name with --time COL)");
         return AENL_E_ARG;
     }
     if (t->n_rows < 512u)
@@ -1440,7 +1441,7 @@ static aenl_status_t check_unforced(const aenl_sim_run_t *run, aenl_err_t *err)
 static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const aenl_sim_run_t *run,
                                const char *const *names, aenl_diagnose_result_t *r, aenl_err_t *err)
 {
-    aenl_status_t st = take_record(measured, run, r, names, err);
+    aenl_status_t st = take_record(measured, run, r, names, d->opts->time_column, err);
     if (st != AENL_OK)
     {
         return st;

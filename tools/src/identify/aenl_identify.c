@@ -102,7 +102,7 @@ void aenl_identify_arrays_source(aenl_identify_source_t *src, aenl_identify_arra
     src->close = arrays_close;
 }
 
-/* CSV: the channels are the columns that are not a time column (aenl_csv_is_time_name). */
+/* CSV: the channels are the columns that are not the time column (aenl_csv_is_time_column). */
 
 static aenl_status_t csv_src_open(void *ctx, aenl_err_t *err)
 {
@@ -163,7 +163,7 @@ void aenl_identify_csv_free(aenl_identify_csv_t *ctx)
 }
 
 aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identify_csv_t *ctx,
-                                       const char *path, aenl_err_t *err)
+                                       const char *path, const char *time_column, aenl_err_t *err)
 {
     memset(src, 0, sizeof(*src));
     memset(ctx, 0, sizeof(*ctx));
@@ -188,7 +188,13 @@ aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identif
     size_t n_ch = 0;
     for (size_t k = 0; k < n_file; ++k)
     {
-        n_ch += !aenl_csv_is_time_name(aenl_csv_col_name(csv, k));
+        n_ch += !aenl_csv_is_time_column(aenl_csv_col_name(csv, k), time_column);
+    }
+    if (time_column != NULL && n_ch == n_file)
+    {
+        aenl_err_set(err, "%s: no column named '%s' for the time", path, time_column);
+        aenl_csv_close(csv);
+        return AENL_E_ARG;
     }
     if (n_ch == 0)
     {
@@ -212,7 +218,7 @@ aenl_status_t aenl_identify_csv_source(aenl_identify_source_t *src, aenl_identif
     for (size_t k = 0, j = 0; k < n_file; ++k)
     {
         const char *name = aenl_csv_col_name(csv, k);
-        if (aenl_csv_is_time_name(name))
+        if (aenl_csv_is_time_column(name, time_column))
         {
             continue;
         }
