@@ -229,11 +229,47 @@ static void test_cli_fit_subspace_start_and_plain_em(void)
     cJSON_Delete(root);
 }
 
+/* --bootstrap: standard errors in the table, and a progress bar on a terminal only (stderr
+ * quiet through a pipe; on a pseudo-terminal from script(1), a bar that is erased at the end). */
+static void test_cli_fit_bootstrap_and_its_progress_bar(void)
+{
+    const char *data = write_record("fit_boot.csv", 3000);
+    const char *args[] = {"fit", data, "--thresholds", "alpha:0.0", "--iter", "5", "--bootstrap",
+                          "3",   NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.err_lines, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "parametric bootstrap: "), r.out);
+    /* NOLINTNEXTLINE(cert-env33-c): test helper, fixed command */
+    if (system("script -qec true /dev/null > /dev/null 2>&1") != 0)
+    {
+        TEST_IGNORE_MESSAGE("script(1) cannot open a pseudo-terminal here: the bar is not drawn");
+    }
+    char cmd[2048];
+    (void)snprintf(cmd, sizeof(cmd),
+                   "script -qec \"'%s' fit '%s' --thresholds alpha:0.0 --iter 5 --bootstrap 3\" "
+                   "/dev/null",
+                   AENL_CLI_PATH, data);
+    FILE *p = popen(cmd, "r"); /* NOLINT(cert-env33-c): test helper, fixed command */
+    TEST_ASSERT_NOT_NULL(p);
+    static char tty[1 << 16];
+    const size_t got = fread(tty, 1, sizeof(tty) - 1u, p);
+    tty[got] = '\0';
+    TEST_ASSERT_EQUAL_INT(0, pclose(p));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(tty, "aenl fit: bootstrap [########################] 3/3"),
+                                 tty);
+    const char *erased = strstr(tty, "\r\033[K");
+    TEST_ASSERT_NOT_NULL_MESSAGE(erased, tty);
+    TEST_ASSERT_NOT_NULL(strstr(erased, "parametric bootstrap: ")); /* the output after it */
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_cli_fit_json_model_and_header);
     RUN_TEST(test_cli_fit_bad_input);
     RUN_TEST(test_cli_fit_subspace_start_and_plain_em);
+    RUN_TEST(test_cli_fit_bootstrap_and_its_progress_bar);
     return UNITY_END();
 }

@@ -1081,7 +1081,7 @@ static void test_em_bootstrap_standard_error_matches_the_spread_over_records(voi
     const double sd_f = robust_sd(f_fit, N_REC);
     const double sd_z = robust_sd(z_fit, N_REC);
     aenl_em_boot_t b;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_bootstrap(&keep, &o, n, N_BOOT, 7u, &b, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_bootstrap(&keep, &o, n, N_BOOT, 7u, NULL, &b, &err));
     TEST_ASSERT_EQUAL_size_t(N_BOOT, b.n_ok);
     TEST_ASSERT_EQUAL_size_t(1, b.n_pairs[0]);
     /* each robust spread from 200 values scatters by about 8 %, their ratio by about 12 % */
@@ -1092,7 +1092,7 @@ static void test_em_bootstrap_standard_error_matches_the_spread_over_records(voi
     /* bad arguments leave the result alone */
     aenl_em_boot_t b2;
     memset(&b2, 0x5a, sizeof(b2));
-    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_bootstrap(&keep, &o, n, 0, 7u, &b2, &err));
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_bootstrap(&keep, &o, n, 0, 7u, NULL, &b2, &err));
     TEST_ASSERT_EQUAL_UINT8(0x5a, ((unsigned char *)&b2)[0]);
     aenl_em_result_free(&keep);
     aenl_em_model_free(&truth);

@@ -11,6 +11,7 @@
 
 #include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_progress.h"
 
 #define AENL_EXIT_OK    0
 #define AENL_EXIT_FAIL  1
@@ -42,6 +43,21 @@ void aenl_cli_set_time_column(const char *name);
 const char *aenl_cli_time_column(void);
 /** Notes on stderr on (1, the default) or off (0: a JSON output, whose stderr stays quiet). */
 void aenl_cli_set_notes(int on);
+/** A progress bar on stderr (cli_progress.c), drawn only when stderr is a terminal (and
+ *  $AENL_NO_PROGRESS is unset). Pass &bar.progress to a library function that reports. */
+typedef struct aenl_cli_bar
+{
+    const char *cmd, *what;
+    int on, drawn;
+    long shown;               /* cells last drawn */
+    double t0, t_shown;       /* start, and the time last drawn (s) */
+    aenl_progress_t progress; /* reports to aenl_cli_bar_update */
+} aenl_cli_bar_t;
+void aenl_cli_bar_begin(aenl_cli_bar_t *b, const char *cmd, const char *what);
+void aenl_cli_bar_update(void *ctx, size_t done, size_t total);
+/** Erase the bar (when drawn). */
+void aenl_cli_bar_end(aenl_cli_bar_t *b);
+
 /** The note on stderr for a record without a time column (how it is read, how to name one). */
 void aenl_cli_note_no_time(const char *cmd, const char *path);
 /** 1 for the record's time column: the one --time names, else aenl_csv_is_time_name's. */

@@ -1107,8 +1107,12 @@ int aenl_bench_identify(int argc, char **argv)
     }
     (void)fflush(stdout);
     const double t_start = aenl_now_s();
+    aenl_cli_bar_t bar; /* with a line per case (--verbose), those lines show the progress */
+    aenl_cli_bar_begin(&bar, "bench identify", "cases");
+    bar.on = bar.on && !a.verbose;
     for (long i = a.from; i < a.cases; ++i)
     {
+        aenl_cli_bar_update(&bar, (size_t)(i - a.from), (size_t)(a.cases - a.from));
         aenl_eval_stratum_t so;
         aenl_eval_stratum_of((size_t)i, &so);
         if (a.regime >= 0 && (int)so.regime != a.regime)
@@ -1124,6 +1128,7 @@ int aenl_bench_identify(int argc, char **argv)
         }
         (void)fflush(stdout);
     }
+    aenl_cli_bar_end(&bar);
     const double wall = aenl_now_s() - t_start;
     if (tsv != NULL && fclose(tsv) != 0)
     {

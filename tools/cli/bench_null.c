@@ -262,12 +262,16 @@ int aenl_bench_null(int argc, char **argv)
     size_t cnt[N_REG][2][2] = {{{0}}}; /* [regime][noisy][nonlinear] */
     size_t failed = 0;
     double secs_all = 0.0;
+    aenl_cli_bar_t bar; /* with a line per record (--verbose), those lines show the progress */
+    aenl_cli_bar_begin(&bar, "bench null", "records");
+    bar.on = bar.on && !a.verbose;
     for (long i = a.from; i < a.records; ++i)
     {
         int reg = 0;
         int noisy = 0;
         double secs = 0.0;
         const int v = run_record((size_t)i, &a, &secs, &reg, &noisy);
+        aenl_cli_bar_update(&bar, (size_t)(i - a.from + 1), (size_t)(a.records - a.from));
         secs_all += secs;
         if (v < 0)
         {
@@ -277,6 +281,7 @@ int aenl_bench_null(int argc, char **argv)
         ++cnt[reg][noisy][v];
         (void)fflush(stdout);
     }
+    aenl_cli_bar_end(&bar);
     printf("\nregime               with noise (SNR 10-2)      noise-free\n");
     size_t tot[2] = {0, 0};
     size_t pos[2] = {0, 0};

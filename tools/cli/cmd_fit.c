@@ -838,7 +838,11 @@ int aenl_cmd_fit(int argc, char **argv)
     aenl_em_boot_t boot;
     if (a.bootstrap > 0)
     {
-        st = aenl_em_bootstrap(&r, &o, rec.n, (size_t)a.bootstrap, (uint64_t)a.seed, &boot, &err);
+        aenl_cli_bar_t bar;
+        aenl_cli_bar_begin(&bar, k_cmd, "bootstrap");
+        st = aenl_em_bootstrap(&r, &o, rec.n, (size_t)a.bootstrap, (uint64_t)a.seed, &bar.progress,
+                               &boot, &err);
+        aenl_cli_bar_end(&bar);
         if (st != AENL_OK)
         {
             aenl_cli_error(k_cmd, "%s", err.msg);

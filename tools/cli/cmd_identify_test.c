@@ -152,8 +152,12 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     opts.input = n_in > 0 ? in_cols : NULL;
     opts.n_input = (size_t)n_in;
     opts.n_controls = n_controls;
+    aenl_cli_bar_t bar;
+    aenl_cli_bar_begin(&bar, k_cmd, "linear controls");
+    opts.progress = &bar.progress;
     aenl_nlt_result_t res;
     const aenl_status_t st = aenl_nlt_run_columns(chan, n, nz, &opts, &res, &err);
+    aenl_cli_bar_end(&bar);
     int rc = AENL_EXIT_OK;
     if (st != AENL_OK)
     {

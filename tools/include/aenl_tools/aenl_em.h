@@ -62,6 +62,7 @@
 
 #include "aenl/aenl_skf.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_progress.h"
 #include "aenl_tools/aenl_rng.h"
 
 #define AENL_EM_MAX_MODES 8  /**< modes (thresholds + 1) */
@@ -258,12 +259,13 @@ typedef struct aenl_em_boot
  *        refits with a match); the standard error is 1.4826 times the median absolute deviation
  *        of the matched values (robust to the rare refit that swaps two pairs), the bias their
  *        median less the fit's value; NaN for a pair found in fewer than 2 or in at most half of
- *        the refits. Costs n_boot fits.
+ *        the refits. Costs n_boot fits; progress (may be NULL) hears after each.
  * @return AENL_OK (also when some refits fail: out->n_ok says how many succeeded); AENL_E_ARG
  *         bad arguments or a model with inputs; AENL_E_DIM out of memory.
  */
 aenl_status_t aenl_em_bootstrap(const aenl_em_result_t *fit, const aenl_em_opts_t *opts, size_t n,
-                                size_t n_boot, uint64_t seed, aenl_em_boot_t *out, aenl_err_t *err);
+                                size_t n_boot, uint64_t seed, const aenl_progress_t *progress,
+                                aenl_em_boot_t *out, aenl_err_t *err);
 
 /**
  * @brief The core filter's model (threshold switching, no hysteresis band, dir from the change of

@@ -47,6 +47,7 @@
 
 #include "aenl/aenl_classifier.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_progress.h"
 
 #define AENL_NLT_MAX_CH     8 /**< channels of a record */
 #define AENL_NLT_MAX_POINTS 4 /**< switching points of one law */
@@ -78,6 +79,7 @@ typedef struct aenl_nlt_opts
                                      fitted linear model, driven by the same inputs, with Gaussian
                                      noise of the fitted covariances, each tested like the record */
     uint64_t control_seed;      /**< their noise (default 1) */
+    const aenl_progress_t *progress; /**< hears after each control (default NULL: nobody) */
 } aenl_nlt_opts_t;
 
 /** One channel: the test and, when it rejects, the laws. */

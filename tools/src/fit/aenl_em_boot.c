@@ -125,7 +125,8 @@ static int replicate(const aenl_em_result_t *fit, const aenl_em_opts_t *o, size_
 }
 
 aenl_status_t aenl_em_bootstrap(const aenl_em_result_t *fit, const aenl_em_opts_t *opts, size_t n,
-                                size_t n_boot, uint64_t seed, aenl_em_boot_t *out, aenl_err_t *err)
+                                size_t n_boot, uint64_t seed, const aenl_progress_t *progress,
+                                aenl_em_boot_t *out, aenl_err_t *err)
 {
     if (fit == NULL || opts == NULL || out == NULL || n == 0 || n_boot == 0)
     {
@@ -174,6 +175,7 @@ aenl_status_t aenl_em_bootstrap(const aenl_em_result_t *fit, const aenl_em_opts_
         aenl_rng_t g;
         aenl_rng_seed(&g, seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
         n_ok += (size_t)replicate(fit, &o, n, &g, y, orig, n_osc, n_boot, n_ok, f_val, z_val);
+        aenl_progress_report(progress, b + 1u, n_boot);
     }
     memset(out, 0, sizeof(*out));
     out->n_requested = n_boot;

@@ -1248,7 +1248,10 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
         aenl_nlt_result_t rc;
         aenl_err_t e2;
         aenl_err_clear(&e2);
-        if (run_core((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1, NULL) != AENL_OK)
+        const aenl_status_t sc =
+            run_core((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1, NULL);
+        aenl_progress_report(opts->progress, b + 1u, opts->n_controls);
+        if (sc != AENL_OK)
         {
             continue;
         }
