@@ -274,6 +274,40 @@ static void test_csv_reads_crlf(void)
     (void)remove(path);
 }
 
+/* A header without a comma names the separator: semicolons or tabs (a spreadsheet's export);
+ * the values are the same as with commas, and a decimal comma is named in the error. */
+static void test_csv_reads_semicolons_and_tabs(void)
+{
+    static const char *const k_text[] = {"t;x;y\n0;1.5;-2\n0.5;;3e-3\n",
+                                         "t\tx\ty\n0\t1.5\t-2\n0.5\t\t3e-3\n",
+                                         " t ; x ;y\r\n0 ; 1.5;-2\r\n0.5; ;3e-3\r\n"};
+    for (size_t k = 0; k < sizeof(k_text) / sizeof(k_text[0]); ++k)
+    {
+        aenl_table_t t;
+        const char *path = tmp_path("sep.csv");
+        write_text(path, k_text[k]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+        TEST_ASSERT_EQUAL_size_t(3, t.n_cols);
+        TEST_ASSERT_EQUAL_size_t(2, t.n_rows);
+        TEST_ASSERT_EQUAL_STRING("x", t.names[1]);
+        TEST_ASSERT_EQUAL_STRING("y", t.names[2]);
+        TEST_ASSERT_EQUAL_DOUBLE(0.5, aenl_table_col(&t, 0)[1]);
+        TEST_ASSERT_EQUAL_DOUBLE(1.5, aenl_table_col(&t, 1)[0]);
+        TEST_ASSERT_TRUE(isnan(aenl_table_col(&t, 1)[1]));
+        TEST_ASSERT_EQUAL_DOUBLE(3e-3, aenl_table_col(&t, 2)[1]);
+        aenl_table_free(&t);
+        (void)remove(path);
+    }
+    aenl_table_t t;
+    const char *path = tmp_path("decimal_comma.csv");
+    write_text(path, "t;x\n0;1,5\n");
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_table_read(path, &t, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(
+        strstr(g_err.msg, ":2:2 (x): not a number '1,5' (a decimal comma?"), g_err.msg);
+    (void)remove(path);
+}
+
 static void test_csv_strips_bom_and_trims_names(void)
 {
     aenl_table_t t;
@@ -887,6 +921,7 @@ int main(void)
     RUN_TEST(test_csv_writer_streams_rows);
     RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);
     RUN_TEST(test_csv_reads_crlf);
+    RUN_TEST(test_csv_reads_semicolons_and_tabs);
     RUN_TEST(test_csv_strips_bom_and_trims_names);
     RUN_TEST(test_csv_missing_cells_are_nan_and_counted);
     RUN_TEST(test_csv_header_only_gives_zero_rows);

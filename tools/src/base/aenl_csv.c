@@ -37,6 +37,7 @@ struct aenl_csv
     char **names;
     aenl_status_t failed; /* sticky: once a read failed, later calls fail too */
     size_t data_rows;     /* data rows read so far */
+    char sep;             /* the separator: ',', or the header's ';' or tab when it has no comma */
 };
 
 /* ---- small helpers ------------------------------------------------------------------------- */
@@ -206,18 +207,16 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
     const char *p;
     char *cell;
 
+    /* A spreadsheet's export in many locales separates by ';' (its decimals then are commas,
+     * which parse_cell names), a tab-separated export by tabs: a header without a comma tells. */
+    csv->sep = ',';
+    if (strchr(csv->line, ',') == NULL)
+    {
+        csv->sep = strchr(csv->line, ';') != NULL ? ';' : (strchr(csv->line, '\t') ? '\t' : ',');
+    }
     for (p = csv->line; *p != '\0'; ++p)
     {
-        n += (*p == ',') ? 1U : 0U;
-    }
-    if (n == 1 && strpbrk(csv->line, ";\t") != NULL)
-    {
-        aenl_err_set(err,
-                     "%s:%lu: the header has no comma but a %s: aenl reads comma-separated values "
-                     "with '.' decimals (convert the file, e.g. a spreadsheet's CSV export with "
-                     "',' as separator)",
-                     csv->path, csv->line_no, strchr(csv->line, ';') != NULL ? "semicolon" : "tab");
-        return AENL_E_ARG;
+        n += (*p == csv->sep) ? 1U : 0U;
     }
     csv->names = (char **)calloc(n, sizeof *csv->names);
     if (csv->names == NULL)
@@ -231,7 +230,7 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
         char *name;
         size_t len;
         size_t k;
-        char *next = strchr(cell, ',');
+        char *next = strchr(cell, csv->sep);
         if (next != NULL)
         {
             *next = '\0';
@@ -421,9 +420,13 @@ static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cel
     {
         /* a word where the first data row starts is most often a row of units */
         const int unit_row = csv->data_rows == 0 && c == 0 && isalpha((unsigned char)cell[0]);
+        const int comma = csv->sep != ',' && strchr(cell, ',') != NULL;
         aenl_err_set(err, "%s:%lu:%lu (%s): not a number '%.60s'%s", csv->path, csv->line_no,
                      (unsigned long)(c + 1), csv->names[c], cell,
-                     unit_row ? " (a row of units? remove it or start it with '#')" : "");
+                     unit_row ? " (a row of units? remove it or start it with '#')"
+                              : (comma ? " (a decimal comma? aenl reads '.' decimals: export "
+                                         "the file with '.' as the decimal separator)"
+                                       : ""));
         return AENL_E_ARG;
     }
     if (isinf(v))
@@ -452,7 +455,7 @@ static aenl_status_t parse_row(const aenl_csv_t *csv, char *line, double *row, a
     char *cell = line;
     for (;;)
     {
-        char *next = strchr(cell, ',');
+        char *next = strchr(cell, csv->sep);
         aenl_status_t st;
         if (next != NULL)
         {
@@ -463,7 +466,7 @@ static aenl_status_t parse_row(const aenl_csv_t *csv, char *line, double *row, a
             size_t n_cells = c + 1;
             while (next != NULL)
             {
-                next = strchr(next + 1, ',');
+                next = strchr(next + 1, csv->sep);
                 ++n_cells;
             }
             aenl_err_set(err, "%s:%lu:%lu: extra cell (row has %lu cells, header has %lu)",
