@@ -210,9 +210,13 @@ static aenl_status_t parse_header(aenl_csv_t *csv, aenl_err_t *err)
     /* A spreadsheet's export in many locales separates by ';' (its decimals then are commas,
      * which parse_cell names), a tab-separated export by tabs: a header without a comma tells. */
     csv->sep = ',';
-    if (strchr(csv->line, ',') == NULL)
+    if (strchr(csv->line, ',') == NULL && strchr(csv->line, ';') != NULL)
     {
-        csv->sep = strchr(csv->line, ';') != NULL ? ';' : (strchr(csv->line, '\t') ? '\t' : ',');
+        csv->sep = ';';
+    }
+    else if (strchr(csv->line, ',') == NULL && strchr(csv->line, '\t') != NULL)
+    {
+        csv->sep = '\t';
     }
     for (p = csv->line; *p != '\0'; ++p)
     {
