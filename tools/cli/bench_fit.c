@@ -669,12 +669,13 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
         ++n_done;
     }
     printf("    per quantity over %zu records: mean, standard deviation, records within 2 %%, "
-           "Cramer-Rao floor (1 sigma, record 0)\n",
+           "Cramer-Rao floor (1 sigma, record 0), records within 2 floors, and whether the mean "
+           "is below half the standard deviation (no bias to speak of)\n",
            n_done);
     for (size_t i = 0; i < n_q; ++i)
     {
         double sum = 0.0, sum2 = 0.0;
-        size_t m = 0, ok = 0;
+        size_t m = 0, ok = 0, ok_floor = 0;
         for (size_t r = 0; r < n_done; ++r)
         {
             const double v = e[r * MS_MAX_Q + i];
@@ -683,6 +684,7 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
                 sum += v;
                 sum2 += v * v;
                 ok += fabs(v) <= 0.02;
+                ok_floor += fabs(v) <= 2.0 * first.crb[i];
                 ++m;
             }
         }
@@ -690,11 +692,11 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
         const double sd = (m > 1)
                               ? sqrt(fmax(0.0, (sum2 - (double)m * mean * mean) / (double)(m - 1)))
                               : (double)NAN;
-        printf(
-            "      mode %zu, pair f = %.5f, %-4s: mean %+5.1f %%, sd %4.1f %%, within 2 %% in %zu "
-            "of %zu, floor %.1f %%\n",
-            first.mode[i], first.f_true[i], first.what[i], 100.0 * mean, 100.0 * sd, ok, m,
-            100.0 * first.crb[i]);
+        printf("      mode %zu, pair f = %.5f, %-4s: mean %+5.1f %%, sd %4.1f %%, within 2 %% in "
+               "%zu of %zu, floor %.1f %%, within 2 floors in %zu of %zu, bias %s\n",
+               first.mode[i], first.f_true[i], first.what[i], 100.0 * mean, 100.0 * sd, ok, m,
+               100.0 * first.crb[i], ok_floor, m,
+               fabs(mean) < 0.5 * sd ? "below sd/2" : "ABOVE sd/2");
     }
     free(e);
 }
