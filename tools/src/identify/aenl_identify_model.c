@@ -247,12 +247,10 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
      * effect on a DOF d[0] left linear; then backfitting, each law refitted with the other in
      * place: d[2] the first DOF's (the baseline with d[1]'s law), d[3] the second's (the baseline
      * with the first DOF's final law); d[4], d[5] a second pass when d[3] changed the second
-     * law's class, for then d[2] was fitted against a law no longer in the model. Found on the
-     * two-freeplay example once the hysteresis could start at the paper's loop, before the
-     * scores took the dispersion (which now names the freeplay at d[1] there): d[1] named a
-     * pitch hysteresis that fitted 2 % better than the freeplay, d[2] fitted the flap gap
-     * against it (edges 3 and 10 % of the width off), and d[3] named the pitch a freeplay,
-     * which left the flap's law fitted to a model it was no longer part of. */
+     * law's class, for then d[2] was fitted against a law no longer in the model. Without the
+     * backfitting, a first law fitted while the second effect is missing absorbs part of it
+     * (its edges move, or a loop takes the place of a gap), and the second is then fitted
+     * against that distorted first law. */
     aenl_diagnose_result_t d[AENL_IDENTIFY_MAX_DIAGNOSES];
     memset(d, 0, sizeof(d));
     aenl_status_t st = aenl_diagnose_run(record, base, run, &o, &d[0], err);
