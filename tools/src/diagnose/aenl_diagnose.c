@@ -1062,10 +1062,9 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
 }
 
 /* Stage 3, the contenders (the best N_FLOOR_CAND): Nelder-Mead once more from the estimate with a
- * fresh simplex of the first steps. A simplex can collapse before it reaches the minimum: on the
- * 3-DOF flap hysteresis of `aenl bench diagnose` (seed 102) stage 2 stopped at gap 0.0463 with
- * delta 16 % off while the truth's parameters give 0.0426; the restart reaches 0.0415, delta 5 %
- * off. */
+ * fresh simplex of the first steps. A simplex can collapse before it reaches the minimum (its
+ * vertices fall into a lower-dimensional face, and its steps shrink without leaving it); a fresh
+ * simplex around the estimate spans every direction again. */
 static aenl_status_t restart(ctx_t *x, const aenl_sim_model_t *base, spec_t *s,
                              const aenl_diagnose_opts_t *opts, aenl_err_t *err)
 {
@@ -1214,9 +1213,8 @@ static size_t rivals_of(const aenl_diagnose_result_t *r, size_t best, double pen
 }
 
 /* Within one parameter's penalty the gap's scores do not tell laws apart (Akaike's rule of
- * thumb: within 2 of the least, both are supported), and on the suite's gust records with other
- * turbulence a freeplay and a hysteresis, or a freeplay and a polynomial, are often that close
- * (docs/diagnose.md). The summaries are few and precise: each such law refitted to them, the one
+ * thumb: within 2 of the least, both are supported), and under turbulence a freeplay and a
+ * hysteresis, or a freeplay and a polynomial, are often that close (docs/diagnose.md). The summaries are few and precise: each such law refitted to them, the one
  * with the least chi2 + penalty x parameters is named, the moment-selection criterion of the method
  * of moments (Andrews & Lu 2001: J less a penalty per over-identifying restriction, each model's J
  * with its own efficient weighting; over the same summaries, the same as J plus a penalty per
