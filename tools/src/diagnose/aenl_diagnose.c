@@ -1214,18 +1214,18 @@ static size_t rivals_of(const aenl_diagnose_result_t *r, size_t best, double pen
 
 /* Within one parameter's penalty the gap's scores do not tell laws apart (Akaike's rule of
  * thumb: within 2 of the least, both are supported), and under turbulence a freeplay and a
- * hysteresis, or a freeplay and a polynomial, are often that close (docs/diagnose.md). The summaries are few and precise: each such law refitted to them, the one
- * with the least chi2 + penalty x parameters is named, the moment-selection criterion of the method
- * of moments (Andrews & Lu 2001: J less a penalty per over-identifying restriction, each model's J
- * with its own efficient weighting; over the same summaries, the same as J plus a penalty per
- * parameter). A rejected fit, or one that cannot run, takes no part; when the best's own fit
- * cannot run, or every fit is rejected, the gap's choice stands. Only where the gap accepts the
- * best law (gap_accepts): efficient weights are right only for a model that can match the
- * record, and where even the best law misses it beyond chance, every rival does too, and their
- * chi2 compare two misfits, not two laws: with the noise estimated 0 against a baseline far from
- * the record, a true freeplay's summaries can be rejected while a thin loop's are just not, and
- * the loop would be named. sf[k] is the fit of cand con[k], con[0] the
- * best. The index into con of the law named. */
+ * hysteresis, or a freeplay and a polynomial, are often that close (docs/diagnose.md). The
+ * summaries are few and precise: each such law refitted to them, the one with the least chi2 +
+ * penalty x parameters is named, the moment-selection criterion of the method of moments (Andrews &
+ * Lu 2001: J less a penalty per over-identifying restriction, each model's J with its own efficient
+ * weighting; over the same summaries, the same as J plus a penalty per parameter). A rejected fit,
+ * or one that cannot run, takes no part; when the best's own fit cannot run, or every fit is
+ * rejected, the gap's choice stands. Only where the gap accepts the best law (gap_accepts):
+ * efficient weights are right only for a model that can match the record, and where even the best
+ * law misses it beyond chance, every rival does too, and their chi2 compare two misfits, not two
+ * laws: with the noise estimated 0 against a baseline far from the record, a true freeplay's
+ * summaries can be rejected while a thin loop's are just not, and the loop would be named. sf[k] is
+ * the fit of cand con[k], con[0] the best. The index into con of the law named. */
 static size_t summaries_choose(const aenl_diagnose_result_t *r, const size_t *con,
                                const sumfit_t *sf, size_t n_con, double penalty)
 {
