@@ -67,9 +67,9 @@ static void column_list(const aenl_table_t *t, char *buf, size_t cap)
  * message; without any time column, a note on stderr says how the record is read. */
 static int check_time_column(const char *cmd, const aenl_table_t *t, const char *path)
 {
-    char names[512];
     if (g_time_column != NULL && aenl_table_find(t, g_time_column) < 0)
     {
+        char names[512];
         column_list(t, names, sizeof(names));
         aenl_cli_error(cmd, "%s: --time: no column '%s' (columns: %s)", path, g_time_column, names);
         return -1;
