@@ -301,14 +301,19 @@ aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, con
     double *Dn = (double *)calloc(nx * nc, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));
     double *st = (double *)malloc(nl * sizeof(double));
+    double *z = (double *)calloc(nl, sizeof(double));
+    double *q = (double *)calloc(nc, sizeof(double));
     const size_t hac = hac_lag(k->n);
     double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || st == NULL || ring == NULL)
+    if (D == NULL || Dn == NULL || R == NULL || st == NULL || z == NULL || q == NULL ||
+        ring == NULL)
     {
         free(D);
         free(Dn);
         free(R);
         free(st);
+        free(z);
+        free(q);
         free(ring);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
@@ -324,18 +329,38 @@ aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, con
             const double *WC = k->WC + k->slot[t] * nz * nx;
             const double *e = k->eps + t * nz;
             nlt_mat_mul(WC, D, R, nz, nx, nc);
-            memset(st, 0, nl * sizeof(double));
-            for (size_t a = 0; a < nz; ++a)
+            /* the row's columns weighted by the innovations first, q = R' e, then partialled:
+             * st = q[nn..] - Pi' q[..nn], the same as partialling each channel's row and
+             * weighting after, at 1 / nz of the cost */
+            for (size_t c = 0; c < nc; ++c)
             {
-                const double *ra = R + a * nc;
+                double v = 0.0;
+                for (size_t a = 0; a < nz; ++a)
+                {
+                    v += R[a * nc + c] * e[a];
+                }
+                q[c] = v;
+            }
+            for (size_t l = 0; l < nl; ++l)
+            {
+                double x = q[nn + l];
+                for (size_t i = 0; i < nn; ++i)
+                {
+                    x -= Pi[i * nl + l] * q[i];
+                }
+                st[l] = x;
+            }
+            /* the lags' Bartlett-weighted sum first, z = sum_h w_h s_{t-h}: then
+             * sum_h w_h (s_t s_{t-h}' + s_{t-h} s_t') = s_t z' + z s_t', one outer product
+             * instead of one per lag */
+            memset(z, 0, nl * sizeof(double));
+            for (size_t h = 1; h <= hac && h <= ti; ++h)
+            {
+                const double w = 1.0 - (double)h / (double)(hac + 1);
+                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
                 for (size_t l = 0; l < nl; ++l)
                 {
-                    double x = ra[nn + l];
-                    for (size_t i = 0; i < nn; ++i)
-                    {
-                        x -= Pi[i * nl + l] * ra[i];
-                    }
-                    st[l] += x * e[a];
+                    z[l] += w * sp[l];
                 }
             }
             for (size_t l = 0; l < nl; ++l)
@@ -343,19 +368,7 @@ aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, con
                 score[l] += st[l];
                 for (size_t m = l; m < nl; ++m)
                 {
-                    meat[l * nl + m] += st[l] * st[m];
-                }
-            }
-            for (size_t h = 1; h <= hac && h <= ti; ++h)
-            {
-                const double w = 1.0 - (double)h / (double)(hac + 1);
-                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
-                for (size_t l = 0; l < nl; ++l)
-                {
-                    for (size_t m = l; m < nl; ++m)
-                    {
-                        meat[l * nl + m] += w * (st[l] * sp[m] + sp[l] * st[m]);
-                    }
+                    meat[l * nl + m] += st[l] * st[m] + st[l] * z[m] + z[l] * st[m];
                 }
             }
             if (hac > 0)
@@ -377,6 +390,8 @@ aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, con
     free(Dn);
     free(R);
     free(st);
+    free(z);
+    free(q);
     free(ring);
     return AENL_OK;
 }
