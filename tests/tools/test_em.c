@@ -1018,17 +1018,13 @@ static void test_em_noisy_simulation_has_the_models_covariances(void)
     aenl_em_model_free(&m);
 }
 
-/* Median of v (n values, reordered) and 1.4826 x its median absolute deviation. */
+/* 1.4826 x the median absolute deviation of v (n values, reordered). */
 static double robust_sd(double *v, size_t n)
 {
-    qsort(v, n, sizeof(double), aenl_cmp_double);
-    const double med = aenl_quantile_sorted(v, n, 0.5);
-    for (size_t k = 0; k < n; ++k)
-    {
-        v[k] = fabs(v[k] - med);
-    }
-    qsort(v, n, sizeof(double), aenl_cmp_double);
-    return 1.482602218505602 * aenl_quantile_sorted(v, n, 0.5);
+    double med = 0.0;
+    double sd = 0.0;
+    aenl_median_mad(v, n, &med, &sd);
+    return sd;
 }
 
 /* The bootstrap's standard error on one record against the spread of the same fit over many

@@ -240,14 +240,10 @@ static aenl_status_t noise_std(const double *x, size_t n, double *out, aenl_err_
     {
         d[i] = x[i + 3u] - 3.0 * x[i + 2u] + 3.0 * x[i + 1u] - x[i];
     }
-    qsort(d, m, sizeof(double), aenl_cmp_double);
-    const double med = aenl_quantile_sorted(d, m, 0.5);
-    for (size_t i = 0; i < m; ++i)
-    {
-        d[i] = fabs(d[i] - med);
-    }
-    qsort(d, m, sizeof(double), aenl_cmp_double);
-    *out = 1.482602218505602 * aenl_quantile_sorted(d, m, 0.5) / sqrt(20.0);
+    double med = 0.0;
+    double sd = 0.0;
+    aenl_median_mad(d, m, &med, &sd);
+    *out = sd / sqrt(20.0);
     free(d);
     return AENL_OK;
 }

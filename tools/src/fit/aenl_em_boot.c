@@ -17,8 +17,6 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_sort.h"
 
-#define BOOT_MAD_TO_SD 1.482602218505602 /* 1 / Phi^-1(3/4): MAD to sd for a normal spread */
-
 /* The fit's options for a replicate: the fitted thresholds and order held, no refinement. */
 static aenl_em_opts_t replicate_opts(const aenl_em_model_t *m, const aenl_em_opts_t *opts)
 {
@@ -69,15 +67,7 @@ static void robust_spread(double *v, size_t n, double *median, double *sd, size_
         *sd = NAN;
         return;
     }
-    qsort(v, n, sizeof(double), aenl_cmp_double);
-    const double med = aenl_quantile_sorted(v, n, 0.5);
-    for (size_t k = 0; k < n; ++k)
-    {
-        v[k] = fabs(v[k] - med);
-    }
-    qsort(v, n, sizeof(double), aenl_cmp_double);
-    *median = med;
-    *sd = BOOT_MAD_TO_SD * aenl_quantile_sorted(v, n, 0.5);
+    aenl_median_mad(v, n, median, sd);
 }
 
 /* One replicate: simulate, fit, and add each fitted pair's matched frequency and damping to
