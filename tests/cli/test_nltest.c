@@ -4,7 +4,8 @@
  * @brief The record-alone test (aenl_nltest) and `aenl identify --method test`.
  *
  * References: the chi-square tail against closed forms (k = 2: exp(-x/2); k = 1:
- * erfc(sqrt(x/2))) and published critical values; the test's level against its own definition
+ * erfc(sqrt(x/2))) and published critical values; the long-run variance of the laws'
+ * comparison against its double sum written out; the test's level against its own definition
  * (linear records from the project's simulator, another model than the test fits: a rejection
  * count at level 0.01 that a binomial bound allows); its power and switching points against the
  * simulated law's known gap.
@@ -17,6 +18,8 @@
 #include <cjson/cJSON.h>
 
 #include "aenl_cli_test.h"
+#include "aenl_nlt_internal.h"
+#include "aenl_test_rand.h"
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_tools/aenl_sim.h"
 #include "aenl_tools/aenl_stats.h"
@@ -66,6 +69,45 @@ static void test_chi2_sf_critical_values(void)
         TEST_ASSERT_DOUBLE_WITHIN(1e-4 * tab[i].alpha, tab[i].alpha,
                                   aenl_chi2_sf(tab[i].x, tab[i].k));
     }
+}
+
+/* The long-run variance of the laws' comparison against its definition written out as a double
+ * sum: sum over s, t of w(|s - t|) (x_s - mean)(x_t - mean), Bartlett weights
+ * w(h) = 1 - h / (L + 1) up to L = floor(4 (n / 100)^(2/9)), on an autocorrelated series. */
+static void test_nlt_long_run_variance_brute_force(void)
+{
+    enum
+    {
+        N = 700
+    };
+    static double x[N];
+    uint64_t seed = 7u;
+    double prev = 0.0;
+    for (size_t t = 0; t < N; ++t)
+    {
+        prev = 0.6 * prev + test_gauss(&seed) + 0.3;
+        x[t] = prev;
+    }
+    double mean = 0.0;
+    for (size_t t = 0; t < N; ++t)
+    {
+        mean += x[t] / (double)N;
+    }
+    const double lag = floor(4.0 * pow((double)N / 100.0, 2.0 / 9.0));
+    double ref = 0.0;
+    for (size_t s = 0; s < N; ++s)
+    {
+        for (size_t t = 0; t < N; ++t)
+        {
+            const double h = fabs((double)s - (double)t);
+            if (h <= lag)
+            {
+                ref += (1.0 - h / (lag + 1.0)) * (x[s] - mean) * (x[t] - mean);
+            }
+        }
+    }
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9 * ref, ref, nlt_long_run_variance(x, N));
+    TEST_ASSERT_EQUAL_DOUBLE(0.0, nlt_long_run_variance(x, 0));
 }
 
 /* ---- records -----------------------------------------------------------------------------------
@@ -200,6 +242,15 @@ static void test_nlt_freeplay_named_with_its_gap(void)
     TEST_ASSERT_EQUAL_INT(0, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_FREEPLAY, r.verdict_class);
     TEST_ASSERT_FALSE(r.undetermined);
+    /* named: both other laws lose their comparison with freeplay at 5 % each, and the best
+     * model heads the candidates */
+    TEST_ASSERT_TRUE(r.confidence >= 0.9);
+    TEST_ASSERT_TRUE(r.ch[0].law_p[AENL_NLT_POLYNOMIAL] < 0.05);
+    TEST_ASSERT_TRUE(r.ch[0].law_p[AENL_NLT_HYSTERESIS] < 0.05);
+    TEST_ASSERT_EQUAL_DOUBLE(1.0, r.ch[0].law_p[AENL_NLT_FREEPLAY]);
+    TEST_ASSERT_TRUE(r.n_candidates >= 1);
+    TEST_ASSERT_EQUAL_size_t(0, r.candidates[0].channel);
+    TEST_ASSERT_EQUAL_INT(AENL_NLT_FREEPLAY, r.candidates[0].law);
     TEST_ASSERT_TRUE(r.ch[0].p < 1e-6);
     TEST_ASSERT_EQUAL_size_t(2, r.ch[0].n_points);
     const double lo = law.x_f;
@@ -559,6 +610,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_chi2_sf_closed_forms);
     RUN_TEST(test_chi2_sf_critical_values);
+    RUN_TEST(test_nlt_long_run_variance_brute_force);
     RUN_TEST(test_nlt_bad_input);
     RUN_TEST(test_nlt_kicks_are_impulses);
     RUN_TEST(test_nlt_hardening_cubic);

@@ -29,11 +29,16 @@
  * between two switching points: a gap in which the stiffness differs) and hysteresis (the gap
  * shifts with the direction of motion, mirrored about zero, plus a direction-dependent preload).
  * Switching points are profiled over a grid of quantiles of u and refined on a finer grid
- * around the best pair. Laws are compared by the Bayesian information criterion, the switching
- * points counted as parameters; each law's weight is exp(-BIC/2) normalised over the laws. The
- * class is named when its weight reaches opts.min_weight, else it is undetermined and the
- * weights say which laws remain. Each switching point comes with its profile-likelihood 95 %
- * interval (the grid values whose profile stays within chi2_1(0.95) = 3.84 of the best).
+ * around the best pair. The best law is the one of the smallest Bayesian information criterion
+ * (the switching points counted as parameters); it is tested against each other law by Vuong's
+ * test for non-nested models: the difference of their per-sample losses (the squared whitened
+ * innovations each leaves), summed and less the penalty difference, over its long-run standard
+ * deviation, standard normal when the two laws are equally close to the record. The law is
+ * named when its confidence, 1 - 2 x the larger of the other laws' p-values, reaches
+ * opts.min_confidence; else the class is undetermined and the candidates say which laws remain.
+ * The verdict's channel is compared with the other rejecting channels' best laws the same way.
+ * Each switching point comes with its profile-likelihood 95 % interval (the grid values whose
+ * profile stays within chi2_1(0.95) = 3.84 of the best).
  *
  * Units: channels are scaled by their standard deviation inside; switching points are returned
  * in the channel's own unit. Errors: a status and an aenl_err_t message; nothing prints.
@@ -64,11 +69,11 @@ typedef enum
 
 typedef struct aenl_nlt_opts
 {
-    double level;      /**< family-wise level of the test over the channels (default 0.01) */
-    double min_weight; /**< weight a law needs to be named (default 0.9) */
-    size_t n_states;   /**< states of the linear model (default 0: chosen by BIC among 4 and 6
-                            per channel and 12, at most 12) */
-    size_t em_iter;    /**< EM iterations of the linear fit (default 200) */
+    double level;          /**< family-wise level of the test over the channels (default 0.01) */
+    double min_confidence; /**< confidence a law needs to be named (default 0.9) */
+    size_t n_states;       /**< states of the linear model (default 0: chosen by BIC among 4 and 6
+                                per channel and 12, at most 12) */
+    size_t em_iter;        /**< EM iterations of the linear fit (default 200) */
     const double *const *input; /**< known inputs (a measured force), n_input columns of the
                                      record's n samples (NULL: none): they drive the linear
                                      model with their values at both ends of a step (a
@@ -85,24 +90,36 @@ typedef struct aenl_nlt_opts
 /** One channel: the test and, when it rejects, the laws. */
 typedef struct aenl_nlt_channel
 {
-    double stat;                    /**< stage-1 chi-square statistic */
-    double dof;                     /**< its degrees of freedom */
-    double p;                       /**< its p-value */
-    int nonlinear;                  /**< 1 when p < level / n_channels */
-    aenl_class_t cls;               /**< LINEAR, POLYNOMIAL, FREEPLAY, HYSTERESIS, or INSUFFICIENT
-                                         when undetermined (see undetermined) */
-    int undetermined;               /**< 1: nonlinear, but no law reaches min_weight */
-    double gain[AENL_NLT_N_LAWS];   /**< best chi-square gain of each law (stage 2) */
-    double bic[AENL_NLT_N_LAWS];    /**< -gain + parameters ln(rows) */
-    double weight[AENL_NLT_N_LAWS]; /**< normalised exp(-bic/2) */
-    int hardening;                  /**< polynomial: 1 hardening, -1 softening, 0 unknown */
-    size_t n_points;                /**< switching points of the named (or best) law */
+    double stat;                   /**< stage-1 chi-square statistic */
+    double dof;                    /**< its degrees of freedom */
+    double p;                      /**< its p-value */
+    int nonlinear;                 /**< 1 when p < level / n_channels */
+    aenl_class_t cls;              /**< LINEAR, POLYNOMIAL, FREEPLAY, HYSTERESIS, or INSUFFICIENT
+                                        when undetermined (see undetermined) */
+    int undetermined;              /**< 1: nonlinear, but no law reaches min_confidence */
+    double gain[AENL_NLT_N_LAWS];  /**< best chi-square gain of each law (stage 2) */
+    double bic[AENL_NLT_N_LAWS];   /**< -gain + parameters ln(rows) */
+    double law_p[AENL_NLT_N_LAWS]; /**< one-sided p-value of the test that the law is as close
+                                        to the record as the law of the smallest bic (1 for
+                                        that law) */
+    double confidence;             /**< 1 - (laws - 1) x the largest other law_p, at least 0 */
+    int hardening;                 /**< polynomial: 1 hardening, -1 softening, 0 unknown */
+    size_t n_points;               /**< switching points of the named (or best) law */
     double points[AENL_NLT_MAX_POINTS];   /**< ascending, in the channel's unit */
     double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
     double point_hi[AENL_NLT_MAX_POINTS];
     size_t control_exceed; /**< linear controls whose statistic reaches this channel's */
     double control_p;      /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
 } aenl_nlt_channel_t;
+
+/** A (channel, law) model the record cannot reject against the best one. */
+typedef struct aenl_nlt_candidate
+{
+    size_t channel;
+    aenl_nlt_law_t law;
+    double p; /**< one-sided p-value of the test that it is as close to the record as the best
+                   (1 for the best) */
+} aenl_nlt_candidate_t;
 
 typedef struct aenl_nlt_result
 {
@@ -114,11 +131,18 @@ typedef struct aenl_nlt_result
     double level;      /**< the level used */
     double rows;       /**< regression rows (samples x channels) */
     aenl_nlt_channel_t ch[AENL_NLT_MAX_CH];
-    long verdict; /**< channel of the verdict (smallest p among the rejecting), or -1 */
+    long verdict; /**< channel of the best (channel, law) model among the rejecting channels,
+                       or -1 */
     aenl_class_t verdict_class; /**< LINEAR when nothing rejects; INSUFFICIENT when
                                      undetermined or the record is too short */
-    int undetermined;           /**< the verdict channel is nonlinear but its law is undetermined */
-    double confidence;          /**< the verdict class's weight (1 - p for a linear verdict) */
+    int undetermined;           /**< nonlinear, but the law is undetermined */
+    double confidence;          /**< of the law: 1 - m x the largest p-value of a model with
+                                     another law (m of them), at least 0; 1 - n_channels x the
+                                     smallest stage-1 p for a linear verdict */
+    double channel_confidence;  /**< of the channel, the same over the models on other channels
+                                     (1 when only one channel rejects) */
+    size_t n_candidates;        /**< models still in play, the best first */
+    aenl_nlt_candidate_t candidates[AENL_NLT_MAX_CH * AENL_NLT_N_LAWS];
 } aenl_nlt_result_t;
 
 void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
@@ -146,14 +170,15 @@ const char *aenl_nlt_law_name(aenl_nlt_law_t law);
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
 
 /**
- * @brief The result as one JSON object on `out`: file, aenl_version, method "test", level, model
- *        {states, samples, loglik, impulses}, verdict {class, channel, switch_points,
- * switch_point_lo, switch_point_hi, confidence, candidates [{class, weight}]}, channels [{name,
- * class, statistic, dof, p_value, nonlinear, weights {polynomial, freeplay, hysteresis}, hardening,
- * switch_points, switch_point_lo, switch_point_hi}], model.inputs [names] when the model took
- * known inputs, and controls (their number) with each channel's control_exceed and control_p
- * when linear controls were run. names: the channels; input_names: the inputs (NULL when there are
- * none).
+ * @brief The result as one JSON object on `out` (schema aenl-identify-test/2): file,
+ *        aenl_version, method "test", level, model {states, samples, loglik, impulses}, verdict
+ *        {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
+ *        channel_confidence, candidates [{class, channel, p_value}]}, channels [{name, class,
+ *        statistic, dof, p_value, nonlinear, law_p_values {polynomial, freeplay, hysteresis},
+ *        confidence, hardening, switch_points, switch_point_lo, switch_point_hi}],
+ *        model.inputs [names] when the model took known inputs, and controls (their number) with
+ *        each channel's control_exceed and control_p when linear controls were run. names: the
+ *        channels; input_names: the inputs (NULL when there are none).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,

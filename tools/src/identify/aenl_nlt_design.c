@@ -574,3 +574,117 @@ void nlt_resid_free(resid_t *r)
     r->Gt = NULL;
     r->rt = NULL;
 }
+
+/* The per-sample losses of n_fit fits of the design's columns: b holds n_fit coefficient vectors
+ * of d->ncols each (row-major), and loss (used samples x n_fit) receives, for every sample the
+ * filter used, sum over channels of (e - R b_f)^2, the squared whitened innovation that fit
+ * leaves. One sensitivity recursion per fit (the fit's force folded into one vector per series)
+ * instead of one per column: the fits are known, only their per-sample residuals are wanted. */
+aenl_status_t nlt_design_losses(const design_t *d, const kf_t *k, const double *b, size_t n_fit,
+                                double *loss, aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t nc = d->ncols;
+    double *W = (double *)calloc(d->n_series * nx * n_fit, sizeof(double));
+    double *D = (double *)calloc(nx * n_fit, sizeof(double));
+    double *Dn = (double *)calloc(nx * n_fit, sizeof(double));
+    double *R = (double *)calloc(nz * n_fit, sizeof(double));
+    if (W == NULL || D == NULL || Dn == NULL || R == NULL)
+    {
+        free(W);
+        free(D);
+        free(Dn);
+        free(R);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    /* W[s] (nx x n_fit): series s's force on the states under each fit */
+    size_t c = 0;
+    for (size_t s = 0; s < d->n_series; ++s)
+    {
+        double *ws = W + s * nx * n_fit;
+        for (size_t f = 0; f < n_fit; ++f)
+        {
+            const double *bf = b + f * nc;
+            for (size_t i = 0; i < nx; ++i)
+            {
+                ws[i * n_fit + f] = d->full[s] ? bf[c + i] : bf[c] * d->dir[i];
+            }
+        }
+        c += d->full[s] ? nx : 1u;
+    }
+    size_t ti = 0;
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            const double *WC = k->WC + k->slot[t] * nz * nx;
+            const double *e = k->eps + t * nz;
+            nlt_mat_mul(WC, D, R, nz, nx, n_fit);
+            for (size_t f = 0; f < n_fit; ++f)
+            {
+                double v = 0.0;
+                for (size_t a = 0; a < nz; ++a)
+                {
+                    const double r = e[a] - R[a * n_fit + f];
+                    v += r * r;
+                }
+                loss[ti * n_fit + f] = v;
+            }
+            ti++;
+        }
+        nlt_mat_mul(F, D, Dn, nx, nx, n_fit);
+        for (size_t s = 0; s < d->n_series; ++s)
+        {
+            const double gt = d->g[s][t];
+            const double *ws = W + s * nx * n_fit;
+            for (size_t i = 0; i < nx * n_fit; ++i)
+            {
+                Dn[i] += gt * ws[i];
+            }
+        }
+        double *tmp = D;
+        D = Dn;
+        Dn = tmp;
+    }
+    free(W);
+    free(D);
+    free(Dn);
+    free(R);
+    return AENL_OK;
+}
+
+/* The long-run variance of x (n values): its centred sum of squares plus the Bartlett-weighted
+ * autocovariances up to the lag of the robust score (the same kernel and lag). */
+double nlt_long_run_variance(const double *x, size_t n)
+{
+    if (n == 0)
+    {
+        return 0.0;
+    }
+    double mean = 0.0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        mean += x[t];
+    }
+    mean /= (double)n;
+    const size_t hac = hac_lag(n);
+    double v = 0.0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        v += (x[t] - mean) * (x[t] - mean);
+    }
+    for (size_t h = 1; h <= hac && h < n; ++h)
+    {
+        const double w = 1.0 - (double)h / (double)(hac + 1);
+        double acc = 0.0;
+        for (size_t t = h; t < n; ++t)
+        {
+            acc += (x[t] - mean) * (x[t - h] - mean);
+        }
+        v += 2.0 * w * acc;
+    }
+    return fmax(v, 0.0);
+}

@@ -95,4 +95,9 @@ aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_e
 
 void nlt_resid_free(resid_t *r);
 
+aenl_status_t nlt_design_losses(const design_t *d, const kf_t *k, const double *b, size_t n_fit,
+                                double *loss, aenl_err_t *err);
+
+double nlt_long_run_variance(const double *x, size_t n);
+
 #endif

@@ -2,7 +2,7 @@
 /**
  * @file aenl_nltest.c
  * @brief Identification from the record alone as a score test on Kalman innovations, then the
- *        law by an information criterion (aenl_nltest.h has the method).
+ *        law by a test between the laws' per-sample fits (aenl_nltest.h has the method).
  *
  * Layout: the linear fit (aenl_em, one mode), one Kalman filter pass that keeps what the
  * regressions need (whitened innovations, the whitened output matrix and the transition of the
@@ -297,7 +297,7 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
     opts->level = 0.01;
-    opts->min_weight = 0.9;
+    opts->min_confidence = 0.9;
     opts->n_states = 0;
     opts->em_iter = 200;
     opts->control_seed = 1u;
@@ -330,6 +330,11 @@ typedef struct
     const double *in_col[AENL_EM_MAX_U]; /* the scaled inputs, one series each */
     size_t n_in;
     double lnrows;
+    /* the laws' per-sample losses, channel j's at loss + j n AENL_NLT_N_LAWS (rows x laws), and
+     * their criteria (summed loss + penalty), for the comparison across channels */
+    double *loss;
+    double crit[AENL_NLT_MAX_CH][AENL_NLT_N_LAWS];
+    int compared[AENL_NLT_MAX_CH]; /* 1: channel j's laws were fitted */
 } run_t;
 
 /* The direction of motion of u: +1 rising, -1 falling, 0 at rest. */
@@ -687,9 +692,11 @@ static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const 
     return st;
 }
 
-/* The polynomial law (cubic, or cubic and quintic): its gain and criterion into c. Returns the
- * cubic coefficient, whose sign tells hardening from softening. */
-static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_nlt_channel_t *c)
+/* The polynomial law (cubic, or cubic and quintic): its gain and criterion into c, *quintic 1
+ * when the quintic term is kept. Returns the cubic coefficient, whose sign tells hardening from
+ * softening. */
+static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_nlt_channel_t *c,
+                             int *quintic)
 {
     const size_t i3 = S2_U3;
     const double one = 1.0;
@@ -699,6 +706,7 @@ static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_
     const double bic35 = -g35 / s2 + 2.0 * rn->lnrows;
     c->gain[AENL_NLT_POLYNOMIAL] = (bic3 <= bic35 ? g3 : g35) / s2;
     c->bic[AENL_NLT_POLYNOMIAL] = fmin(bic3, bic35);
+    *quintic = bic35 < bic3;
     return r->Gt[i3 * r->ns + i3] > 0.0 ? r->rt[i3] / r->Gt[i3 * r->ns + i3] : 0.0;
 }
 
@@ -772,32 +780,6 @@ static void refine_profile(profile_t *p, const profile_t *pfine, const double *k
     *p2 = fine[pfine->k2];
 }
 
-/* The weights of the laws from their criteria (Schwarz weights); returns the heaviest law. */
-static size_t law_weights(aenl_nlt_channel_t *c)
-{
-    double bmin = INFINITY;
-    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-    {
-        bmin = fmin(bmin, c->bic[l]);
-    }
-    double tot = 0.0;
-    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-    {
-        c->weight[l] = exp(-0.5 * (c->bic[l] - bmin));
-        tot += c->weight[l];
-    }
-    size_t lbest = 0;
-    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-    {
-        c->weight[l] /= tot;
-        if (c->weight[l] > c->weight[lbest])
-        {
-            lbest = l;
-        }
-    }
-    return lbest;
-}
-
 /* The hysteresis law's points into c, in the channel's units (scale sc): the kinks of both
  * branches, a1, a2 rising and -a2, -a1 falling, ascending, with their intervals. */
 static void hysteresis_points(const profile_t *ph, double hp1, double hp2, double sc,
@@ -841,16 +823,227 @@ typedef struct
     double fp[2], hp[2];
 } two_point_t;
 
-/* Channel j's verdict from the laws' criteria: weights, switching points, hardening and class
- * into c. beta3: the cubic coefficient. */
-static void stage2_verdict(const run_t *rn, size_t j, const double *dir, double s2,
-                           const two_point_t *tp, double beta3, aenl_nlt_channel_t *c)
+/* Verdict design columns after the nuisance: each law's series at its best points. */
+enum
 {
-    c->gain[AENL_NLT_FREEPLAY] = fmax(tp->pf.best, 0.0) / s2;
-    c->gain[AENL_NLT_HYSTERESIS] = fmax(tp->ph.best, 0.0) / s2;
-    c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
-    c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
-    const size_t lbest = law_weights(c);
+    V_U3 = 0,
+    V_U5 = 1,
+    V_FP = 2,
+    V_HY = 3,
+    V_D = 4,
+    V_LAWCOLS = 5
+};
+
+/* The laws' series at their best points (tp) into buf (V_LAWCOLS x n), the channel's motion in
+ * rn->lin, its direction in rn->dsg. */
+static void verdict_series(const run_t *rn, const two_point_t *tp, double *buf)
+{
+    const size_t n = rn->n;
+    const double f1 = tp->fp[0];
+    const double f2 = tp->fp[1];
+    const double a1 = tp->hp[0];
+    const double a2 = tp->hp[1];
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double u = rn->lin[t];
+        const double dg = rn->dsg[t];
+        buf[V_U3 * n + t] = u * u * u;
+        buf[V_U5 * n + t] = u * u * u * u * u;
+        buf[V_FP * n + t] = fmax(u - f1, 0.0) - fmax(u - f2, 0.0);
+        buf[V_HY * n + t] = dg > 0.0   ? fmax(u - a1, 0.0) - fmax(u - a2, 0.0)
+                            : dg < 0.0 ? fmax(u + a2, 0.0) - fmax(u + a1, 0.0)
+                                       : 0.0;
+        buf[V_D * n + t] = dg;
+    }
+}
+
+/* Columns of each law's fit in the verdict design (nn nuisance columns first): into idx,
+ * returns their number. */
+static size_t law_columns(size_t law, size_t nn, int quintic, size_t *idx)
+{
+    size_t m = 0;
+    for (; m < nn; ++m)
+    {
+        idx[m] = m;
+    }
+    switch (law)
+    {
+        case AENL_NLT_POLYNOMIAL:
+            idx[m++] = nn + V_U3;
+            if (quintic)
+            {
+                idx[m++] = nn + V_U5;
+            }
+            break;
+        case AENL_NLT_FREEPLAY:
+            idx[m++] = nn + V_FP;
+            break;
+        case AENL_NLT_HYSTERESIS:
+            idx[m++] = nn + V_HY;
+            idx[m++] = nn + V_D;
+            break;
+        default:
+            break;
+    }
+    return m;
+}
+
+/* The one-sided p-value of Vuong's test that model b is as close to the record as model a:
+ * la, lb their per-sample losses (rows values, stride apart), crit_a, crit_b their criteria
+ * (summed loss plus penalty); dl: rows values of scratch. */
+static double vuong_p(const double *la, const double *lb, size_t stride, size_t rows, double crit_a,
+                      double crit_b, double *dl)
+{
+    for (size_t t = 0; t < rows; ++t)
+    {
+        dl[t] = lb[t * stride] - la[t * stride];
+    }
+    const double v = nlt_long_run_variance(dl, rows);
+    const double num = crit_b - crit_a;
+    if (!(v > 0.0))
+    {
+        return num > 0.0 ? 0.0 : 1.0;
+    }
+    return 0.5 * erfc(num / sqrt(2.0 * v));
+}
+
+/* The law of the smallest criterion. */
+static size_t best_of(const double *crit)
+{
+    size_t best = 0;
+    for (size_t l = 1; l < AENL_NLT_N_LAWS; ++l)
+    {
+        best = crit[l] < crit[best] ? l : best;
+    }
+    return best;
+}
+
+/* Channel j's laws compared on the record (Vuong's test for non-nested models): each law is
+ * fitted at its best switching points beside the nuisance, its per-sample loss is the squared
+ * whitened innovation it leaves, and the difference of two laws' losses, summed over the record
+ * and less their Schwarz penalty, is judged by its long-run variance (the robust score's kernel
+ * and lag). The null of each comparison: the two laws are equally close to the record; the
+ * variance is the record's own, so an approximate linear model or an uneven spread widens it
+ * instead of making a small difference look certain. The losses and criteria are kept in rn
+ * for the comparison across channels; *best receives the law of the smallest criterion and
+ * c->law_p each law's p-value against it (1 for itself). */
+static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, double s2,
+                                    const two_point_t *tp, int quintic, size_t *best,
+                                    aenl_nlt_channel_t *c, aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    const size_t nx = rn->nx;
+    const double *nuis[NLT_NUIS_MAX + V_LAWCOLS];
+    const size_t n_nuis = stage2_nuisance(rn, nuis);
+    const size_t nn = n_nuis * nx;
+    const size_t nc = nn + V_LAWCOLS;
+    int full[NLT_NUIS_MAX + V_LAWCOLS];
+    double *buf = (double *)malloc(V_LAWCOLS * n * sizeof(double));
+    double *b = (double *)calloc(AENL_NLT_N_LAWS * nc, sizeof(double));
+    double *loss = rn->loss + j * n * AENL_NLT_N_LAWS;
+    double *dl = (double *)malloc(n * sizeof(double));
+    double *beta = (double *)malloc(nc * sizeof(double));
+    size_t *idx = (size_t *)malloc(nc * sizeof(size_t));
+    if (buf == NULL || b == NULL || dl == NULL || beta == NULL || idx == NULL)
+    {
+        free(buf);
+        free(b);
+        free(dl);
+        free(beta);
+        free(idx);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    verdict_series(rn, tp, buf);
+    for (size_t i = 0; i < n_nuis; ++i)
+    {
+        full[i] = 1;
+    }
+    for (size_t i = 0; i < V_LAWCOLS; ++i)
+    {
+        nuis[n_nuis + i] = buf + i * n;
+        full[n_nuis + i] = 0;
+    }
+    design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL};
+    aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
+    for (size_t l = 0; l < AENL_NLT_N_LAWS && st == AENL_OK; ++l)
+    {
+        const size_t m = law_columns(l, nn, quintic, idx);
+        if (!isfinite(nlt_fit_subset(&d, idx, m, beta)))
+        {
+            aenl_err_set(err, "the %s law's regression is singular",
+                         aenl_nlt_law_name((aenl_nlt_law_t)l));
+            st = AENL_E_NUMERIC;
+            break;
+        }
+        for (size_t i = 0; i < m; ++i)
+        {
+            b[l * nc + idx[i]] = beta[i];
+        }
+    }
+    if (st == AENL_OK)
+    {
+        st = nlt_design_losses(&d, rn->kf, b, AENL_NLT_N_LAWS, loss, err);
+    }
+    if (st == AENL_OK)
+    {
+        const size_t rows = rn->kf->rows / rn->nz;
+        const double k[AENL_NLT_N_LAWS] = {quintic ? 2.0 : 1.0, 3.0, 4.0};
+        double *crit = rn->crit[j];
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            crit[l] = s2 * k[l] * rn->lnrows;
+            for (size_t t = 0; t < rows; ++t)
+            {
+                crit[l] += loss[t * AENL_NLT_N_LAWS + l];
+            }
+        }
+        *best = best_of(crit);
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            c->law_p[l] = l == *best ? 1.0
+                                     : vuong_p(loss + *best, loss + l, AENL_NLT_N_LAWS, rows,
+                                               crit[*best], crit[l], dl);
+        }
+        rn->compared[j] = 1;
+    }
+    nlt_design_free(&d);
+    free(buf);
+    free(b);
+    free(dl);
+    free(beta);
+    free(idx);
+    return st;
+}
+
+/* A law's confidence: 1 - the largest p-value of the others against it, Bonferroni-adjusted
+ * over the comparisons (0 when no law beats the others). */
+static double law_confidence(const aenl_nlt_channel_t *c, size_t best)
+{
+    double pmax = 0.0;
+    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+    {
+        if (l != best)
+        {
+            pmax = fmax(pmax, c->law_p[l]);
+        }
+    }
+    return 1.0 - fmin(1.0, (double)(AENL_NLT_N_LAWS - 1u) * pmax);
+}
+
+/* The class a law names. */
+static aenl_class_t law_class(aenl_nlt_law_t law)
+{
+    return law == AENL_NLT_POLYNOMIAL
+               ? AENL_CLASS_POLYNOMIAL
+               : (law == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY : AENL_CLASS_HYSTERESIS);
+}
+
+/* Channel j's verdict from the laws' comparison: switching points, hardening and class into c.
+ * beta3: the cubic coefficient; lbest: the law of the smallest criterion. */
+static void stage2_verdict(const run_t *rn, size_t j, const double *dir, const two_point_t *tp,
+                           double beta3, size_t lbest, aenl_nlt_channel_t *c)
+{
     const double sc = rn->scale[j];
     c->n_points = 0;
     if (lbest == AENL_NLT_FREEPLAY)
@@ -874,13 +1067,9 @@ static void stage2_verdict(const run_t *rn, size_t j, const double *dir, double 
         const int bs = (beta3 > 0.0) - (beta3 < 0.0);
         c->hardening = fs * bs;
     }
-    c->undetermined = c->weight[lbest] < rn->opts->min_weight;
-    c->cls =
-        c->undetermined
-            ? AENL_CLASS_INSUFFICIENT
-            : (lbest == AENL_NLT_POLYNOMIAL
-                   ? AENL_CLASS_POLYNOMIAL
-                   : (lbest == AENL_NLT_FREEPLAY ? AENL_CLASS_FREEPLAY : AENL_CLASS_HYSTERESIS));
+    c->confidence = law_confidence(c, lbest);
+    c->undetermined = c->confidence < rn->opts->min_confidence;
+    c->cls = c->undetermined ? AENL_CLASS_INSUFFICIENT : law_class((aenl_nlt_law_t)lbest);
 }
 
 /* The fine search of both two-point laws around their coarse best pairs (in tp, over knots, nk
@@ -946,7 +1135,8 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     {
         return st;
     }
-    const double beta3 = polynomial_law(rn, &r, s2, c);
+    int quintic = 0;
+    const double beta3 = polynomial_law(rn, &r, s2, c, &quintic);
     /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
     size_t all[4 * NLT_N_QUANT + 8] = {0};
     for (size_t i = 0; i < nk; ++i)
@@ -958,9 +1148,19 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     profile_pairs(&r, knots, nk, all, nk, all, nk, hysteresis_gain, s2, &tp.ph);
     nlt_resid_free(&r);
     st = fine_search(rn, dir, s2, nuis, n_nuis, knots, nk, &tp, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    c->gain[AENL_NLT_FREEPLAY] = fmax(tp.pf.best, 0.0) / s2;
+    c->gain[AENL_NLT_HYSTERESIS] = fmax(tp.ph.best, 0.0) / s2;
+    c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
+    c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
+    size_t lbest = 0;
+    st = law_comparison(rn, j, dir, s2, &tp, quintic, &lbest, c, err);
     if (st == AENL_OK)
     {
-        stage2_verdict(rn, j, dir, s2, &tp, beta3, c);
+        stage2_verdict(rn, j, dir, &tp, beta3, lbest, c);
     }
     return st;
 }
@@ -980,8 +1180,8 @@ static aenl_status_t check_args(const double *y, size_t n, size_t n_ch, const ae
         return AENL_E_ARG;
     }
     if (!(opts->level > 0.0 && opts->level < 1.0) ||
-        !(opts->min_weight > 0.0 && opts->min_weight <= 1.0) || opts->n_states > NLT_MAX_X ||
-        opts->em_iter == 0)
+        !(opts->min_confidence > 0.0 && opts->min_confidence <= 1.0) ||
+        opts->n_states > NLT_MAX_X || opts->em_iter == 0)
     {
         aenl_err_set(err, "aenl_nlt_run: options out of range");
         return AENL_E_ARG;
@@ -1404,7 +1604,11 @@ static int alloc_series(run_t *rn)
     rn->lin = (double *)malloc(n * sizeof(double));
     rn->dsg = (double *)malloc(n * sizeof(double));
     rn->work = (double *)malloc(4u * n * sizeof(double));
-    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ? -1 : 0;
+    rn->loss = (double *)malloc(rn->nz * n * AENL_NLT_N_LAWS * sizeof(double));
+    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ||
+                   rn->loss == NULL
+               ? -1
+               : 0;
 }
 
 static void free_series(run_t *rn)
@@ -1413,6 +1617,7 @@ static void free_series(run_t *rn)
     free(rn->lin);
     free(rn->dsg);
     free(rn->work);
+    free(rn->loss);
 }
 
 /* Channel j's series for both stages: the offset, the filtered output and its direction of
@@ -1450,36 +1655,94 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
     if (c->nonlinear && !stats_only)
     {
         st = stage2(rn, j, dir, s2, c, err);
-        /* every channel's statistic has the same degrees of freedom: the largest is the
-         * smallest p-value, and stays comparable where the p-values underflow to 0 */
-        if (st == AENL_OK && (res->verdict < 0 || c->stat > res->ch[res->verdict].stat))
-        {
-            res->verdict = (long)j;
-        }
     }
     return st;
 }
 
-/* The record's verdict class and confidence from its channels (pmin: their smallest stage-1
- * p-value). */
-static void summarise(aenl_nlt_result_t *res, double pmin, size_t n_ch)
+/* 1 - m p, at least 0: a confidence from the largest of m p-values (Bonferroni). */
+static double bonferroni_confidence(double pmax, size_t m)
 {
-    if (res->verdict >= 0)
+    return m == 0 ? 1.0 : 1.0 - fmin(1.0, (double)m * pmax);
+}
+
+/* The record's verdict. Its channel is the rejecting channel of the largest stage-1 statistic
+ * (every channel's has the same degrees of freedom: the largest is the smallest p-value, and
+ * stays comparable where the p-values underflow to 0), its law that channel's best, named with
+ * the confidence of the comparison of the channel's laws. The channel's own confidence comes
+ * from the same comparison across channels: every channel's best law explains the same
+ * innovations, so the verdict's and another channel's compare by Vuong's test as two laws of one
+ * channel do (Bonferroni over the other rejecting channels). A law of the verdict channel, or
+ * another channel's best law, stays a candidate while its p-value, times the number of
+ * comparisons of its kind, exceeds 1 - min_confidence. */
+static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    long bj = -1;
+    for (size_t j = 0; j < rn->nz; ++j)
     {
-        const aenl_nlt_channel_t *c = &res->ch[res->verdict];
-        res->verdict_class = c->cls;
-        res->undetermined = c->undetermined;
-        double wmax = 0.0;
-        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        if (rn->compared[j] && (bj < 0 || res->ch[j].stat > res->ch[bj].stat))
         {
-            wmax = fmax(wmax, c->weight[l]);
+            bj = (long)j;
         }
-        res->confidence = wmax;
     }
-    else
+    if (bj < 0)
     {
-        res->confidence = 1.0 - fmin(1.0, pmin * (double)n_ch);
+        return AENL_OK;
     }
+    const aenl_nlt_channel_t *c = &res->ch[bj];
+    const size_t bl = best_of(rn->crit[bj]);
+    const double alpha = 1.0 - rn->opts->min_confidence;
+    res->n_candidates = 0;
+    for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l) /* the verdict channel's laws, the best first */
+    {
+        const size_t ll = (bl + l) % AENL_NLT_N_LAWS;
+        if (ll == bl || c->law_p[ll] * (double)(AENL_NLT_N_LAWS - 1u) > alpha)
+        {
+            aenl_nlt_candidate_t *cd = &res->candidates[res->n_candidates++];
+            cd->channel = (size_t)bj;
+            cd->law = (aenl_nlt_law_t)ll;
+            cd->p = c->law_p[ll];
+        }
+    }
+    const size_t rows = rn->kf->rows / rn->nz;
+    double *dl = (double *)malloc(rows * sizeof(double));
+    if (dl == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    double p[AENL_NLT_MAX_CH];
+    size_t m_ch = 0;
+    double pmax_ch = 0.0;
+    const double *lb = rn->loss + (size_t)bj * n * AENL_NLT_N_LAWS + bl;
+    for (size_t j = 0; j < rn->nz; ++j)
+    {
+        if (rn->compared[j] && j != (size_t)bj)
+        {
+            const size_t l = best_of(rn->crit[j]);
+            p[j] = vuong_p(lb, rn->loss + j * n * AENL_NLT_N_LAWS + l, AENL_NLT_N_LAWS, rows,
+                           rn->crit[bj][bl], rn->crit[j][l], dl);
+            pmax_ch = fmax(pmax_ch, p[j]);
+            m_ch++;
+        }
+    }
+    free(dl);
+    for (size_t j = 0; j < rn->nz; ++j)
+    {
+        if (rn->compared[j] && j != (size_t)bj && p[j] * (double)m_ch > alpha)
+        {
+            aenl_nlt_candidate_t *cd = &res->candidates[res->n_candidates++];
+            cd->channel = j;
+            cd->law = (aenl_nlt_law_t)best_of(rn->crit[j]);
+            cd->p = p[j];
+        }
+    }
+    res->verdict = bj;
+    res->confidence = c->confidence;
+    res->channel_confidence = bonferroni_confidence(pmax_ch, m_ch);
+    res->undetermined = c->undetermined;
+    res->verdict_class = c->cls;
+    return AENL_OK;
 }
 
 /* The filter of ys with the model of em, restarted at the impulses: they are found in a run
@@ -1644,7 +1907,9 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     }
     if (st == AENL_OK)
     {
-        summarise(res, pmin, n_ch);
+        res->confidence = bonferroni_confidence(pmin, n_ch);
+        res->channel_confidence = 1.0;
+        st = verdict_comparison(&rn, res, err);
     }
     free_series(&rn);
     nlt_kf_free(&kf);

@@ -16,9 +16,6 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined)
     return undetermined ? "undetermined" : aenl_class_name(cls);
 }
 
-/* A weight below this is not listed as a candidate law. */
-#define OUT_MIN_CANDIDATE 0.05
-
 static cJSON *num(double v)
 {
     return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
@@ -50,10 +47,10 @@ static cJSON *num_array(const double *v, size_t n)
     return a;
 }
 
-static int add_points(cJSON *o, const aenl_nlt_channel_t *c)
+static int add_points(cJSON *o, const aenl_nlt_channel_t *c, int undetermined)
 {
     /* the points of a named law only: an undetermined class has none to stand by */
-    const size_t np = c->nonlinear && !c->undetermined ? c->n_points : 0u;
+    const size_t np = c->nonlinear && !undetermined ? c->n_points : 0u;
     int bad = add(o, "switch_points", num_array(c->points, np));
     bad |= add(o, "switch_point_lo", num_array(c->point_lo, np));
     bad |= add(o, "switch_point_hi", num_array(c->point_hi, np));
@@ -79,13 +76,14 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t
     for (size_t l = 0; w != NULL && l < AENL_NLT_N_LAWS; ++l)
     {
         bad |= add(w, aenl_nlt_law_name((aenl_nlt_law_t)l),
-                   num(c->nonlinear ? c->weight[l] : (double)NAN));
+                   num(c->nonlinear ? c->law_p[l] : (double)NAN));
     }
-    bad |= add(o, "weights", w);
+    bad |= add(o, "law_p_values", w);
+    bad |= add(o, "confidence", num(c->nonlinear ? c->confidence : (double)NAN));
     const int poly = c->nonlinear && !c->undetermined && c->cls == AENL_CLASS_POLYNOMIAL;
     bad |= add(o, "hardening",
                poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
-    bad |= add_points(o, c);
+    bad |= add_points(o, c, c->undetermined);
     if (n_controls > 0)
     {
         bad |= add(o, "control_exceed", cJSON_CreateNumber((double)c->control_exceed));
@@ -113,7 +111,7 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
         add(v, "channel", c != NULL ? cJSON_CreateString(names[r->verdict]) : cJSON_CreateNull());
     if (c != NULL)
     {
-        bad |= add_points(v, c);
+        bad |= add_points(v, c, r->undetermined);
     }
     else
     {
@@ -122,22 +120,22 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
         bad |= add(v, "switch_point_hi", cJSON_CreateArray());
     }
     bad |= add(v, "confidence", num(r->confidence));
+    bad |=
+        add(v, "channel_confidence", c != NULL ? num(r->channel_confidence) : cJSON_CreateNull());
     cJSON *cand = cJSON_CreateArray();
-    for (size_t l = 0; c != NULL && cand != NULL && l < AENL_NLT_N_LAWS; ++l)
+    for (size_t i = 0; c != NULL && cand != NULL && i < r->n_candidates; ++i)
     {
-        if (c->weight[l] >= OUT_MIN_CANDIDATE)
+        const aenl_nlt_candidate_t *cd = &r->candidates[i];
+        cJSON *e = cJSON_CreateObject();
+        if (e == NULL || add(e, "class", cJSON_CreateString(aenl_nlt_law_name(cd->law))) != 0 ||
+            add(e, "channel", cJSON_CreateString(names[cd->channel])) != 0 ||
+            add(e, "p_value", num(cd->p)) != 0)
         {
-            cJSON *e = cJSON_CreateObject();
-            if (e == NULL ||
-                add(e, "class", cJSON_CreateString(aenl_nlt_law_name((aenl_nlt_law_t)l))) != 0 ||
-                add(e, "weight", num(c->weight[l])) != 0)
-            {
-                cJSON_Delete(e);
-                bad = 1;
-                break;
-            }
-            cJSON_AddItemToArray(cand, e);
+            cJSON_Delete(e);
+            bad = 1;
+            break;
         }
+        cJSON_AddItemToArray(cand, e);
     }
     bad |= add(v, "candidates", cand);
     if (bad)
@@ -157,7 +155,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/1"));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/2"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "method", cJSON_CreateString("test"));
@@ -246,7 +244,7 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                   (unsigned long)r->n_impulses, r->n_impulses == 1 ? "" : "s", r->level,
                   r->level / (double)r->n_channels);
     (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s%s\n", "channel", "chi-square", "dof",
-                  "p-value", "class", "weights poly/freeplay/hyst",
+                  "p-value", "class", "p vs best law poly/freeplay/hyst",
                   r->n_controls > 0 ? "  controls >= (p)" : "");
     for (size_t j = 0; j < r->n_channels; ++j)
     {
@@ -256,7 +254,7 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                                           c->nonlinear && c->undetermined));
         if (c->nonlinear)
         {
-            (void)fprintf(out, " %.3f/%.3f/%.3f", c->weight[0], c->weight[1], c->weight[2]);
+            (void)fprintf(out, " %.3f/%.3f/%.3f", c->law_p[0], c->law_p[1], c->law_p[2]);
         }
         if (r->n_controls > 0)
         {
@@ -270,7 +268,8 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
     if (r->verdict >= 0)
     {
         const aenl_nlt_channel_t *c = &r->ch[r->verdict];
-        (void)fprintf(out, " in %s (confidence %.3f)", names[r->verdict], r->confidence);
+        (void)fprintf(out, " in %s (confidence %.3f; channel %.3f)", names[r->verdict],
+                      r->confidence, r->channel_confidence);
         if (r->verdict_class == AENL_CLASS_POLYNOMIAL && c->hardening != 0)
         {
             (void)fprintf(out, ", %s", c->hardening > 0 ? "hardening" : "softening");
@@ -280,16 +279,16 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
             (void)fprintf(out, "\nswitching points [95 %% profile interval, not calibrated]: ");
             print_points(out, c);
         }
-        if (r->undetermined)
+        if (r->n_candidates > 1)
         {
-            (void)fprintf(out, "\nthe record cannot tell the laws apart; candidates:");
-            for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+            (void)fprintf(out, "\n%s; candidates (p against the best):",
+                          r->undetermined ? "the record cannot tell the laws apart"
+                                          : "the record cannot tell these channels apart");
+            for (size_t i = 0; i < r->n_candidates; ++i)
             {
-                if (c->weight[l] >= OUT_MIN_CANDIDATE)
-                {
-                    (void)fprintf(out, " %s %.3f", aenl_nlt_law_name((aenl_nlt_law_t)l),
-                                  c->weight[l]);
-                }
+                const aenl_nlt_candidate_t *cd = &r->candidates[i];
+                (void)fprintf(out, " %s in %s %.3g", aenl_nlt_law_name(cd->law), names[cd->channel],
+                              cd->p);
             }
         }
     }
