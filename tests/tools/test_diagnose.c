@@ -597,11 +597,28 @@ static void test_noise_beyond_the_baseline(void)
     aenl_table_free(&t);
 }
 
+/* What a progress receiver heard: every report's done within its total, the total the same
+ * throughout, done never going back, and the last report the whole. */
+typedef struct
+{
+    size_t calls, last, total;
+    int ok;
+} heard_t;
+
+static void hear(void *ctx, size_t done, size_t total)
+{
+    heard_t *h = (heard_t *)ctx;
+    h->ok = h->ok && done <= total && done >= h->last && (h->calls == 0u || total == h->total);
+    h->calls++;
+    h->last = done;
+    h->total = total;
+}
+
 /* A noise-free free decay against the model that made it: every run of the baseline is alike
  * (no turbulence, no noise), so its floor is 0; the summaries have nothing random to rank and
  * their test does not run; the baseline reproduces the record exactly and agrees all the same
- * (else identify --model would fall back to the record's own verdict: polynomial on the suite's
- * case 0). */
+ * (else identify --model would fall back to the record's own verdict). The progress receiver
+ * hears every stage of the search, the last one the whole. */
 static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;
@@ -614,8 +631,17 @@ static void test_exact_baseline_agrees(void)
     aenl_diagnose_opts_default(&o);
     o.n_replicates = 2;
     o.n_refine = 0;
+    heard_t heard = {0, 0, 0, 1};
+    const aenl_progress_t progress = {hear, &heard};
+    o.progress = &progress;
     aenl_diagnose_result_t r;
     TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &m, &run, &o, &r, &err), err.msg);
+    /* every stage reported, the last one the whole search */
+    TEST_ASSERT_TRUE(heard.ok);
+    TEST_ASSERT_TRUE(heard.calls >= 3u);
+    TEST_ASSERT_EQUAL_size_t(heard.total, heard.last);
+    TEST_ASSERT_EQUAL_size_t(heard.calls, heard.total);
+    o.progress = NULL;
     TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, r.effect);
     TEST_ASSERT_EQUAL_DOUBLE(0.0, r.floor_before[r.n_channels]);
     TEST_ASSERT_EQUAL_INT(1, r.base_exact);
@@ -639,7 +665,7 @@ static void test_exact_baseline_agrees(void)
  * measured over runs given a small nominal noise (0.1 % of each channel's std). The reference: M
  * as the replicates measure it on the same record with white noise of that size added. Measured
  * over the alike runs themselves, M would stand at 1 and every difference of the scores would
- * shrink with it (as on the suite's decay 158). M grows slowly with the noise's size (on this
+ * shrink with it. M grows slowly with the noise's size (on this
  * record about 8 at 0.1 %, 11 to 14 at 0.3 to 1 %, 22 at 3 %: more of the signatures' elements are
  * the noise's), so the reference is at the nominal size. */
 static void test_dof_without_noise(void)

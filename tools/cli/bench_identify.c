@@ -845,7 +845,7 @@ static aenl_status_t model_test(const aenl_eval_case_t *c, size_t n, int unknown
     {
         memcpy(tab.data + (k + 1u) * n, c->cols[k], n * sizeof(double));
     }
-    st = aenl_identify_model_test(res, &tab, &base, &run, NULL, err);
+    st = aenl_identify_model_test(res, &tab, &base, &run, NULL, NULL, err);
     aenl_table_free(&tab);
     return st;
 }

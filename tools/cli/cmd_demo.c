@@ -206,7 +206,7 @@ static int model_verdict(aenl_identify_result_t *r, const char *csv, const char 
     }
     if (st == AENL_OK)
     {
-        st = aenl_identify_model_test(r, &t, &base, &run, NULL, &err);
+        st = aenl_identify_model_test(r, &t, &base, &run, NULL, NULL, &err);
     }
     aenl_table_free(&t);
     if (st != AENL_OK)

@@ -396,7 +396,13 @@ static int diagnose_and_write(const char *measured, const char *model, const cha
         return AENL_EXIT_USAGE;
     }
     aenl_diagnose_result_t r;
-    aenl_status_t st = aenl_diagnose_run(&t, &base, &run, opts, &r, &err);
+    /* a bar on a terminal, unless the -v lines tell the progress already */
+    aenl_cli_bar_t bar;
+    aenl_cli_bar_begin(&bar, k_cmd, "searching");
+    aenl_diagnose_opts_t o = *opts;
+    o.progress = opts->verbose ? NULL : &bar.progress;
+    aenl_status_t st = aenl_diagnose_run(&t, &base, &run, &o, &r, &err);
+    aenl_cli_bar_end(&bar);
     aenl_table_free(&t);
     if (st != AENL_OK)
     {

@@ -1433,8 +1433,11 @@ static int model_test(const args_t *a, const aenl_sim_model_t *base, const aenl_
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
+    aenl_cli_bar_t bar;
+    aenl_cli_bar_begin(&bar, k_cmd, "diagnosing against the model");
     const aenl_status_t st =
-        aenl_identify_model_test(res, &t, base, run, aenl_cli_time_column(), &err);
+        aenl_identify_model_test(res, &t, base, run, aenl_cli_time_column(), &bar.progress, &err);
+    aenl_cli_bar_end(&bar);
     aenl_table_free(&t);
     if (st != AENL_OK)
     {

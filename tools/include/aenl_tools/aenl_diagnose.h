@@ -46,6 +46,7 @@
 
 #include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_progress.h"
 #include "aenl_tools/aenl_sim.h"
 
 #define AENL_DIAGNOSE_N_FAMILY 4  /**< amplitude, mean, std, spectrum */
@@ -99,6 +100,10 @@ typedef struct aenl_diagnose_opts
     int verbose;              /**< 1: progress lines on stderr */
     const char *time_column;  /**< the record's time column by name; NULL (default): the column
                                    aenl_csv_is_time_name knows */
+    const aenl_progress_t *progress; /**< hears after each stage of the search: the baseline,
+                                          each candidate's grid and refinement, each
+                                          contender's restart and floor, the end (NULL:
+                                          nobody) */
 } aenl_diagnose_opts_t;
 
 /** One calibrated candidate. */

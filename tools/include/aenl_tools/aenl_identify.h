@@ -224,10 +224,13 @@ aenl_status_t aenl_identify_apply_model(aenl_identify_result_t *res,
  *        the verdict stays the first's. Minutes on long records.
  * @return AENL_OK; the errors of aenl_diagnose_run (AENL_E_ARG a record or model it cannot use,
  *         AENL_E_DIM a capacity) and of aenl_identify_apply_model; res unchanged on error.
- * @note time_column names the record's time column (NULL: one aenl_csv_is_time_name knows).
+ * @note time_column names the record's time column (NULL: one aenl_csv_is_time_name knows);
+ *       progress (NULL: nobody) hears each diagnosis' stages (aenl_diagnose_opts_t.progress),
+ *       from the start again for every diagnosis.
  */
 aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_table_t *record,
                                        const aenl_sim_model_t *base, const aenl_sim_run_t *run,
-                                       const char *time_column, aenl_err_t *err);
+                                       const char *time_column, const aenl_progress_t *progress,
+                                       aenl_err_t *err);
 
 #endif /* AENL_TOOLS_IDENTIFY_H */

@@ -126,6 +126,8 @@ typedef struct
     uint64_t noise_seed;
     unsigned n_sims;
     int verbose;
+    const aenl_progress_t *progress;
+    size_t step, steps; /* stages done of the search's (progress) */
     /* Runaway bound of every candidate simulation per channel: RUNAWAY_LIMIT times the larger
      * of the measured std and mean, from zero. Runaway models can become very stiff (a diverging
      * flutter mode driving a hardening spring) and their full runs would dominate the cost; the
@@ -978,6 +980,13 @@ static void set_sig(aenl_diagnose_result_t *r, const floor_t *fl, double fam[][N
     }
 }
 
+/* One more stage of the search done, reported to the options' progress receiver. */
+static void advance(ctx_t *x)
+{
+    x->step++;
+    aenl_progress_report(x->progress, x->step < x->steps ? x->step : x->steps, x->steps);
+}
+
 static void progress(const ctx_t *x, const char *fmt, const char *a, const char *b, double g)
 {
     if (x->verbose)
@@ -1049,6 +1058,7 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
         }
         progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
                  aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
+        advance(x);
     }
     /* Stage 2: Nelder-Mead from the best grid point of the most promising candidates. */
     size_t order[AENL_DIAGNOSE_MAX_CAND];
@@ -1056,6 +1066,7 @@ static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec
     for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
     {
         refine(&o, &sp[order[i]], opts->max_evals, "refined %s %s: gap %.4g");
+        advance(x);
     }
     free(sig);
     return o.st;
@@ -1454,6 +1465,7 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     x->res = r;
     x->noise_seed = d->opts->noise_seed;
     x->verbose = d->opts->verbose;
+    x->progress = d->opts->progress;
     for (size_t c = 0; c < x->n_ch; ++c)
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
@@ -1612,6 +1624,7 @@ static aenl_status_t fit_candidates(diag_t *d, aenl_err_t *err)
         {
             return st;
         }
+        advance(&d->x);
     }
     order_by_best(d->sp, d->n_sp, d->order);
     return AENL_OK;
@@ -1675,6 +1688,7 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
         if (i < N_FLOOR_CAND && st == AENL_OK)
         {
             st = contender_floor(d, i, cd, err);
+            advance(&d->x);
         }
     }
     return st;
@@ -1920,6 +1934,12 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     if (st == AENL_OK)
     {
         make_specs(d);
+        /* the stages: the baseline, each candidate's grid, the refined ones, the contenders'
+         * restarts and floors, the naming (with its summary fit), the updated model */
+        const size_t n_con = d->n_sp < N_FLOOR_CAND ? d->n_sp : N_FLOOR_CAND;
+        d->x.steps =
+            3u + d->n_sp + (d->n_sp < opts->n_refine ? d->n_sp : opts->n_refine) + 2u * n_con;
+        advance(&d->x);
         st = fit_candidates(d, err);
     }
     if (st == AENL_OK)
@@ -1935,6 +1955,7 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     if (st == AENL_OK)
     {
         st = name_effect(d, best, &moved, err);
+        advance(&d->x);
     }
     if (st == AENL_OK)
     {
@@ -1942,6 +1963,8 @@ static aenl_status_t diagnose(const aenl_table_t *measured, const aenl_sim_model
     }
     if (st == AENL_OK)
     {
+        d->x.step = d->x.steps - 1u;
+        advance(&d->x);
         measurement_snr(r);
         r->n_sims = d->x.n_sims;
         r->seconds = aenl_now_s() - t0;

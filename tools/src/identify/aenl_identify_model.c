@@ -238,11 +238,13 @@ static void apply_second(aenl_identify_result_t *res, const aenl_diagnose_result
 
 aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_table_t *record,
                                        const aenl_sim_model_t *base, const aenl_sim_run_t *run,
-                                       const char *time_column, aenl_err_t *err)
+                                       const char *time_column, const aenl_progress_t *progress,
+                                       aenl_err_t *err)
 {
     aenl_diagnose_opts_t o;
     aenl_diagnose_opts_default(&o);
     o.time_column = time_column;
+    o.progress = progress;
     /* d[0]: against the baseline; d[1]: against the baseline with d[0]'s law, for a second
      * effect on a DOF d[0] left linear; then backfitting, each law refitted with the other in
      * place: d[2] the first DOF's (the baseline with d[1]'s law), d[3] the second's (the baseline
