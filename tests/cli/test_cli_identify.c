@@ -160,11 +160,23 @@ static void check_confidence(const cJSON *c, const char *what)
 /* The whole object, as docs/identify.md gives it; returns the verdict's channel object or NULL. */
 static const cJSON *check_contract(const cJSON *root, const char *file, int n_channels)
 {
-    static const char *const k_top[] = {"schema", "aenl_version", "file", "verdict", "channels"};
-    static const char *const k_verdict[] = {"class", "channel", "switch_points", "confidence"};
+    static const char *const k_top[] = {"schema",  "aenl_version", "file",     "rows",
+                                        "verdict", "channels",     "impulses", "limit_cycle",
+                                        "model",   "notes"};
+    static const char *const k_verdict[] = {"class",      "channel",  "hardening", "switch_points",
+                                            "confidence", "by_model", "guess"};
     static const char *const k_channel[] = {
-        "name", "class", "switch_points", "switch_point_std", "confidence", "bandwidth", "lags"};
-    check_keys(root, k_top, 5, "top level");
+        "name",       "class",     "hardening",    "switch_points", "switch_point_std",
+        "confidence", "bandwidth", "bandwidth_by", "period",        "noise",
+        "lags"};
+    check_keys(root, k_top, 10, "top level");
+    const cJSON *notes = cJSON_GetObjectItemCaseSensitive(root, "notes");
+    TEST_ASSERT_TRUE(cJSON_IsArray(notes));
+    const cJSON *note = NULL;
+    cJSON_ArrayForEach(note, notes)
+    {
+        TEST_ASSERT_TRUE(cJSON_IsString(note));
+    }
     const cJSON *f = cJSON_GetObjectItemCaseSensitive(root, "file");
     TEST_ASSERT_TRUE(cJSON_IsString(f));
     TEST_ASSERT_EQUAL_STRING(file, f->valuestring);
@@ -175,7 +187,7 @@ static const cJSON *check_contract(const cJSON *root, const char *file, int n_ch
     const cJSON *ch = NULL;
     cJSON_ArrayForEach(ch, chans)
     {
-        check_keys(ch, k_channel, 7, "channel");
+        check_keys(ch, k_channel, 11, "channel");
         const cJSON *name = cJSON_GetObjectItemCaseSensitive(ch, "name");
         TEST_ASSERT_TRUE(cJSON_IsString(name));
         const char *what = name->valuestring;
@@ -217,7 +229,7 @@ static const cJSON *check_contract(const cJSON *root, const char *file, int n_ch
     }
 
     const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, "verdict");
-    check_keys(v, k_verdict, 4, "verdict");
+    check_keys(v, k_verdict, 7, "verdict");
     const cJSON *vcls = cJSON_GetObjectItemCaseSensitive(v, "class");
     TEST_ASSERT_TRUE(is_class(vcls));
     const cJSON *vpts = cJSON_GetObjectItemCaseSensitive(v, "switch_points");
@@ -356,8 +368,21 @@ static void test_cli_identify_kicked_decay_train(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  impulsive excitation: "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
     const char *json[] = {"identify", data, "--json", NULL};
-    cJSON *root = run_json(json, &r);
-    (void)check_contract(root, data, 2); /* the report stays out of the JSON */
+    static cli_result_t rj; /* r still holds the table */
+    cJSON *root = run_json(json, &rj);
+    (void)check_contract(root, data, 2);
+    /* the JSON's notes are the table's note lines, word for word, and the events are counted */
+    const cJSON *notes = cJSON_GetObjectItemCaseSensitive(root, "notes");
+    TEST_ASSERT_TRUE(cJSON_GetArraySize(notes) >= 1);
+    const cJSON *note = NULL;
+    cJSON_ArrayForEach(note, notes)
+    {
+        char line[1200];
+        (void)snprintf(line, sizeof(line), "\n  %s\n", note->valuestring);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, line), note->valuestring);
+    }
+    const cJSON *imp = cJSON_GetObjectItemCaseSensitive(root, "impulses");
+    TEST_ASSERT_TRUE(cJSON_IsNumber(imp) && imp->valuedouble >= 1.0);
     cJSON_Delete(root);
 }
 
@@ -520,6 +545,17 @@ static void test_cli_identify_with_model(void)
         const cJSON *e = cJSON_GetArrayItem(sd, k);
         TEST_ASSERT_TRUE(cJSON_IsNumber(e) && e->valuedouble > 0.0 && e->valuedouble < 0.1 * width);
     }
+    /* the model-based test as the table says it: freeplay in pitch, no second effect, the gap
+     * closed, decided by the model */
+    TEST_ASSERT_TRUE(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(v, "by_model")));
+    const cJSON *m = cJSON_GetObjectItemCaseSensitive(root, "model");
+    TEST_ASSERT_TRUE(cJSON_IsObject(m));
+    TEST_ASSERT_EQUAL_STRING("freeplay",
+                             cJSON_GetObjectItemCaseSensitive(m, "effect")->valuestring);
+    TEST_ASSERT_EQUAL_STRING("pitch", cJSON_GetObjectItemCaseSensitive(m, "dof")->valuestring);
+    TEST_ASSERT_TRUE(cJSON_IsNull(cJSON_GetObjectItemCaseSensitive(m, "effect2")));
+    TEST_ASSERT_TRUE(cJSON_GetObjectItemCaseSensitive(m, "gap_after")->valuedouble <
+                     cJSON_GetObjectItemCaseSensitive(m, "gap_before")->valuedouble);
     cJSON_Delete(root);
     const char *table[] = {"identify", data, "--model", base, NULL};
     const char *out = run_table(table, &r);

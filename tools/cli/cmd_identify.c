@@ -12,6 +12,7 @@
 #include <cjson/cJSON.h>
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -571,6 +572,14 @@ static int add(cJSON *obj, const char *key, cJSON *item)
     return 0;
 }
 
+/* A polynomial's hardening (true) or softening (false); null for other classes or unknown. */
+static cJSON *json_hardening(const aenl_classifier_result_t *res)
+{
+    return res->cls == AENL_CLASS_POLYNOMIAL && res->hardening != 0
+               ? cJSON_CreateBool(res->hardening > 0)
+               : cJSON_CreateNull();
+}
+
 static cJSON *json_channel(const aenl_identify_channel_t *ch)
 {
     cJSON *o = cJSON_CreateObject();
@@ -587,12 +596,20 @@ static cJSON *json_channel(const aenl_identify_channel_t *ch)
             lags = NULL;
         }
     }
-    const int bad = add(o, "name", cJSON_CreateString(ch->name)) != 0 ||
-                    add(o, "class", cJSON_CreateString(aenl_class_name(ch->res.cls))) != 0 ||
-                    add(o, "switch_points", json_points(&ch->res, 0)) != 0 ||
-                    add(o, "switch_point_std", json_points(&ch->res, 1)) != 0 ||
-                    add(o, "confidence", num_or_null((double)ch->res.confidence)) != 0 ||
-                    add(o, "bandwidth", num_or_null(ch->bandwidth)) != 0;
+    const char *bw_by = ch->bw_method == AENL_BW_CV     ? "cross-validation"
+                        : ch->bw_method == AENL_BW_RULE ? "rule"
+                                                        : "given";
+    const int bad =
+        add(o, "name", cJSON_CreateString(ch->name)) != 0 ||
+        add(o, "class", cJSON_CreateString(aenl_class_name(ch->res.cls))) != 0 ||
+        add(o, "hardening", json_hardening(&ch->res)) != 0 ||
+        add(o, "switch_points", json_points(&ch->res, 0)) != 0 ||
+        add(o, "switch_point_std", json_points(&ch->res, 1)) != 0 ||
+        add(o, "confidence", num_or_null((double)ch->res.confidence)) != 0 ||
+        add(o, "bandwidth", num_or_null(ch->bandwidth)) != 0 ||
+        add(o, "bandwidth_by", cJSON_CreateString(bw_by)) != 0 ||
+        add(o, "period", ch->period > 0.0 ? num_or_null(ch->period) : cJSON_CreateNull()) != 0 ||
+        add(o, "noise", num_or_null(ch->noise_std)) != 0;
     if (bad)
     {
         cJSON_Delete(lags); /* not attached yet */
@@ -607,14 +624,150 @@ static cJSON *json_channel(const aenl_identify_channel_t *ch)
     return o;
 }
 
+/* The verdict is the model-based test's (not the record's own). */
+static int verdict_by_model(const aenl_identify_result_t *r)
+{
+    return r->model.applied && r->model.explained &&
+           (r->model.effect != AENL_DIAGNOSE_NONE || r->model.base_test == 1);
+}
+
+/* The notes under the table go to a receiver one line at a time: the table prints them, the
+ * JSON's "notes" holds the same lines. */
+typedef struct
+{
+    void (*emit)(void *ctx, const char *line);
+    void *ctx;
+} notes_t;
+
+static void add_note(const notes_t *nt, const char *fmt, ...) AENL_PRINTF_LIKE(2, 3);
+
+static void add_note(const notes_t *nt, const char *fmt, ...)
+{
+    char line[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    (void)vsnprintf(line, sizeof(line), fmt, ap);
+    va_end(ap);
+    nt->emit(nt->ctx, line);
+}
+
+static void notes_of(const aenl_identify_result_t *r, int by_model, const notes_t *nt)
+{
+    for (size_t i = 0; i < r->n_channels; ++i)
+    {
+        const aenl_identify_channel_t *ch = &r->ch[i];
+        if (ch->bw_method == AENL_BW_RULE)
+        {
+            add_note(nt, "%s: bandwidth by the rule of thumb (cross-validation gave no minimum)",
+                     ch->name);
+        }
+        if (ch->n_missing > 0)
+        {
+            add_note(nt, "%s: %zu missing sample%s (NaN cells) skipped", ch->name, ch->n_missing,
+                     ch->n_missing == 1 ? "" : "s");
+        }
+        if (ch->dither_std > ch->noise_std) /* not a mere top-up of a noisy record */
+        {
+            add_note(nt,
+                     "%s: cleaner than the regression's noise floor (SNR 10); white noise of std "
+                     "%.3g dithered in for it",
+                     ch->name, ch->dither_std);
+        }
+        if (ch->explained_by >= 0)
+        {
+            add_note(nt,
+                     "%s: the law it shows is explained by that of %s (its force reaches %s "
+                     "through the coupling); %s taken as linear",
+                     ch->name, r->ch[ch->explained_by].name, ch->name, ch->name);
+        }
+    }
+    if (r->impulses > 0)
+    {
+        add_note(nt,
+                 "impulsive excitation: %zu event%s (%zu rows) left out of the restoring-force "
+                 "regression",
+                 r->impulses, r->impulses == 1 ? "" : "s", r->impulse_rows);
+    }
+    if (r->limit_cycle >= 0)
+    {
+        add_note(nt,
+                 "limit cycle: sustained oscillation of constant amplitude in %s (kurtosis %.2f); "
+                 "a linear structure has none",
+                 r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
+        if (r->verdict >= 0 && !by_model)
+        {
+            add_note(nt, "one orbit does not tell polynomial, freeplay and hysteresis apart: the "
+                         "class is a guess among the three (confidence 1/3 for the class)");
+        }
+    }
+}
+
 /* Print the object; -1 when memory ran out (nothing printed). */
 /* The verdict is the pipeline's (aenl_identify_result_t: verdict, verdict_class,
  * verdict_confidence). */
-static int print_json(const aenl_identify_result_t *r, const char *path)
+static void json_note(void *ctx, const char *line)
+{
+    cJSON *a = (cJSON *)ctx;
+    cJSON *x = a != NULL ? cJSON_CreateString(line) : NULL;
+    if (x != NULL && !cJSON_AddItemToArray(a, x))
+    {
+        cJSON_Delete(x);
+    }
+}
+
+/* The model-based test (--model) as an object: what the table's model lines say. */
+static cJSON *json_model(const aenl_identify_result_t *r, const char *model)
+{
+    const aenl_identify_model_t *m = &r->model;
+    cJSON *o = cJSON_CreateObject();
+    cJSON *alone = cJSON_CreateObject();
+    if (o == NULL || alone == NULL)
+    {
+        cJSON_Delete(o);
+        cJSON_Delete(alone);
+        return NULL;
+    }
+    const int second = m->effect2 != AENL_DIAGNOSE_NONE;
+    int bad = add(o, "file", cJSON_CreateString(model));
+    bad |= add(o, "explained", cJSON_CreateBool(m->explained));
+    bad |= add(o, "effect", cJSON_CreateString(aenl_diagnose_effect_name(m->effect)));
+    bad |= add(o, "dof",
+               m->effect != AENL_DIAGNOSE_NONE ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof))
+                                               : cJSON_CreateNull());
+    bad |= add(o, "gap_before", num_or_null(m->gap_before));
+    bad |= add(o, "gap_after", num_or_null(m->gap_after));
+    bad |= add(o, "effect2",
+               second ? cJSON_CreateString(aenl_diagnose_effect_name(m->effect2))
+                      : cJSON_CreateNull());
+    bad |= add(o, "dof2",
+               second ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof2)) : cJSON_CreateNull());
+    bad |= add(o, "gap_after2", second ? num_or_null(m->gap_after2) : cJSON_CreateNull());
+    bad |= add(o, "baseline_summaries_p",
+               m->base_test >= 0 && m->base_sum.n_rep > 0u ? num_or_null(m->base_sum.p)
+                                                           : cJSON_CreateNull());
+    bad |= add(o, "diagnoses", cJSON_CreateNumber((double)m->n_diagnoses));
+    bad |= add(alone, "class", cJSON_CreateString(aenl_class_name(m->data_class)));
+    bad |= add(alone, "channel",
+               m->data_verdict >= 0 ? cJSON_CreateString(r->ch[m->data_verdict].name)
+                                    : cJSON_CreateNull());
+    bad |= add(alone, "confidence", num_or_null(m->data_confidence));
+    bad |= add(o, "record_alone", alone);
+    if (bad)
+    {
+        cJSON_Delete(o);
+        return NULL;
+    }
+    return o;
+}
+
+static int print_json(const aenl_identify_result_t *r, const char *path, size_t rows,
+                      const char *model)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON *verdict = cJSON_CreateObject();
     cJSON *chans = cJSON_CreateArray();
+    cJSON *notes = cJSON_CreateArray();
+    const int by_model = verdict_by_model(r);
     int bad = (root == NULL);
     if (verdict != NULL)
     {
@@ -624,9 +777,16 @@ static int print_json(const aenl_identify_result_t *r, const char *path)
         bad |=
             add(verdict, "channel",
                 r->verdict >= 0 ? cJSON_CreateString(r->ch[r->verdict].name) : cJSON_CreateNull());
+        bad |= add(verdict, "hardening", json_hardening(res));
         bad |= add(verdict, "switch_points", json_points(res, 0));
         bad |= add(verdict, "confidence", num_or_null(r->verdict_confidence));
+        bad |= add(verdict, "by_model", cJSON_CreateBool(by_model));
+        /* one orbit of a limit cycle: the class is one of three alike */
+        bad |= add(verdict, "guess",
+                   cJSON_CreateBool(r->limit_cycle >= 0 && r->verdict >= 0 && !by_model));
     }
+    const notes_t nt = {json_note, notes};
+    notes_of(r, by_model, &nt);
     for (size_t i = 0; chans != NULL && i < r->n_channels; ++i)
     {
         cJSON *c = json_channel(&r->ch[i]);
@@ -639,16 +799,26 @@ static int print_json(const aenl_identify_result_t *r, const char *path)
     }
     if (root != NULL)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify/1"));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify/2"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
+        bad |= add(root, "rows", cJSON_CreateNumber((double)rows));
         bad |= add(root, "verdict", verdict);
         bad |= add(root, "channels", chans);
+        bad |= add(root, "impulses", cJSON_CreateNumber((double)r->impulses));
+        bad |= add(root, "limit_cycle",
+                   r->limit_cycle >= 0 ? cJSON_CreateString(r->ch[r->limit_cycle].name)
+                                       : cJSON_CreateNull());
+        bad |=
+            add(root, "model",
+                r->model.applied ? json_model(r, model != NULL ? model : "") : cJSON_CreateNull());
+        bad |= add(root, "notes", notes);
     }
     else
     {
         cJSON_Delete(verdict);
         cJSON_Delete(chans);
+        cJSON_Delete(notes);
     }
     char *text = bad ? NULL : cJSON_Print(root);
     cJSON_Delete(root);
@@ -783,11 +953,16 @@ static void print_model(const aenl_identify_result_t *r, const char *model)
     }
 }
 
+static void print_note(void *ctx, const char *line)
+{
+    (void)ctx;
+    printf("  %s\n", line);
+}
+
 static void print_table(const aenl_identify_result_t *r, const char *path, size_t rows,
                         const aenl_identify_opts_t *o, const char *model)
 {
-    const int by_model = r->model.applied && r->model.explained &&
-                         (r->model.effect != AENL_DIAGNOSE_NONE || r->model.base_test == 1);
+    const int by_model = verdict_by_model(r);
     int w_name = 7;
     for (size_t i = 0; i < r->n_channels; ++i)
     {
@@ -810,48 +985,8 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
         print_points(&ch->res, 1);
         printf("\n");
     }
-    for (size_t i = 0; i < r->n_channels; ++i)
-    {
-        if (r->ch[i].bw_method == AENL_BW_RULE)
-        {
-            printf("  %s: bandwidth by the rule of thumb (cross-validation gave no minimum)\n",
-                   r->ch[i].name);
-        }
-        if (r->ch[i].n_missing > 0)
-        {
-            printf("  %s: %zu missing sample%s (NaN cells) skipped\n", r->ch[i].name,
-                   r->ch[i].n_missing, r->ch[i].n_missing == 1 ? "" : "s");
-        }
-        if (r->ch[i].dither_std > r->ch[i].noise_std) /* not a mere top-up of a noisy record */
-        {
-            printf("  %s: cleaner than the regression's noise floor (SNR 10); white noise of std "
-                   "%.3g dithered in for it\n",
-                   r->ch[i].name, r->ch[i].dither_std);
-        }
-        if (r->ch[i].explained_by >= 0)
-        {
-            printf("  %s: the law it shows is explained by that of %s (its force reaches %s "
-                   "through the coupling); %s taken as linear\n",
-                   r->ch[i].name, r->ch[r->ch[i].explained_by].name, r->ch[i].name, r->ch[i].name);
-        }
-    }
-    if (r->impulses > 0)
-    {
-        printf("  impulsive excitation: %zu event%s (%zu rows) left out of the restoring-force "
-               "regression\n",
-               r->impulses, r->impulses == 1 ? "" : "s", r->impulse_rows);
-    }
-    if (r->limit_cycle >= 0)
-    {
-        printf("  limit cycle: sustained oscillation of constant amplitude in %s (kurtosis %.2f); "
-               "a linear structure has none\n",
-               r->ch[r->limit_cycle].name, r->ch[r->limit_cycle].kurtosis);
-        if (r->verdict >= 0 && !by_model)
-        {
-            printf("  one orbit does not tell polynomial, freeplay and hysteresis apart: the class "
-                   "is a guess among the three (confidence 1/3 for the class)\n");
-        }
-    }
+    const notes_t nt = {print_note, NULL};
+    notes_of(r, by_model, &nt);
     printf("  (bandwidth and noise in channel units, period in samples, lags in samples)\n");
     if (r->model.applied)
     {
@@ -1530,7 +1665,7 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
     {
         if (a->json)
         {
-            if (print_json(&res, a->data) != 0)
+            if (print_json(&res, a->data, chk.n_rows_total, a->model) != 0)
             {
                 aenl_cli_error(k_cmd, "out of memory while writing the JSON");
                 rc = AENL_EXIT_FAIL;
