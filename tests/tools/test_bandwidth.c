@@ -15,6 +15,7 @@
 #include "aenl_test_rand.h"
 
 #include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_curves.h"
 
 static aenl_err_t g_err;
 static uint64_t g_lcg;
@@ -434,6 +435,43 @@ static void test_bw_nan_gaps_are_skipped(void)
 
 /* ---- cost ---------------------------------------------------------------------------------- */
 
+/* A long record's bandwidth chosen on its first samples and carried to the whole record by the
+ * n^(-1/5) rate, against the cross-validation of the whole record (the reference): within the
+ * spread of a cross-validated bandwidth, while the block's own bandwidth, unscaled, is not (it
+ * is (n / m)^(1/5) = 2 times too wide here). */
+static void test_curves_bandwidth_from_a_block(void)
+{
+    const size_t n = 320000;
+    double *x = make_sine_ar(n, 0.5);
+    aenl_curves_opts_t o;
+    aenl_curves_opts_default(&o);
+    o.n_lags = 1;
+    o.lags[0] = 1;
+    o.cv_max = 0; /* the whole record */
+    aenl_curves_t full;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_curves_compute(x, n, &o, &full, &g_err), g_err.msg);
+    o.cv_max = 10000;
+    aenl_curves_t blk;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_curves_compute(x, n, &o, &blk, &g_err), g_err.msg);
+    aenl_bw_result_t own;
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_bw_select(x, 10000, o.lags, 1, NULL, &own, &g_err));
+    char msg[200];
+    (void)snprintf(msg, sizeof msg, "whole %g, block scaled %g, block unscaled %g", full.bandwidth,
+                   blk.bandwidth, own.h);
+    TEST_MESSAGE(msg);
+    TEST_ASSERT_EQUAL_INT(AENL_BW_CV, full.bw_method);
+    TEST_ASSERT_EQUAL_INT(AENL_BW_CV, blk.bw_method);
+    TEST_ASSERT_EQUAL_size_t(n, full.cv_samples);
+    TEST_ASSERT_EQUAL_size_t(10000, blk.cv_samples);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-12 * own.h, own.h * pow(10000.0 / (double)n, 0.2), blk.bandwidth);
+    const double ratio = blk.bandwidth / full.bandwidth;
+    TEST_ASSERT_TRUE_MESSAGE(ratio > 0.75 && ratio < 1.33, msg);
+    TEST_ASSERT_TRUE_MESSAGE(own.h / full.bandwidth > 1.33, msg);
+    aenl_curves_free(&full);
+    aenl_curves_free(&blk);
+    free(x);
+}
+
 static void test_bw_select_timing_1e5_samples_3_lags(void)
 {
     const size_t n = 100000;
@@ -471,5 +509,6 @@ int main(void)
     RUN_TEST(test_bw_rejects_bad_arguments);
     RUN_TEST(test_bw_nan_gaps_are_skipped);
     RUN_TEST(test_bw_select_timing_1e5_samples_3_lags);
+    RUN_TEST(test_curves_bandwidth_from_a_block);
     return UNITY_END();
 }

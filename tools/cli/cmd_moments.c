@@ -533,6 +533,12 @@ static void print_summary(const moments_args_t *a, const aenl_curves_t *c, const
         printf("  period %.4g samples, pre-filter cutoff %.4g of the sample rate\n", c->period,
                c->prefilter);
     }
+    if (c->cv_samples > 0u && c->cv_samples < c->n_samples)
+    {
+        printf("  bandwidth chosen on the first %zu samples and scaled to the record by "
+               "(%zu / %zu)^(1/5)\n",
+               c->cv_samples, c->cv_samples, c->n_samples);
+    }
 }
 
 int aenl_cmd_moments(int argc, char **argv)

@@ -30,9 +30,14 @@ typedef struct aenl_curves_opts
     double prefilter;    /**< 0 off (default); > 0 low-pass cutoff as a fraction of the sample
                               rate (< 0.5); < 0 automatic: 8 / period, at most 0.4 */
     int lags_auto;       /**< 1: lags chosen from the period, geometric 1 .. max(5, period/8) */
+    size_t cv_max;       /**< samples the cross-validation reads (default 200 000; 0: all): a
+                              longer record's bandwidth is cross-validated on its first cv_max
+                              samples and scaled by (cv_max / n)^(1/5), the rate at which the
+                              kernel regression's optimal bandwidth shrinks with the record */
 } aenl_curves_opts_t;
 
-/** Defaults: lags 1, 10, 30; 64 nodes; CV bandwidth; no forgetting; split on. */
+/** Defaults: lags 1, 10, 30; 64 nodes; CV bandwidth (on at most 200 000 samples); no forgetting;
+ *  split on. */
 void aenl_curves_opts_default(aenl_curves_opts_t *o);
 
 /** Curves for every lag and direction. Arrays are [lag][node]; NaN where a node has no weight. */
@@ -43,7 +48,9 @@ typedef struct aenl_curves
     double *x;                       /**< n_grid node positions */
     double *mean, *var, *n_eff, *se; /**< [dir][lag][node], dir as aenl_dir_t */
     double bandwidth;
-    int bw_method; /**< AENL_BW_CV or AENL_BW_RULE (aenl_bandwidth.h), or -1 given */
+    int bw_method;     /**< AENL_BW_CV or AENL_BW_RULE (aenl_bandwidth.h), or -1 given */
+    size_t cv_samples; /**< samples the bandwidth was chosen on (0 when given); fewer than
+                            n_samples: scaled to the record by (cv_samples / n_samples)^(1/5) */
     size_t n_samples, n_missing;
     double period;    /**< estimated dominant period in samples (0 when not needed) */
     double prefilter; /**< cutoff applied, fraction of the sample rate (0: none) */

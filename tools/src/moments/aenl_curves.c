@@ -29,6 +29,7 @@ void aenl_curves_opts_default(aenl_curves_opts_t *o)
     o->bandwidth = 0.0;
     o->forgetting = 1.0;
     o->split = 1;
+    o->cv_max = 200000u;
 }
 
 void aenl_curves_free(aenl_curves_t *c)
@@ -408,14 +409,19 @@ static aenl_status_t estimator_cfg(const double *x, size_t n, const aenl_curves_
         cfg->bandwidth = opts->bandwidth;
         return AENL_OK;
     }
+    /* The score's memory and time grow with every pair of every lag (64 bytes each): on a long
+     * record the first cv_max samples choose the bandwidth, and the kernel regression's
+     * MSE-optimal bandwidth, proportional to n^(-1/5), carries it to the whole record. */
+    const size_t m = opts->cv_max > 0u && n > opts->cv_max ? opts->cv_max : n;
     aenl_bw_result_t bw;
-    const aenl_status_t st = aenl_bw_select(x, n, opts->lags, opts->n_lags, NULL, &bw, err);
+    const aenl_status_t st = aenl_bw_select(x, m, opts->lags, opts->n_lags, NULL, &bw, err);
     if (st != AENL_OK)
     {
         return st;
     }
-    cfg->bandwidth = bw.h;
+    cfg->bandwidth = m < n ? bw.h * pow((double)m / (double)n, 0.2) : bw.h;
     out->bw_method = bw.method;
+    out->cv_samples = m;
     return AENL_OK;
 }
 
@@ -676,8 +682,14 @@ aenl_status_t aenl_curves_write_csv(const aenl_curves_t *c, int dir, const char 
         fp = of.fp;
     }
     fprintf(fp, "# aenl moments: source=%s channel=%s\n", source, channel);
-    fprintf(fp, "# bandwidth=%.17g method=%s direction=%s\n", c->bandwidth,
-            method_name(c->bw_method), dir_names[dir]);
+    fprintf(fp, "# bandwidth=%.17g method=%s direction=%s", c->bandwidth, method_name(c->bw_method),
+            dir_names[dir]);
+    if (c->cv_samples > 0u && c->cv_samples < c->n_samples)
+    {
+        fprintf(fp, " chosen_on=%zu scaled=(%zu/%zu)^(1/5)", c->cv_samples, c->cv_samples,
+                c->n_samples);
+    }
+    fprintf(fp, "\n");
     fprintf(fp, "# samples=%zu missing=%zu grid=%.17g:%.17g:%u\n", c->n_samples, c->n_missing,
             c->x[0], c->x[c->n_grid - 1u], (unsigned)c->n_grid);
     fprintf(fp, "lag,x,mean,var,n_eff,se\n");
