@@ -97,7 +97,10 @@ typedef struct aenl_nlt_channel
     aenl_class_t cls;              /**< LINEAR, POLYNOMIAL, FREEPLAY, HYSTERESIS, or INSUFFICIENT
                                         when undetermined (see undetermined) */
     int undetermined;              /**< 1: nonlinear, but no law reaches min_confidence */
-    double gain[AENL_NLT_N_LAWS];  /**< best chi-square gain of each law (stage 2) */
+    double gain[AENL_NLT_N_LAWS];  /**< chi-square gain of each law at its best switching
+                                        points: its reduction of the squared innovations beyond
+                                        the nuisance's, over the dispersion-scaled residual
+                                        variance */
     double bic[AENL_NLT_N_LAWS];   /**< -gain + parameters ln(rows) */
     double law_p[AENL_NLT_N_LAWS]; /**< one-sided p-value of the test that the law is as close
                                         to the record as the law of the smallest bic (1 for

@@ -692,11 +692,9 @@ static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const 
     return st;
 }
 
-/* The polynomial law (cubic, or cubic and quintic): its gain and criterion into c, *quintic 1
- * when the quintic term is kept. Returns the cubic coefficient, whose sign tells hardening from
- * softening. */
-static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_nlt_channel_t *c,
-                             int *quintic)
+/* The polynomial law: *quintic 1 when the quintic term earns its place beside the cubic (by
+ * the criterion). Returns the cubic coefficient, whose sign tells hardening from softening. */
+static double polynomial_law(const run_t *rn, const resid_t *r, double s2, int *quintic)
 {
     const size_t i3 = S2_U3;
     const double one = 1.0;
@@ -704,8 +702,6 @@ static double polynomial_law(const run_t *rn, const resid_t *r, double s2, aenl_
     const double g35 = gain2(r, &i3, &one, 1, S2_U5);
     const double bic3 = -g3 / s2 + 1.0 * rn->lnrows;
     const double bic35 = -g35 / s2 + 2.0 * rn->lnrows;
-    c->gain[AENL_NLT_POLYNOMIAL] = (bic3 <= bic35 ? g3 : g35) / s2;
-    c->bic[AENL_NLT_POLYNOMIAL] = fmin(bic3, bic35);
     *quintic = bic35 < bic3;
     return r->Gt[i3 * r->ns + i3] > 0.0 ? r->rt[i3] / r->Gt[i3 * r->ns + i3] : 0.0;
 }
@@ -966,17 +962,19 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
     }
     design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
-    for (size_t l = 0; l < AENL_NLT_N_LAWS && st == AENL_OK; ++l)
+    double red[AENL_NLT_N_LAWS + 1] = {0}; /* each fit's reduction, the nuisance alone's last */
+    for (size_t l = 0; l <= AENL_NLT_N_LAWS && st == AENL_OK; ++l)
     {
         const size_t m = law_columns(l, nn, quintic, idx);
-        if (!isfinite(nlt_fit_subset(&d, idx, m, beta)))
+        red[l] = nlt_fit_subset(&d, idx, m, l < AENL_NLT_N_LAWS ? beta : NULL);
+        if (!isfinite(red[l]))
         {
             aenl_err_set(err, "the %s law's regression is singular",
                          aenl_nlt_law_name((aenl_nlt_law_t)l));
             st = AENL_E_NUMERIC;
             break;
         }
-        for (size_t i = 0; i < m; ++i)
+        for (size_t i = 0; i < m && l < AENL_NLT_N_LAWS; ++i)
         {
             b[l * nc + idx[i]] = beta[i];
         }
@@ -989,14 +987,14 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
     {
         const size_t rows = rn->kf->rows / rn->nz;
         const double k[AENL_NLT_N_LAWS] = {quintic ? 2.0 : 1.0, 3.0, 4.0};
+        /* the criteria from the fits' reductions: the residual sum of squares of each, plus
+         * the penalty; gain and BIC on the chi-square scale are the same numbers over s2 */
         double *crit = rn->crit[j];
         for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
         {
-            crit[l] = s2 * k[l] * rn->lnrows;
-            for (size_t t = 0; t < rows; ++t)
-            {
-                crit[l] += loss[t * AENL_NLT_N_LAWS + l];
-            }
+            c->gain[l] = fmax(red[l] - red[AENL_NLT_N_LAWS], 0.0) / s2;
+            c->bic[l] = -c->gain[l] + k[l] * rn->lnrows;
+            crit[l] = rn->kf->ee - red[l] + s2 * k[l] * rn->lnrows;
         }
         *best = best_of(crit);
         for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
@@ -1136,7 +1134,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
         return st;
     }
     int quintic = 0;
-    const double beta3 = polynomial_law(rn, &r, s2, c, &quintic);
+    const double beta3 = polynomial_law(rn, &r, s2, &quintic);
     /* freeplay over the coarse quantile grid, hysteresis over the symmetric grid */
     size_t all[4 * NLT_N_QUANT + 8] = {0};
     for (size_t i = 0; i < nk; ++i)
@@ -1152,10 +1150,6 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     {
         return st;
     }
-    c->gain[AENL_NLT_FREEPLAY] = fmax(tp.pf.best, 0.0) / s2;
-    c->gain[AENL_NLT_HYSTERESIS] = fmax(tp.ph.best, 0.0) / s2;
-    c->bic[AENL_NLT_FREEPLAY] = -c->gain[AENL_NLT_FREEPLAY] + 3.0 * rn->lnrows;
-    c->bic[AENL_NLT_HYSTERESIS] = -c->gain[AENL_NLT_HYSTERESIS] + 4.0 * rn->lnrows;
     size_t lbest = 0;
     st = law_comparison(rn, j, dir, s2, &tp, quintic, &lbest, c, err);
     if (st == AENL_OK)
