@@ -886,7 +886,7 @@ static size_t law_columns(size_t law, size_t nn, int quintic, size_t *idx)
 
 /* The one-sided p-value of Vuong's test that model b is as close to the record as model a:
  * la, lb their per-sample losses (rows values, stride apart), crit_a, crit_b their criteria
- * (summed loss plus penalty); dl: rows values of scratch. */
+ * (residual sum of squares plus penalty); dl: rows values of scratch. */
 static double vuong_p(const double *la, const double *lb, size_t stride, size_t rows, double crit_a,
                       double crit_b, double *dl)
 {
@@ -969,8 +969,8 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
         red[l] = nlt_fit_subset(&d, idx, m, l < AENL_NLT_N_LAWS ? beta : NULL);
         if (!isfinite(red[l]))
         {
-            aenl_err_set(err, "the %s law's regression is singular",
-                         aenl_nlt_law_name((aenl_nlt_law_t)l));
+            aenl_err_set(err, "the %s regression is singular",
+                         l < AENL_NLT_N_LAWS ? aenl_nlt_law_name((aenl_nlt_law_t)l) : "nuisance");
             st = AENL_E_NUMERIC;
             break;
         }
