@@ -301,7 +301,7 @@ static cJSON *run_json(const char *const *args, cli_result_t *r)
 static void test_cli_identify_flap_freeplay_json(void)
 {
     const char *data = flap_record();
-    const char *args[] = {"identify", data, "--json", NULL};
+    const char *args[] = {"identify", data, "--method", "moments", "--json", NULL};
     static cli_result_t r;
     cJSON *root = run_json(args, &r);
     (void)check_contract(root, data, 3);
@@ -311,7 +311,7 @@ static void test_cli_identify_flap_freeplay_json(void)
 static void test_cli_identify_linear_turbulence_json(void)
 {
     const char *data = linear_record();
-    const char *args[] = {"identify", data, "--json", NULL};
+    const char *args[] = {"identify", data, "--method", "moments", "--json", NULL};
     static cli_result_t r;
     cJSON *root = run_json(args, &r);
     (void)check_contract(root, data, 3);
@@ -363,11 +363,11 @@ static void test_cli_identify_kicked_decay_train(void)
 {
     const char *data = kicked_record();
     static cli_result_t r;
-    const char *table[] = {"identify", data, NULL};
+    const char *table[] = {"identify", data, "--method", "moments", NULL};
     const char *out = run_table(table, &r);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\n  impulsive excitation: "), out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict: linear"), out);
-    const char *json[] = {"identify", data, "--json", NULL};
+    const char *json[] = {"identify", data, "--method", "moments", "--json", NULL};
     static cli_result_t rj; /* r still holds the table */
     cJSON *root = run_json(json, &rj);
     (void)check_contract(root, data, 2);
@@ -390,7 +390,8 @@ static void test_cli_identify_kicked_decay_train(void)
  * in p). */
 static const char *eval_table(size_t index, const char *file, char *p, size_t size, cli_result_t *r)
 {
-    const char *table[] = {"identify", eval_record(index, file, p, size), NULL};
+    const char *table[] = {"identify", eval_record(index, file, p, size), "--method", "moments",
+                           NULL};
     return run_table(table, r);
 }
 
@@ -458,8 +459,9 @@ static void test_cli_identify_table_and_channel(void)
     TEST_ASSERT_NULL_MESSAGE(strchr(r.out, '{'), "the table is not JSON");
 
     /* --channel: only that one, given bandwidth and no pre-filter accepted */
-    const char *one[] = {"identify",    data,    "--channel",      "beta", "--json",
-                         "--bandwidth", "0.002", "--no-prefilter", NULL};
+    const char *one[] = {"identify", data,     "--method",    "moments", "--channel",
+                         "beta",     "--json", "--bandwidth", "0.002",   "--no-prefilter",
+                         NULL};
     cJSON *root = run_json(one, &r);
     check_contract(root, data, 1);
     const cJSON *ch = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(root, "channels"), 0);
@@ -742,7 +744,7 @@ static void test_cli_identify_bad_input(void)
          {"identify", good, "--channel", "nope", NULL},
          "id_good.csv: no channel 'nope' (channels: a, b)"},
         {"time as channel", {"identify", good, "--channel", "t", NULL}, "no channel 't'"},
-        {"standard input", {"identify", "-", NULL}, "not '-'"},
+        {"standard input, moments", {"identify", "-", "--method", "moments", NULL}, "not '-'"},
         {"no file", {"identify", "--json", NULL}, "no data file"},
         {"two files", {"identify", good, good, NULL}, "one data file only"},
         {"unknown option", {"identify", good, "--bogus", NULL}, "unknown option --bogus"},

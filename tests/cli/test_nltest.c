@@ -421,10 +421,10 @@ static void test_cli_identify_method_test_bad_usage(void)
     const char *bad_method[] = {"identify", csv, "--method", "magic", NULL};
     const char *bad_level[] = {"identify", csv, "--method", "test", "--level", "2", NULL};
     const char *too_short[] = {"identify", csv, "--method", "test", NULL};
-    const char *level_alone[] = {"identify", csv, "--level", "0.05", NULL};
+    const char *level_alone[] = {"identify", csv, "--method", "moments", "--level", "0.05", NULL};
     const char *const *cases[] = {with_plot, bad_method, bad_level, too_short, level_alone};
     const char *const words[] = {"belong to the moments", "not a method", "not a test level",
-                                 "too few", "goes with --method test"};
+                                 "too few", "belongs to the test"};
     for (size_t i = 0; i < 5; ++i)
     {
         cli_result_t r;
@@ -573,14 +573,14 @@ static void test_cli_identify_with_a_known_input(void)
         TEST_ASSERT_DOUBLE_WITHIN(0.15 * 2.0 * DEG, DEG, hi);
     }
     cJSON_Delete(root);
-    /* usage: an unknown or time column, twice the same, the channel as input, no --method test */
+    /* usage: an unknown or time column, twice the same, the channel as input, the moments method */
     const char *unknown[] = {"identify", lin, "--method", "test", "--input", "force", NULL};
     const char *timecol[] = {"identify", lin, "--method", "test", "--input", "t", NULL};
     const char *twice[] = {"identify", lin, "--method", "test", "--input", "f_pitch,f_pitch", NULL};
     const char *as_channel[] = {"identify", lin,         "--method", "test", "--input",
                                 "f_pitch",  "--channel", "f_pitch",  NULL};
-    const char *moments[] = {"identify", lin, "--input", "f_pitch", NULL};
-    const char *controls[] = {"identify", lin, "--controls", "3", NULL};
+    const char *moments[] = {"identify", lin, "--method", "moments", "--input", "f_pitch", NULL};
+    const char *controls[] = {"identify", lin, "--bandwidth", "0.1", "--controls", "3", NULL};
     const char *bad_controls[] = {"identify", lin, "--method", "test", "--controls", "0", NULL};
     const char *empty[] = {"identify", lin, "--method", "test", "--input=", NULL};
     const char *trailing[] = {"identify", lin, "--method", "test", "--input", "f_pitch,", NULL};
@@ -590,8 +590,8 @@ static void test_cli_identify_with_a_known_input(void)
                                  "time column",
                                  "named twice",
                                  "also an --input",
-                                 "goes with --method test",
-                                 "goes with --method test",
+                                 "belongs to the test",
+                                 "belongs to the test",
                                  "--controls",
                                  "not a list of column names",
                                  "not a list of column names"};

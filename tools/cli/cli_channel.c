@@ -63,6 +63,20 @@ static void column_list(const aenl_table_t *t, char *buf, size_t cap)
     }
 }
 
+/* The names of the columns that are not time columns, comma-separated, into buf. */
+static void channel_list(const aenl_table_t *t, char *buf, size_t cap)
+{
+    buf[0] = '\0';
+    for (size_t i = 0; i < t->n_cols; ++i)
+    {
+        const size_t len = strlen(buf);
+        if (!aenl_cli_is_time_column(t->names[i]) && len + strlen(t->names[i]) + 3 < cap)
+        {
+            (void)snprintf(buf + len, cap - len, "%s%s", len > 0 ? ", " : "", t->names[i]);
+        }
+    }
+}
+
 /* 0 when the record has the time column --time names (or none was named), else -1 after the
  * message; without any time column, a note on stderr says how the record is read. */
 static int check_time_column(const char *cmd, const aenl_table_t *t, const char *path)
@@ -103,11 +117,13 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
     if (channel != NULL)
     {
         const long c = aenl_table_find(t, channel);
-        if (c < 0)
+        if (c < 0 || aenl_cli_is_time_column(t->names[c]))
         {
             char names[512];
-            column_list(t, names, sizeof(names));
-            aenl_cli_error(cmd, "%s: no channel '%s' (columns: %s)", path, channel, names);
+            channel_list(t, names, sizeof(names));
+            aenl_cli_error(cmd, "%s: no channel '%s' (channels: %s%s)", path, channel, names,
+                           c >= 0 ? "; it is the time column" : "");
+            return -1;
         }
         return c;
     }

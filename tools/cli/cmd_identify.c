@@ -35,67 +35,66 @@ static const char *const k_cmd = "identify";
 
 static void help(void)
 {
-    printf(
-        "usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--bandwidth H]\n"
-        "                     [--no-prefilter] [--forced] [--model BASE.ini]\n"
-        "       aenl identify DATA.csv --method test [--channel C] [--json] [--level A]\n"
-        "                     [--input COL[,COL]] [--controls N]\n"
-        "       (either form: [--time COL])\n\n"
-        "Classifies every channel of a record (or only C) as linear, polynomial (hardening or\n"
-        "softening), freeplay or hysteresis (insufficient when it cannot tell yet), gives the\n"
-        "switching points in the channel's units with their standard errors, and names the\n"
-        "channel that carries the nonlinearity. Every column is a channel except the time\n"
-        "column (t, time, tau or timestamp, with or without a unit, or the one --time COL\n"
-        "names: checked finite, increasing and evenly spaced); the file is read twice, one row\n"
-        "at a time, never held whole.\n\n"
-        "--json          one JSON object (aenl-identify/2): file, rows, verdict {class,\n"
-        "                channel, hardening, switch_points, confidence, by_model, guess},\n"
-        "                channels [{name, class, hardening, switch_points, switch_point_std,\n"
-        "                confidence, bandwidth, bandwidth_by, period, noise, lags}], impulses,\n"
-        "                limit_cycle, model (with --model), notes (docs/identify.md)\n"
-        "--plot DIR      per channel, DIR/<file>_<channel>_{timeseries,moments,restoring}.png:\n"
-        "                the record, the conditional mean and variance for lags 1, 10, 30, and\n"
-        "                the restoring-force points, switching points marked (needs gnuplot)\n"
-        "--bandwidth H   kernel half-width in channel units for every channel (default: leave-\n"
-        "                one-out cross-validation per channel); 'cv' is the default\n"
-        "--no-prefilter  no low-pass at 8 / period before the estimates\n"
-        "--forced        the motion is forced (a shaker, a stepped sine, a rotor tone): a\n"
-        "                sustained oscillation of constant amplitude is not taken for a limit\n"
-        "                cycle, which an unforced linear structure cannot have\n"
-        "--model BASE.ini  also test the record against a baseline (linear) model of the\n"
-        "                test, as `aenl diagnose` does (the model INI of docs/simulate.md: the\n"
-        "                model, its initial condition, turbulence or kick train, [run] dt the\n"
-        "                record's step): the effect it names, with its fitted switching points, is "
-        "the\n"
-        "                verdict (the record alone's is printed beside it); when the baseline\n"
-        "                fits within its noise, or nothing explains the misfit, the record's own\n"
-        "                verdict stands. The record is then also held in memory, and the test\n"
-        "                runs a few hundred simulations of it (seconds to minutes)\n\n");
-    printf(
-        "--method test   the likelihood-based test instead of the conditional moments: a\n"
-        "                linear state-space model of all channels is fitted by maximum\n"
-        "                likelihood, and each channel is tested for a structural law acting\n"
-        "                as a force, on the Kalman innovations, at family-wise level A\n"
-        "                (--level, default 0.01; calibrated on noisy stationary records,\n"
-        "                not yet on free decays and kick trains: see the docs). The laws of\n"
-        "                a rejecting channel are compared by a test on their per-sample\n"
-        "                fits (Vuong's, with the record's own variance): the best is named\n"
-        "                when it beats each other law (confidence 0.9 after Bonferroni),\n"
-        "                else 'undetermined' with the candidate laws and their p-values;\n"
-        "                switching points come with 95 %% profile-likelihood intervals. The\n"
-        "                record is held in memory. See docs/identify-test.md\n"
-        "--input COL[,COL]  (with --method test) the named columns are a measured excitation\n"
-        "                (a shaker's force, a gust vane): they drive the linear model as known\n"
-        "                inputs and are not tested; without them a swept or stepped sine is\n"
-        "                mispredicted and read as a law\n"
-        "--controls N    (with --method test) also test N linear controls: records simulated\n"
-        "                from the fitted linear model, driven by the same inputs, with its\n"
-        "                noise; per channel, how many reach the record's statistic and the\n"
-        "                p-value that gives (each control costs about one more run)\n\n"
-        "Verdict: the nonlinear channel with the strongest evidence (confidence: the channel's\n"
-        "times its share of that evidence among the channels with a law); when none is nonlinear,\n"
-        "class linear (confidence: the smallest of the linear channels') or insufficient when no\n"
-        "channel could be decided, with channel null and no switching points.\n");
+    printf("usage: aenl identify DATA.csv [--channel C] [--json] [--level A] [--input COL[,COL]]\n"
+           "                     [--controls N]\n"
+           "       aenl identify DATA.csv --method moments [--channel C] [--json] [--plot DIR]\n"
+           "                     [--bandwidth H] [--no-prefilter] [--forced] [--model BASE.ini]\n"
+           "       (either form: [--time COL])\n\n"
+           "Tests every channel of a record (or only C) for a structural nonlinearity, names its\n"
+           "law (polynomial, hardening or softening; freeplay; hysteresis) with switching points\n"
+           "in the channel's units, and names the channel that carries it. Every column is a\n"
+           "channel except the time column (t, time, tau or timestamp, with or without a unit, or\n"
+           "the one --time COL names: checked finite, increasing and evenly spaced).\n\n"
+           "The test (default): a linear state-space model of all channels is fitted by maximum\n"
+           "likelihood, and each channel is tested for a law acting as a force, on the Kalman\n"
+           "innovations, at family-wise level A (--level, default 0.01; the level is calibrated\n"
+           "on noisy stationary records, not yet on free decays and kick trains: see the docs).\n"
+           "The laws of a rejecting channel are compared by a test on their per-sample fits\n"
+           "(Vuong's, with the record's own variance): the best is named when it beats each\n"
+           "other law (confidence 0.9 after Bonferroni), else the class is 'undetermined' and\n"
+           "the candidate laws are listed with their p-values; switching points come with 95 %%\n"
+           "profile-likelihood intervals (not calibrated: they are often too narrow). The\n"
+           "record is held in memory. See docs/identify-test.md\n\n"
+           "--json          one JSON object (aenl-identify-test/2; docs/identify-test.md)\n"
+           "--level A       family-wise level of the test over the channels (default 0.01)\n"
+           "--input COL[,COL]  the named columns are a measured excitation (a shaker's force,\n"
+           "                a gust vane): they drive the linear model as known inputs and are\n"
+           "                not tested; without them a swept or stepped sine is mispredicted\n"
+           "                and read as a law\n"
+           "--controls N    also test N linear controls: records simulated from the fitted\n"
+           "                linear model, driven by the same inputs, with its noise; per\n"
+           "                channel, how many reach the record's statistic and the p-value that\n"
+           "                gives (each control costs about one more run)\n\n");
+    printf("--method moments  the conditional-moments classifier instead (docs/identify.md):\n"
+           "                the record is streamed, read twice and never held whole. Its options\n"
+           "                below choose it when no --method is given. Verdict: the nonlinear\n"
+           "                channel with the strongest evidence (confidence: the channel's times\n"
+           "                its share of that evidence among the channels with a law); when none\n"
+           "                is nonlinear, class linear or insufficient when no channel could be\n"
+           "                decided\n"
+           "--json          (moments) one JSON object (aenl-identify/2): file, rows, verdict\n"
+           "                {class, channel, hardening, switch_points, confidence, by_model,\n"
+           "                guess}, channels [{name, class, hardening, switch_points,\n"
+           "                switch_point_std, confidence, bandwidth, bandwidth_by, period, noise,\n"
+           "                lags}], impulses, limit_cycle, model (with --model), notes\n"
+           "--plot DIR      per channel, DIR/<file>_<channel>_{timeseries,moments,restoring}.png:\n"
+           "                the record, the conditional mean and variance for lags 1, 10, 30, and\n"
+           "                the restoring-force points, switching points marked (needs gnuplot)\n"
+           "--bandwidth H   kernel half-width in channel units for every channel (default: leave-\n"
+           "                one-out cross-validation per channel); 'cv' is the default\n"
+           "--no-prefilter  no low-pass at 8 / period before the estimates\n"
+           "--forced        the motion is forced (a shaker, a stepped sine, a rotor tone): a\n"
+           "                sustained oscillation of constant amplitude is not taken for a limit\n"
+           "                cycle, which an unforced linear structure cannot have\n"
+           "--model BASE.ini  also test the record against a baseline (linear) model of the\n"
+           "                test, as `aenl diagnose` does (the model INI of docs/simulate.md: the\n"
+           "                model, its initial condition, turbulence or kick train, [run] dt the\n"
+           "                record's step): the effect it names, with its fitted switching\n"
+           "                points, is the verdict (the record alone's is printed beside it);\n"
+           "                when the baseline fits within its noise, or nothing explains the\n"
+           "                misfit, the record's own verdict stands. The record is then held in\n"
+           "                memory, and the test runs a few hundred simulations of it (seconds\n"
+           "                to minutes)\n");
 }
 
 /* ---- the record, checked on its way to the pipeline ------------------------------------------ */
@@ -295,7 +294,8 @@ typedef struct
 {
     const char *data, *channel, *plot_dir, *model;
     int json;
-    int by_test;      /* --method test */
+    int by_test;      /* the likelihood-based test (the default), else the conditional moments */
+    int method_given; /* --method was given */
     int moments_only; /* an option that only the moments method takes was given */
     double level;     /* --level */
     int level_given;
@@ -318,6 +318,7 @@ static int parse_value_option(const char *o, int argc, char **argv, int *i, args
         if (strcmp(v, "test") == 0 || strcmp(v, "moments") == 0)
         {
             a->by_test = v[0] == 't';
+            a->method_given = 1;
         }
         else
         {
@@ -424,27 +425,26 @@ static int check_args(args_t *a)
     if (a->data == NULL)
     {
         aenl_cli_error(k_cmd, "no data file (usage: aenl identify DATA.csv [--channel C] [--json] "
-                              "[--plot DIR] [--method moments|test])");
+                              "[--method test|moments])");
         return -1;
+    }
+    /* The options that only the moments method takes choose it when no method is named. */
+    if (!a->method_given && a->moments_only)
+    {
+        a->by_test = 0;
     }
     if (strcmp(a->data, "-") == 0 && !a->by_test)
     {
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
         return -1;
     }
-    if (!a->by_test && a->level_given)
+    if (!a->by_test && (a->level_given || a->controls > 0 || a->input != NULL))
     {
-        aenl_cli_error(k_cmd, "--level is the test's level: it goes with --method test");
-        return -1;
-    }
-    if (!a->by_test && a->controls > 0)
-    {
-        aenl_cli_error(k_cmd, "--controls goes with --method test (linear controls of the test)");
-        return -1;
-    }
-    if (!a->by_test && a->input != NULL)
-    {
-        aenl_cli_error(k_cmd, "--input goes with --method test (the test takes known inputs)");
+        aenl_cli_error(k_cmd, "%s belongs to the test, not to the moments method (%s)",
+                       a->level_given ? "--level" : (a->controls > 0 ? "--controls" : "--input"),
+                       a->method_given ? "--method moments"
+                                       : "which --model, --plot, --bandwidth, --no-prefilter "
+                                         "or --forced chose");
         return -1;
     }
     if (a->by_test && a->moments_only)
@@ -475,6 +475,7 @@ static int parse_args(int argc, char **argv, args_t *a)
     memset(a, 0, sizeof(*a));
     aenl_identify_opts_default(&a->opts);
     a->level = 0.01;
+    a->by_test = 1;
     for (int i = 1; i < argc; ++i)
     {
         const char *o = argv[i];

@@ -4,6 +4,7 @@
  * @brief `aenl identify --method test`: the record alone, by the likelihood-based test of
  *        aenl_nltest (argv has been parsed by cmd_identify.c).
  */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,6 +102,12 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
+    if (t.n_rows == 0)
+    {
+        aenl_cli_error(k_cmd, "%s: no data rows (header only)", path);
+        aenl_table_free(&t);
+        return AENL_EXIT_USAGE;
+    }
     if (aenl_cli_check_record(k_cmd, &t, path, only) != 0)
     {
         aenl_table_free(&t);
@@ -129,7 +136,10 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     }
     if (nz == 0)
     {
-        aenl_cli_error(k_cmd, "%s: no channel left to test (only time and inputs)", path);
+        aenl_cli_error(k_cmd,
+                       n_in > 0 ? "%s: no channel left to test (only time and inputs)"
+                                : "%s: no data column (only the time column)",
+                       path);
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
@@ -138,6 +148,22 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     for (size_t j = 0; j < nz; ++j)
     {
         chan[j] = t.data + cols[j] * n;
+        double lo = HUGE_VAL;
+        double hi = -HUGE_VAL;
+        for (size_t k = 0; k < n; ++k)
+        {
+            lo = fmin(lo, chan[j][k]); /* fmin and fmax pass over a missing sample */
+            hi = fmax(hi, chan[j][k]);
+        }
+        if (!(hi > lo)) /* nothing to test, whatever the record's length */
+        {
+            aenl_cli_error(k_cmd,
+                           "%s, channel %s: constant signal (every sample is %g): nothing to "
+                           "identify (name another channel with --channel)",
+                           path, names[j], lo);
+            aenl_table_free(&t);
+            return AENL_EXIT_USAGE;
+        }
     }
     const double *in_cols[AENL_NLT_MAX_INPUT];
     const char *in_names[AENL_NLT_MAX_INPUT];

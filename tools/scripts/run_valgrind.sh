@@ -64,12 +64,12 @@ vg 0 "moments (cv bandwidth, split)" moments long.csv --channel alpha -o m.csv
 vg 0 "moments (given h, forgetting, falling)" moments long.csv --channel alpha --bandwidth 0.002 \
   --forgetting 0.999 --direction falling --lags 1,5 --grid -0.03:0.03:17 -o m2.csv
 vg 0 "moments (stdout, --no-split)" moments long.csv --channel xi --no-split
-vg 0 "identify (all channels, cv, table)" identify long.csv
+vg 0 "identify --method moments (all channels, cv, table)" identify long.csv --method moments
 vg 0 "identify (--json, given h, no prefilter)" identify long.csv --json --channel alpha \
   --bandwidth 0.002 --no-prefilter
 # The likelihood-based test on the record's first 2 000 samples (a minute under memcheck).
 head -n 2001 long.csv >short.csv
-vg 0 "identify --method test --json" identify short.csv --method test --json
+vg 0 "identify --json (the test)" identify short.csv --json
 # ... with a known input and a linear control (a 2 s shaker record of one channel)
 awk '/^[ \t]*duration[ \t]*=/ { print "duration = 2"; next } { print }' \
   "$root/tools/examples/section3dof_multisine.ini" >ms.ini
