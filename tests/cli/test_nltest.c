@@ -14,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <cjson/cJSON.h>
 
@@ -264,6 +265,24 @@ static void test_nlt_freeplay_named_with_its_gap(void)
         TEST_ASSERT_TRUE(r.ch[0].point_lo[k] <= r.ch[0].points[k]);
         TEST_ASSERT_TRUE(r.ch[0].point_hi[k] >= r.ch[0].points[k]);
     }
+    /* the fitted freeplay force is the truth's shape: softer inside the gap than outside
+     * (a force that raises the frequency grows with position, so its slope in the gap is the
+     * smaller), with its kinks at the reported points */
+    const aenl_nlt_channel_t *c = &r.ch[0];
+    const double p0 = c->points[0];
+    const double p1 = c->points[1];
+    const double d = 0.1 * (p1 - p0);
+    const double in = (aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p1 - d, 0) -
+                       aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p0 + d, 0)) /
+                      (p1 - p0 - 2.0 * d);
+    const double right = (aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p1 + 2.0 * d, 0) -
+                          aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p1 + d, 0)) /
+                         d;
+    const double left = (aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p0 - d, 0) -
+                         aenl_nlt_law_force(c, AENL_NLT_FREEPLAY, p0 - 2.0 * d, 0)) /
+                        d;
+    TEST_ASSERT_TRUE(in < right);
+    TEST_ASSERT_DOUBLE_WITHIN(1e-9 * fabs(right) + 1e-12, right, left);
 }
 
 /* Kicks (the pitch rate jumps every 150 time units) are impulses: the filter restarts there. */
@@ -328,6 +347,19 @@ static void test_nlt_hardening_cubic(void)
     TEST_ASSERT_EQUAL_INT(0, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
     TEST_ASSERT_EQUAL_INT(1, r.ch[0].hardening);
+    /* the fitted force, oriented as documented, has the truth's hardening shape: it grows
+     * faster than in proportion on both sides (an odd cubic: f(2a) - 2 f(a) has the sign of
+     * a) */
+    TEST_ASSERT_TRUE(r.ch[0].laws_fitted);
+    const double a = 0.01;
+    const double up = aenl_nlt_law_force(&r.ch[0], AENL_NLT_POLYNOMIAL, 2.0 * a, 0) -
+                      2.0 * aenl_nlt_law_force(&r.ch[0], AENL_NLT_POLYNOMIAL, a, 0);
+    const double down = aenl_nlt_law_force(&r.ch[0], AENL_NLT_POLYNOMIAL, -2.0 * a, 0) -
+                        2.0 * aenl_nlt_law_force(&r.ch[0], AENL_NLT_POLYNOMIAL, -a, 0);
+    TEST_ASSERT_TRUE(up > 0.0);
+    TEST_ASSERT_TRUE(down < 0.0);
+    TEST_ASSERT_TRUE(isnan(aenl_nlt_law_force(&r.ch[1], AENL_NLT_POLYNOMIAL, a, 0)) ||
+                     r.ch[1].laws_fitted);
 }
 
 static void test_nlt_bad_input(void)
@@ -414,10 +446,53 @@ static void test_cli_identify_method_test_json_and_table(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "verdict: freeplay in alpha"), r.out);
 }
 
+/* The test's figures: the record of every channel, the laws of the channel that rejects, listed
+ * after the table; a folder that cannot be made leaves nothing behind. */
+static void test_cli_identify_test_plot(void)
+{
+    if (system("command -v gnuplot >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
+    {
+        TEST_IGNORE_MESSAGE("gnuplot not installed");
+    }
+    const char *csv = freeplay_csv();
+    const char *args[] = {"identify", csv, "--plot", "nlt_figs/sub", NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "verdict: freeplay in alpha"), r.out);
+    const char *const want[] = {"nlt_figs/sub/nlt_freeplay_alpha_timeseries.png",
+                                "nlt_figs/sub/nlt_freeplay_xi_timeseries.png",
+                                "nlt_figs/sub/nlt_freeplay_alpha_law.png"};
+    char path[700];
+    for (size_t i = 0; i < 3; ++i)
+    {
+        struct stat sb;
+        (void)snprintf(path, sizeof(path), "%s/%s", AENL_TEST_TMP_DIR, want[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(path, &sb), path);
+        TEST_ASSERT_TRUE_MESSAGE(sb.st_size > 1000, path);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, want[i]), r.out);
+    }
+    /* xi's laws are drawn when, and only when, its row in the table rejects linearity */
+    const char *row = strstr(r.out, "\nxi ");
+    TEST_ASSERT_NOT_NULL_MESSAGE(row, r.out);
+    const char *eol = strchr(row + 1, '\n');
+    const char *lin = strstr(row, " linear");
+    const int xi_linear = lin != NULL && (eol == NULL || lin < eol);
+    struct stat sb;
+    (void)snprintf(path, sizeof(path), "%s/nlt_figs/sub/nlt_freeplay_xi_law.png",
+                   AENL_TEST_TMP_DIR);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(xi_linear ? -1 : 0, stat(path, &sb), r.out);
+    const char *bad[] = {"identify", csv, "--plot", "/proc/nope/figs", NULL};
+    cli_run(&r, bad);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "/proc/nope"), r.err);
+}
+
 static void test_cli_identify_method_test_bad_usage(void)
 {
     const char *csv = cli_file("nlt_small.csv", "t,a\n0,1\n1,2\n2,1\n3,0\n");
-    const char *with_plot[] = {"identify", csv, "--method", "test", "--plot", "figs", NULL};
+    const char *with_plot[] = {"identify", csv, "--method", "test", "--bandwidth", "0.1", NULL};
     const char *bad_method[] = {"identify", csv, "--method", "magic", NULL};
     const char *bad_level[] = {"identify", csv, "--method", "test", "--level", "2", NULL};
     const char *too_short[] = {"identify", csv, "--method", "test", NULL};
@@ -617,6 +692,7 @@ int main(void)
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
+    RUN_TEST(test_cli_identify_test_plot);
     RUN_TEST(test_cli_identify_with_a_known_input);
     RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_cli_bench_null);

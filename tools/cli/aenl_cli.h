@@ -82,6 +82,39 @@ long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *p
  */
 int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *path, long col);
 
+/* ---- figures (cli_figures.c) ---- */
+
+/** Figures written so far (removed again if a later one fails) and folders created. */
+typedef struct
+{
+    char **files;
+    size_t n_files, cap_files;
+    char *dirs[16];
+    size_t n_dirs;
+} aenl_cli_figs_t;
+
+/** Remove every figure written so far and the folders made (those still empty). */
+void aenl_cli_figs_rollback(aenl_cli_figs_t *o);
+/** Forget the lists (the files stay). */
+void aenl_cli_figs_free(aenl_cli_figs_t *o);
+/** Remember a figure written. */
+aenl_status_t aenl_cli_figs_add(aenl_cli_figs_t *o, const char *path, aenl_err_t *err);
+/** mkdir -p dir, remembering the folders made. */
+aenl_status_t aenl_cli_figs_mkdir(aenl_cli_figs_t *o, const char *dir, aenl_err_t *err);
+/** A temporary data file for gnuplot (/tmp/aenl_identify_XXXXXX) opened for writing; NULL and
+ *  err set when it cannot be made. */
+FILE *aenl_cli_tmp_open(char path[64], aenl_err_t *err);
+/** Close a temporary data file; AENL_E_IO when a write failed. */
+aenl_status_t aenl_cli_tmp_close(FILE *f, const char *path, aenl_err_t *err);
+/** v as gnuplot reads it ("nan" when not finite), then sep. */
+void aenl_cli_put_num(FILE *f, double v, const char *sep);
+/** A name as a file-name piece: letters, digits, '-', '_' and '.' kept, others '_'. */
+void aenl_cli_file_piece(const char *s, char *out, size_t n);
+/** A title or label gnuplot can take (no quote, no newline), in place. */
+void aenl_cli_plot_text(char *s);
+/** The data file's name without folder and extension, as a file-name piece. */
+void aenl_cli_data_stem(const char *path, char *out, size_t n);
+
 int aenl_cmd_moments(int argc, char **argv);
 int aenl_cmd_simulate(int argc, char **argv);
 int aenl_cmd_flutter(int argc, char **argv);
@@ -96,10 +129,12 @@ int aenl_cmd_fit(int argc, char **argv);
 int aenl_bench_fit(int argc, char **argv);
 /** `aenl identify` (tools/cli/cmd_identify.c). */
 int aenl_cmd_identify(int argc, char **argv);
-/** `aenl identify --method test` on `path` (only `channel` when not NULL; JSON when json):
- *  the likelihood-based test at family-wise `level` (tools/cli/cmd_identify_test.c). */
+/** `aenl identify` by its default method on `path` (only `channel` when not NULL; JSON when
+ *  json): the likelihood-based test at family-wise `level`, with `inputs` (comma-separated
+ *  column names, or NULL), n_controls linear controls, and its figures in plot_dir when not
+ *  NULL (tools/cli/cmd_identify_test.c). */
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level, size_t n_controls);
+                          double level, size_t n_controls, const char *plot_dir);
 /** `aenl diagnose` (tools/cli/cmd_diagnose.c). */
 int aenl_cmd_diagnose(int argc, char **argv);
 /** `aenl bench diagnose` (tools/cli/bench_diagnose.c). */

@@ -35,8 +35,8 @@ static const char *const k_cmd = "identify";
 
 static void help(void)
 {
-    printf("usage: aenl identify DATA.csv [--channel C] [--json] [--level A] [--input COL[,COL]]\n"
-           "                     [--controls N]\n"
+    printf("usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--level A]\n"
+           "                     [--input COL[,COL]] [--controls N]\n"
            "       aenl identify DATA.csv --method moments [--channel C] [--json] [--plot DIR]\n"
            "                     [--bandwidth H] [--no-prefilter] [--forced] [--model BASE.ini]\n"
            "       (either form: [--time COL])\n\n"
@@ -56,6 +56,10 @@ static void help(void)
            "profile-likelihood intervals (not calibrated: they are often too narrow). The\n"
            "record is held in memory. See docs/identify-test.md\n\n"
            "--json          one JSON object (aenl-identify-test/2; docs/identify-test.md)\n"
+           "--plot DIR      per channel, DIR/<file>_<channel>_timeseries.png (the record, the\n"
+           "                switching points marked) and, for a channel that rejects,\n"
+           "                DIR/<file>_<channel>_law.png: the force each law adds as fitted,\n"
+           "                against the channel's position (needs gnuplot)\n"
            "--level A       family-wise level of the test over the channels (default 0.01)\n"
            "--input COL[,COL]  the named columns are a measured excitation (a shaker's force,\n"
            "                a gust vane): they drive the linear model as known inputs and are\n"
@@ -66,20 +70,21 @@ static void help(void)
            "                channel, how many reach the record's statistic and the p-value that\n"
            "                gives (each control costs about one more run)\n\n");
     printf("--method moments  the conditional-moments classifier instead (docs/identify.md):\n"
-           "                the record is streamed, read twice and never held whole. Its options\n"
-           "                below choose it when no --method is given. Verdict: the nonlinear\n"
-           "                channel with the strongest evidence (confidence: the channel's times\n"
-           "                its share of that evidence among the channels with a law); when none\n"
-           "                is nonlinear, class linear or insufficient when no channel could be\n"
-           "                decided\n"
+           "                the record is streamed, read twice and never held whole. Its own\n"
+           "                options (--bandwidth, --no-prefilter, --forced, --model) choose it\n"
+           "                when no --method is given. Verdict: the nonlinear channel with the\n"
+           "                strongest evidence (confidence: the channel's times its share of that\n"
+           "                evidence among the channels with a law); when none is nonlinear,\n"
+           "                class linear or insufficient when no channel could be decided\n"
            "--json          (moments) one JSON object (aenl-identify/2): file, rows, verdict\n"
            "                {class, channel, hardening, switch_points, confidence, by_model,\n"
            "                guess}, channels [{name, class, hardening, switch_points,\n"
            "                switch_point_std, confidence, bandwidth, bandwidth_by, period, noise,\n"
            "                lags}], impulses, limit_cycle, model (with --model), notes\n"
-           "--plot DIR      per channel, DIR/<file>_<channel>_{timeseries,moments,restoring}.png:\n"
-           "                the record, the conditional mean and variance for lags 1, 10, 30, and\n"
-           "                the restoring-force points, switching points marked (needs gnuplot)\n"
+           "--plot DIR      (moments) per channel, DIR/<file>_<channel>_{timeseries,moments,\n"
+           "                restoring}.png: the record, the conditional mean and variance for\n"
+           "                lags 1, 10, 30, and the restoring-force points, switching points\n"
+           "                marked (needs gnuplot)\n"
            "--bandwidth H   kernel half-width in channel units for every channel (default: leave-\n"
            "                one-out cross-validation per channel); 'cv' is the default\n"
            "--no-prefilter  no low-pass at 8 / period before the estimates\n"
@@ -389,7 +394,6 @@ static int parse_value_option(const char *o, int argc, char **argv, int *i, args
             aenl_cli_error(k_cmd, "--plot: empty folder name");
             return -1;
         }
-        a->moments_only = 1;
     }
     else if (strcmp(o, "--bandwidth") == 0)
     {
@@ -443,16 +447,15 @@ static int check_args(args_t *a)
         aenl_cli_error(k_cmd, "%s belongs to the test, not to the moments method (%s)",
                        a->level_given ? "--level" : (a->controls > 0 ? "--controls" : "--input"),
                        a->method_given ? "--method moments"
-                                       : "which --model, --plot, --bandwidth, --no-prefilter "
-                                         "or --forced chose");
+                                       : "which --model, --bandwidth, --no-prefilter or --forced "
+                                         "chose");
         return -1;
     }
     if (a->by_test && a->moments_only)
     {
-        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --level, --input and "
-                              "--controls only "
-                              "(--model, --plot, --bandwidth, --no-prefilter and --forced belong "
-                              "to the moments method)");
+        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --plot, --level, --input "
+                              "and --controls only (--model, --bandwidth, --no-prefilter and "
+                              "--forced belong to the moments method)");
         return -1;
     }
     if (a->model != NULL && a->channel != NULL)
@@ -1027,192 +1030,11 @@ static void print_table(const aenl_identify_result_t *r, const char *path, size_
 
 /* ---- figures --------------------------------------------------------------------------------- */
 
-/* Figures written so far (removed again if a later one fails) and folders created. */
-typedef struct
-{
-    char **files;
-    size_t n_files, cap_files;
-    char *dirs[16];
-    size_t n_dirs;
-} outputs_t;
-
-static void outputs_rollback(outputs_t *o)
-{
-    for (size_t i = 0; i < o->n_files; ++i)
-    {
-        (void)remove(o->files[i]);
-    }
-    for (size_t i = o->n_dirs; i > 0; --i)
-    {
-        (void)rmdir(o->dirs[i - 1u]); /* only if still empty */
-    }
-}
-
-static void outputs_free(outputs_t *o)
-{
-    for (size_t i = 0; i < o->n_files; ++i)
-    {
-        free(o->files[i]);
-    }
-    free((void *)o->files);
-    for (size_t i = 0; i < o->n_dirs; ++i)
-    {
-        free(o->dirs[i]);
-    }
-    memset(o, 0, sizeof(*o));
-}
-
-static char *dup_str(const char *s)
-{
-    const size_t n = strlen(s) + 1u;
-    char *d = malloc(n);
-    if (d != NULL)
-    {
-        memcpy(d, s, n);
-    }
-    return d;
-}
-
-static aenl_status_t outputs_add(outputs_t *o, const char *path, aenl_err_t *err)
-{
-    if (o->n_files == o->cap_files)
-    {
-        const size_t cap = o->cap_files ? 2u * o->cap_files : 8u;
-        char **f = (char **)realloc((void *)o->files, cap * sizeof(*f));
-        if (f == NULL)
-        {
-            aenl_err_set(err, "out of memory");
-            return AENL_E_IO;
-        }
-        o->files = f;
-        o->cap_files = cap;
-    }
-    if ((o->files[o->n_files] = dup_str(path)) == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_IO;
-    }
-    o->n_files++;
-    return AENL_OK;
-}
-
-/* mkdir -p DIR, remembering what was created. */
-static aenl_status_t make_dir(outputs_t *o, const char *dir, aenl_err_t *err)
-{
-    char buf[4096];
-    const size_t len = strlen(dir);
-    if (len + 1u > sizeof(buf))
-    {
-        aenl_err_set(err, "--plot: folder name too long");
-        return AENL_E_ARG;
-    }
-    memcpy(buf, dir, len + 1u);
-    for (size_t i = 1; i <= len; ++i)
-    {
-        if (buf[i] != '/' && buf[i] != '\0')
-        {
-            continue;
-        }
-        const char keep = buf[i];
-        buf[i] = '\0';
-        struct stat sb;
-        if (stat(buf, &sb) == 0)
-        {
-            if (!S_ISDIR(sb.st_mode))
-            {
-                aenl_err_set(err, "--plot: %s exists and is not a folder", buf);
-                return AENL_E_IO;
-            }
-        }
-        else if (mkdir(buf, 0777) != 0)
-        {
-            aenl_err_set(err, "--plot: cannot create folder %s (%s)", buf, strerror(errno));
-            return AENL_E_IO;
-        }
-        else if (o->n_dirs < sizeof(o->dirs) / sizeof(o->dirs[0]))
-        {
-            o->dirs[o->n_dirs] = dup_str(buf);
-            o->n_dirs += (o->dirs[o->n_dirs] != NULL) ? 1u : 0u;
-        }
-        buf[i] = keep;
-    }
-    return AENL_OK;
-}
-
-/* A temporary data file for gnuplot: /tmp/aenl_identify_XXXXXX, opened for writing. */
-static FILE *open_tmp(char path[64], aenl_err_t *err)
-{
-    (void)snprintf(path, 64, "/tmp/aenl_identify_XXXXXX");
-    const int fd = mkstemp(path);
-    FILE *f = (fd >= 0) ? fdopen(fd, "w") : NULL;
-    if (f == NULL)
-    {
-        if (fd >= 0)
-        {
-            (void)close(fd);
-            (void)remove(path);
-        }
-        path[0] = '\0';
-        aenl_err_set(err, "cannot create a temporary file in /tmp");
-    }
-    return f;
-}
-
-static aenl_status_t close_tmp(FILE *f, const char *path, aenl_err_t *err)
-{
-    const int bad = ferror(f);
-    if (fclose(f) != 0 || bad)
-    {
-        aenl_err_set(err, "cannot write the temporary file %s", path);
-        return AENL_E_IO;
-    }
-    return AENL_OK;
-}
-
-static void put_num(FILE *f, double v, const char *sep)
-{
-    if (isfinite(v))
-    {
-        fprintf(f, "%.10g%s", v, sep);
-    }
-    else
-    {
-        fprintf(f, "nan%s", sep);
-    }
-}
-
-/* Channel name as a file-name piece: letters, digits, '-', '_' and '.' kept, others '_'. */
-static void file_piece(const char *s, char *out, size_t n)
-{
-    size_t k = 0;
-    for (; *s != '\0' && k + 1u < n; ++s)
-    {
-        const char c = *s;
-        const int ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                       c == '-' || c == '_' || c == '.';
-        out[k++] = c;
-        if (!ok)
-        {
-            out[k - 1u] = '_';
-        }
-    }
-    out[k] = '\0';
-}
-
-/* A title or label gnuplot can take (no quote, no newline). */
-static void plot_text(char *s)
-{
-    for (; *s != '\0'; ++s)
-    {
-        *s = (char)((*s == '\'' || *s == '\n' || *s == '\r') ? ' ' : *s);
-    }
-}
-
 /* Everything one channel's figures need besides its result. */
 typedef struct
 {
     const char *dir, *stem, *path;
-    outputs_t *outputs;
+    aenl_cli_figs_t *outputs;
 } fig_ctx_t;
 
 static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t *ch,
@@ -1220,14 +1042,14 @@ static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t
                               aenl_err_t *err)
 {
     char piece[128], png[4096 + 256];
-    file_piece(ch->name, piece, sizeof(piece));
+    aenl_cli_file_piece(ch->name, piece, sizeof(piece));
     (void)snprintf(png, sizeof(png), "%s/%s_%s_%s.png", fc->dir, fc->stem, piece, kind);
     char script[32];
     (void)snprintf(script, sizeof(script), "identify_%s", kind);
     aenl_status_t st = aenl_plot_run(script, vars, n_vars, png, err);
     if (st == AENL_OK)
     {
-        st = outputs_add(fc->outputs, png, err);
+        st = aenl_cli_figs_add(fc->outputs, png, err);
         if (st != AENL_OK)
         {
             (void)remove(png);
@@ -1255,7 +1077,7 @@ static void fig_title(const fig_ctx_t *fc, const aenl_identify_channel_t *ch, co
     const char *base = strrchr(fc->path, '/') ? strrchr(fc->path, '/') + 1 : fc->path;
     (void)snprintf(buf, n, "%s: %s, %s (confidence %.2f) - %s", base, ch->name,
                    class_label(&ch->res), (double)ch->res.confidence, what);
-    plot_text(buf);
+    aenl_cli_plot_text(buf);
 }
 
 /* (2) conditional mean and variance for the display lags: CSV lag,x,mean,var (all pairs). */
@@ -1263,7 +1085,7 @@ static aenl_status_t plot_moments(const fig_ctx_t *fc, const aenl_identify_chann
                                   aenl_err_t *err)
 {
     char tmp[64];
-    FILE *f = open_tmp(tmp, err);
+    FILE *f = aenl_cli_tmp_open(tmp, err);
     if (f == NULL)
     {
         return AENL_E_IO;
@@ -1277,22 +1099,22 @@ static aenl_status_t plot_moments(const fig_ctx_t *fc, const aenl_identify_chann
         {
             const size_t k = (size_t)l * ch->n_grid + g; /* direction 0: all pairs */
             fprintf(f, "%u,", (unsigned)ch->display_lags[l]);
-            put_num(f, ch->x[g], ",");
-            put_num(f, ch->mean[k], ",");
-            put_num(f, ch->var[k], "\n");
+            aenl_cli_put_num(f, ch->x[g], ",");
+            aenl_cli_put_num(f, ch->mean[k], ",");
+            aenl_cli_put_num(f, ch->var[k], "\n");
         }
         const int w = snprintf(lags + len, sizeof(lags) - len, "%s%u", l ? " " : "",
                                (unsigned)ch->display_lags[l]);
         len += (w > 0 && (size_t)w < sizeof(lags) - len) ? (size_t)w : 0u;
     }
-    aenl_status_t st = close_tmp(f, tmp, err);
+    aenl_status_t st = aenl_cli_tmp_close(f, tmp, err);
     if (st == AENL_OK)
     {
         char title[600], marks[256], xlabel[300];
         fig_title(fc, ch, "conditional mean and variance", title, sizeof(title));
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
-        plot_text(xlabel);
+        aenl_cli_plot_text(xlabel);
         const aenl_plot_var_t vars[] = {
             {"in", tmp}, {"lags", lags}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
         st = run_plot(fc, ch, "moments", vars, sizeof(vars) / sizeof(vars[0]), err);
@@ -1306,7 +1128,7 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
                                     aenl_err_t *err)
 {
     char tmp[64];
-    FILE *f = open_tmp(tmp, err);
+    FILE *f = aenl_cli_tmp_open(tmp, err);
     if (f == NULL)
     {
         return AENL_E_IO;
@@ -1318,18 +1140,18 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
         {
             const size_t k = (size_t)d * ch->n_grid + g;
             fprintf(f, "%u,", d);
-            put_num(f, ch->position[k], ",");
-            put_num(f, ch->accel[k], "\n");
+            aenl_cli_put_num(f, ch->position[k], ",");
+            aenl_cli_put_num(f, ch->accel[k], "\n");
         }
     }
-    aenl_status_t st = close_tmp(f, tmp, err);
+    aenl_status_t st = aenl_cli_tmp_close(f, tmp, err);
     if (st == AENL_OK)
     {
         char title[600], marks[256], xlabel[300];
         fig_title(fc, ch, "restoring force", title, sizeof(title));
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
-        plot_text(xlabel);
+        aenl_cli_plot_text(xlabel);
         const aenl_plot_var_t vars[] = {
             {"in", tmp}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
         st = run_plot(fc, ch, "restoring", vars, sizeof(vars) / sizeof(vars[0]), err);
@@ -1437,7 +1259,7 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
                                      const aenl_identify_channel_t *ch, aenl_err_t *err)
 {
     char env[64], det[64];
-    FILE *f = open_tmp(env, err);
+    FILE *f = aenl_cli_tmp_open(env, err);
     if (f == NULL)
     {
         return AENL_E_IO;
@@ -1446,17 +1268,17 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
     for (size_t b = 0; b < v->n_bins; ++b)
     {
         const double lo = v->lo[c * v->n_bins + b], hi = v->hi[c * v->n_bins + b];
-        put_num(f, v->bin_t[b], ",");
-        put_num(f, lo <= hi ? lo : (double)NAN, ",");
-        put_num(f, lo <= hi ? hi : (double)NAN, "\n");
+        aenl_cli_put_num(f, v->bin_t[b], ",");
+        aenl_cli_put_num(f, lo <= hi ? lo : (double)NAN, ",");
+        aenl_cli_put_num(f, lo <= hi ? hi : (double)NAN, "\n");
     }
-    aenl_status_t st = close_tmp(f, env, err);
+    aenl_status_t st = aenl_cli_tmp_close(f, env, err);
     if (st != AENL_OK)
     {
         (void)remove(env);
         return st;
     }
-    f = open_tmp(det, err);
+    f = aenl_cli_tmp_open(det, err);
     if (f == NULL)
     {
         (void)remove(env);
@@ -1466,20 +1288,24 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
     for (size_t k = 0; k < v->n_det; ++k)
     {
         const double *d = v->det + ((v->ring_start + k) % v->detail) * (1u + v->n_ch);
-        put_num(f, d[0], ",");
-        put_num(f, d[1u + c], "\n");
+        aenl_cli_put_num(f, d[0], ",");
+        aenl_cli_put_num(f, d[1u + c], "\n");
     }
-    st = close_tmp(f, det, err);
+    st = aenl_cli_tmp_close(f, det, err);
     if (st == AENL_OK)
     {
         char title[600], marks[256], ylabel[300], label[128];
         fig_title(fc, ch, "record", title, sizeof(title));
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(ylabel, sizeof(ylabel), "%s", ch->name);
-        plot_text(ylabel);
+        aenl_cli_plot_text(ylabel);
         (void)snprintf(label, sizeof(label), "%zu", v->per_bin);
-        const aenl_plot_var_t vars[] = {{"env", env},     {"detail", det},    {"marks", marks},
-                                        {"title", title}, {"ylabel", ylabel}, {"per_bin", label}};
+        char tlabel[128];
+        (void)snprintf(tlabel, sizeof(tlabel), "%s", v->t_name != NULL ? v->t_name : "row");
+        aenl_cli_plot_text(tlabel);
+        const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
+                                        {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
+                                        {"tlabel", tlabel}};
         st = run_plot(fc, ch, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
     }
     (void)remove(env);
@@ -1487,27 +1313,13 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
     return st;
 }
 
-/* Stem of the data file's name (no folder, no extension) as a file-name piece. */
-static void data_stem(const char *path, char *out, size_t n)
-{
-    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    char buf[256];
-    (void)snprintf(buf, sizeof(buf), "%s", base);
-    char *dot = strrchr(buf, '.');
-    if (dot != NULL && dot != buf)
-    {
-        *dot = '\0';
-    }
-    file_piece(buf, out, n);
-}
-
 /* Every figure of every channel into dir; all or nothing (outs lists what was written). */
 static aenl_status_t plot_all(const aenl_identify_result_t *r, const aenl_identify_source_t *src,
-                              checked_t *chk, const char *path, const char *dir, outputs_t *outs,
-                              aenl_err_t *err)
+                              checked_t *chk, const char *path, const char *dir,
+                              aenl_cli_figs_t *outs, aenl_err_t *err)
 {
     char stem[128];
-    data_stem(path, stem, sizeof(stem));
+    aenl_cli_data_stem(path, stem, sizeof(stem));
     const fig_ctx_t fc = {dir, stem, path, outs};
     ts_view_t v;
     memset(&v, 0, sizeof(v));
@@ -1622,13 +1434,13 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
     aenl_identify_source_t src = {
         n, csv_src->names, &chk, checked_open, checked_next, checked_close};
     /* The folder first (a bad one fails before the long part); removed again on any failure. */
-    outputs_t outs;
+    aenl_cli_figs_t outs;
     memset(&outs, 0, sizeof(outs));
-    if (a->plot_dir != NULL && make_dir(&outs, a->plot_dir, &err) != AENL_OK)
+    if (a->plot_dir != NULL && aenl_cli_figs_mkdir(&outs, a->plot_dir, &err) != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
-        outputs_rollback(&outs);
-        outputs_free(&outs);
+        aenl_cli_figs_rollback(&outs);
+        aenl_cli_figs_free(&outs);
         free(chk.n_finite);
         free(chk.lo);
         free(chk.hi);
@@ -1685,9 +1497,9 @@ static int identify(const args_t *a, aenl_identify_source_t *csv_src)
     }
     if (rc != AENL_EXIT_OK)
     {
-        outputs_rollback(&outs); /* all or nothing: no figure, no folder we made */
+        aenl_cli_figs_rollback(&outs); /* all or nothing: no figure, no folder we made */
     }
-    outputs_free(&outs);
+    aenl_cli_figs_free(&outs);
     if (st == AENL_OK)
     {
         aenl_identify_free(&res);
@@ -1709,7 +1521,7 @@ int aenl_cmd_identify(int argc, char **argv)
     if (a.by_test)
     {
         return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level,
-                                     (size_t)a.controls);
+                                     (size_t)a.controls, a.plot_dir);
     }
     aenl_err_t err;
     aenl_err_clear(&err);

@@ -19,13 +19,21 @@ set grid
 set key top right opaque
 set lmargin 12
 set multiplot layout 2,1 title title noenhanced
-do for [m in marks] { set arrow from graph 0, first m+0 to graph 1, first m+0 nohead dt 2 lw 1.5 lc rgb '#aa0000' }
+do for [m in marks] {
+  set arrow from graph 0, first m+0 to graph 1, first m+0 nohead dt 2 lw 1.5 lc rgb '#aa0000'
+  set label sprintf('%.4g', m+0) at graph 0.005, first m+0 left offset 0, 0.5 front tc rgb '#aa0000' noenhanced
+}
+set format x '%g'
+set format y '%g'
+marktitle = words(marks) > 0 ? 'switching points' : ''
 set xlabel tlabel noenhanced
 set ylabel ylabel noenhanced
 envtitle = (per_bin + 0 > 1) ? sprintf('min/max per %s samples', per_bin) : 'samples'
 plot env using 1:2:3 with filledcurves fc rgb '#9fb6dd' fs solid 0.6 noborder title envtitle, \
      env using 1:2 with lines lw 1 lc rgb '#1f4e9c' notitle, \
-     env using 1:3 with lines lw 1 lc rgb '#1f4e9c' notitle
+     env using 1:3 with lines lw 1 lc rgb '#1f4e9c' notitle, \
+     NaN with lines dt 2 lw 1.5 lc rgb '#aa0000' title marktitle
 set ylabel sprintf('%s (last samples)', ylabel) noenhanced
-plot detail using 1:2 with lines lw 1.2 lc rgb '#1f4e9c' title 'full rate'
+plot detail using 1:2 with lines lw 1.2 lc rgb '#1f4e9c' title 'full rate', \
+     NaN with lines dt 2 lw 1.5 lc rgb '#aa0000' title marktitle
 unset multiplot

@@ -69,7 +69,11 @@ vg 0 "identify (--json, given h, no prefilter)" identify long.csv --json --chann
   --bandwidth 0.002 --no-prefilter
 # The likelihood-based test on the record's first 2 000 samples (a minute under memcheck).
 head -n 2001 long.csv >short.csv
-vg 0 "identify --json (the test)" identify short.csv --json
+if command -v gnuplot >/dev/null; then
+  vg 0 "identify --json --plot (the test)" identify short.csv --json --plot figs_test
+else
+  vg 0 "identify --json (the test)" identify short.csv --json
+fi
 # ... with a known input and a linear control (a 2 s shaker record of one channel)
 awk '/^[ \t]*duration[ \t]*=/ { print "duration = 2"; next } { print }' \
   "$root/tools/examples/section3dof_multisine.ini" >ms.ini

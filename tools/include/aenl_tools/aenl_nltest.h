@@ -113,6 +113,14 @@ typedef struct aenl_nlt_channel
     double point_hi[AENL_NLT_MAX_POINTS];
     size_t control_exceed; /**< linear controls whose statistic reaches this channel's */
     double control_p;      /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
+    /** 1 when the laws were fitted (the channel rejects): aenl_nlt_law_force can draw them */
+    int laws_fitted;
+    /* Each law as fitted in the comparison, for aenl_nlt_law_force: coefficients and switching
+     * points on the channel's standardised position, the channel's scale, the orientation. */
+    double law_coef[AENL_NLT_N_LAWS][2];
+    double law_pts[AENL_NLT_N_LAWS][2];
+    double law_scale;
+    double law_sign;
 } aenl_nlt_channel_t;
 
 /** A (channel, law) model the record cannot reject against the best one. */
@@ -167,6 +175,17 @@ aenl_status_t aenl_nlt_run_columns(const double *const *cols, size_t n, size_t n
 
 /** Name of a law ("polynomial", "freeplay", "hysteresis"). */
 const char *aenl_nlt_law_name(aenl_nlt_law_t law);
+
+/**
+ * @brief The force a fitted law adds at position u (the channel's units) moving in direction
+ *        dir (+1 rising, -1 falling, 0 at rest), as the comparison fitted it at its best
+ *        switching points: along the channel's force direction in the linear model's state,
+ *        on one scale for the three laws (so their shapes and sizes compare), oriented so that
+ *        a force that raises the oscillation's frequency grows with u (a hardening spring's
+ *        shape). Its unit is the model's scaled state per sample: read the shape, not the
+ *        value. NaN when c->laws_fitted is 0.
+ */
+double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, double u, int dir);
 
 /** The class a result names: "linear", "polynomial", "freeplay", "hysteresis", "undetermined"
  *  (nonlinear, no law named) or "insufficient". */

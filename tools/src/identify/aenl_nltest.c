@@ -303,6 +303,35 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
     opts->control_seed = 1u;
 }
 
+double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, double u, int dir)
+{
+    if (c == NULL || !c->laws_fitted || (unsigned)law >= AENL_NLT_N_LAWS || !(c->law_scale > 0.0))
+    {
+        return (double)NAN;
+    }
+    const double v = u / c->law_scale;
+    const double *k = c->law_coef[law];
+    const double *p = c->law_pts[law];
+    double f = 0.0;
+    switch (law)
+    {
+        case AENL_NLT_POLYNOMIAL:
+            f = k[0] * v * v * v + k[1] * v * v * v * v * v;
+            break;
+        case AENL_NLT_FREEPLAY:
+            f = k[0] * (fmax(v - p[0], 0.0) - fmax(v - p[1], 0.0));
+            break;
+        case AENL_NLT_HYSTERESIS: /* the branches of verdict_series */
+        case AENL_NLT_N_LAWS:
+        default:
+            f = dir > 0   ? k[0] * (fmax(v - p[0], 0.0) - fmax(v - p[1], 0.0)) + k[1]
+                : dir < 0 ? k[0] * (fmax(v + p[1], 0.0) - fmax(v + p[0], 0.0)) - k[1]
+                          : 0.0;
+            break;
+    }
+    return c->law_sign * f;
+}
+
 const char *aenl_nlt_law_name(aenl_nlt_law_t law)
 {
     switch (law)
@@ -996,6 +1025,21 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
             c->bic[l] = -c->gain[l] + k[l] * rn->lnrows;
             crit[l] = rn->kf->ee - red[l] + s2 * k[l] * rn->lnrows;
         }
+        /* each law's force, kept for aenl_nlt_law_force */
+        const double pts[AENL_NLT_N_LAWS][2] = {
+            {0.0, 0.0}, {tp->fp[0], tp->fp[1]}, {tp->hp[0], tp->hp[1]}};
+        const size_t col[AENL_NLT_N_LAWS][2] = {{V_U3, V_U5}, {V_FP, V_FP}, {V_HY, V_D}};
+        for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
+        {
+            c->law_coef[l][0] = b[l * nc + nn + col[l][0]];
+            c->law_coef[l][1] = col[l][1] != col[l][0] ? b[l * nc + nn + col[l][1]] : 0.0;
+            c->law_pts[l][0] = pts[l][0];
+            c->law_pts[l][1] = pts[l][1];
+        }
+        c->law_scale = rn->scale[j];
+        const int fs = frequency_sensitivity(rn->m, dir, j);
+        c->law_sign = fs < 0 ? -1.0 : 1.0;
+        c->laws_fitted = 1;
         *best = best_of(crit);
         for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
         {
