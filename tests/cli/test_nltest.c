@@ -398,13 +398,21 @@ static void test_nlt_bad_input(void)
 /* ---- the command -------------------------------------------------------------------------- */
 
 /* A freeplay record as CSV in the test folder; its path. */
+static char g_freeplay_csv[600];
+
+/* The freeplay record's CSV path (written by freeplay_csv). */
+static const char *freeplay_csv_path(void)
+{
+    return g_freeplay_csv;
+}
+
 static const char *freeplay_csv(void)
 {
-    static char path[600];
+    char *path = g_freeplay_csv;
     const aenl_sim_law_t law = pitch_freeplay();
     size_t n = 0;
     double *y = airfoil_record(&law, 4242u, &n);
-    (void)snprintf(path, sizeof(path), "%s/nlt_freeplay.csv", AENL_TEST_TMP_DIR);
+    (void)snprintf(path, sizeof(g_freeplay_csv), "%s/nlt_freeplay.csv", AENL_TEST_TMP_DIR);
     FILE *f = fopen(path, "w");
     TEST_ASSERT_NOT_NULL(f);
     (void)fprintf(f, "t,alpha,xi\n");
@@ -417,11 +425,51 @@ static const char *freeplay_csv(void)
     return path;
 }
 
+/* The test's figures of the freeplay record (out: the table's run with --plot nlt_figs/sub):
+ * the record of every channel, the laws of each channel that rejects, listed after the table;
+ * a folder that cannot be made leaves nothing behind. */
+static void check_test_figures(const char *out)
+{
+    const char *const want[] = {"nlt_figs/sub/nlt_freeplay_alpha_timeseries.png",
+                                "nlt_figs/sub/nlt_freeplay_xi_timeseries.png",
+                                "nlt_figs/sub/nlt_freeplay_alpha_law.png"};
+    char path[700];
+    for (size_t i = 0; i < 3; ++i)
+    {
+        struct stat sb;
+        (void)snprintf(path, sizeof(path), "%s/%s", AENL_TEST_TMP_DIR, want[i]);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(path, &sb), path);
+        TEST_ASSERT_TRUE_MESSAGE(sb.st_size > 1000, path);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, want[i]), out);
+    }
+    /* xi's laws are drawn when, and only when, its row in the table rejects linearity */
+    const char *row = strstr(out, "\nxi ");
+    TEST_ASSERT_NOT_NULL_MESSAGE(row, out);
+    const char *eol = strchr(row + 1, '\n');
+    const char *lin = strstr(row, " linear");
+    const int xi_linear = lin != NULL && (eol == NULL || lin < eol);
+    struct stat sb;
+    (void)snprintf(path, sizeof(path), "%s/nlt_figs/sub/nlt_freeplay_xi_law.png",
+                   AENL_TEST_TMP_DIR);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(xi_linear ? -1 : 0, stat(path, &sb), out);
+    /* the folder is made before the test runs: one that cannot be made fails at once */
+    const char *csv = freeplay_csv_path();
+    const char *bad[] = {"identify", csv, "--plot", "/proc/nope/figs", NULL};
+    cli_result_t r;
+    cli_run(&r, bad);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "/proc/nope"), r.err);
+}
+
 static void test_cli_identify_method_test_json_and_table(void)
 {
     const char *csv = freeplay_csv();
     const char *json_args[] = {"identify", csv, "--method", "test", "--json", NULL};
-    const char *table_args[] = {"identify", csv, "--method", "test", NULL};
+    /* the table's run also draws the figures when gnuplot is there (one run of the test) */
+    const int with_plot = system("command -v gnuplot >/dev/null 2>&1") == 0; /* NOLINT */
+    const char *table_args[] = {
+        "identify", csv, "--method", "test", with_plot ? "--plot" : NULL, "nlt_figs/sub", NULL};
     cli_result_t r;
     cli_run(&r, json_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -444,49 +492,10 @@ static void test_cli_identify_method_test_json_and_table(void)
     cli_run(&r, table_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "verdict: freeplay in alpha"), r.out);
-}
-
-/* The test's figures: the record of every channel, the laws of the channel that rejects, listed
- * after the table; a folder that cannot be made leaves nothing behind. */
-static void test_cli_identify_test_plot(void)
-{
-    if (system("command -v gnuplot >/dev/null 2>&1") != 0) /* NOLINT(cert-env33-c) */
+    if (with_plot)
     {
-        TEST_IGNORE_MESSAGE("gnuplot not installed");
+        check_test_figures(r.out);
     }
-    const char *csv = freeplay_csv();
-    const char *args[] = {"identify", csv, "--plot", "nlt_figs/sub", NULL};
-    cli_result_t r;
-    cli_run(&r, args);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "verdict: freeplay in alpha"), r.out);
-    const char *const want[] = {"nlt_figs/sub/nlt_freeplay_alpha_timeseries.png",
-                                "nlt_figs/sub/nlt_freeplay_xi_timeseries.png",
-                                "nlt_figs/sub/nlt_freeplay_alpha_law.png"};
-    char path[700];
-    for (size_t i = 0; i < 3; ++i)
-    {
-        struct stat sb;
-        (void)snprintf(path, sizeof(path), "%s/%s", AENL_TEST_TMP_DIR, want[i]);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(0, stat(path, &sb), path);
-        TEST_ASSERT_TRUE_MESSAGE(sb.st_size > 1000, path);
-        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, want[i]), r.out);
-    }
-    /* xi's laws are drawn when, and only when, its row in the table rejects linearity */
-    const char *row = strstr(r.out, "\nxi ");
-    TEST_ASSERT_NOT_NULL_MESSAGE(row, r.out);
-    const char *eol = strchr(row + 1, '\n');
-    const char *lin = strstr(row, " linear");
-    const int xi_linear = lin != NULL && (eol == NULL || lin < eol);
-    struct stat sb;
-    (void)snprintf(path, sizeof(path), "%s/nlt_figs/sub/nlt_freeplay_xi_law.png",
-                   AENL_TEST_TMP_DIR);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(xi_linear ? -1 : 0, stat(path, &sb), r.out);
-    const char *bad[] = {"identify", csv, "--plot", "/proc/nope/figs", NULL};
-    cli_run(&r, bad);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
-    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "/proc/nope"), r.err);
 }
 
 static void test_cli_identify_method_test_bad_usage(void)
@@ -692,7 +701,6 @@ int main(void)
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
-    RUN_TEST(test_cli_identify_test_plot);
     RUN_TEST(test_cli_identify_with_a_known_input);
     RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_cli_bench_null);
