@@ -46,6 +46,45 @@ static void design_step(const design_t *d, const double *F, size_t t, size_t nx,
     *D = out;
 }
 
+/* What a pass over the sensitivities hands each sample the filter used: R (nz x ncols, the
+ * whitened innovations' sensitivities to the design's columns) and the whitened innovations e. */
+typedef void (*design_visit_fn)(void *ctx, const double *R, const double *e);
+
+/* One pass over the record: D_{t+1} = F_t D_t + the columns' inputs of sample t, from D_0 = 0,
+ * and R = WC_t D_t handed to visit at every sample the filter used. */
+static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_fn visit, void *ctx,
+                                 aenl_err_t *err)
+{
+    const size_t nx = k->nx;
+    const size_t nz = k->nz;
+    const size_t nc = d->ncols;
+    double *D = (double *)calloc(nx * nc, sizeof(double));
+    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    double *R = (double *)calloc(nz * nc, sizeof(double));
+    if (D == NULL || Dn == NULL || R == NULL)
+    {
+        free(D);
+        free(Dn);
+        free(R);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t t = 0; t < k->n; ++t)
+    {
+        const double *F = k->F + k->slot[t] * nx * nx;
+        if (k->used[t])
+        {
+            nlt_mat_mul(k->WC + k->slot[t] * nz * nx, D, R, nz, nx, nc);
+            visit(ctx, R, k->eps + t * nz);
+        }
+        design_step(d, F, t, nx, &D, &Dn);
+    }
+    free(D);
+    free(Dn);
+    free(R);
+    return AENL_OK;
+}
+
 /* G (nc x nc) += Rt Rt' over m rows, Rt (nc lines of ld >= m) holding one column of the rows per
  * line; the upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper
  * triangle).
@@ -130,6 +169,38 @@ static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, 
     }
 }
 
+/* The cross-products' accumulator: each sample's rows wait in Rt for a block's G update. */
+typedef struct
+{
+    design_t *d;
+    double *Rt;   /* ncols lines of m_blk */
+    size_t m_blk; /* rows a block holds */
+    size_t rows;  /* rows waiting */
+    size_t nz;
+} accum_t;
+
+static void accumulate_rows(void *ctx, const double *R, const double *e)
+{
+    accum_t *a = (accum_t *)ctx;
+    const size_t nc = a->d->ncols;
+    /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force */
+    for (size_t j = 0; j < a->nz; ++j)
+    {
+        const double *rj = R + j * nc;
+        for (size_t i = 0; i < nc; ++i)
+        {
+            a->Rt[i * a->m_blk + a->rows] = rj[i];
+            a->d->r[i] += rj[i] * e[j];
+        }
+        a->rows++;
+    }
+    if (a->rows == a->m_blk)
+    {
+        syrk_rows(a->d->G, nc, a->Rt, a->m_blk, a->rows);
+        a->rows = 0;
+    }
+}
+
 aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
 {
     const size_t nx = k->nx;
@@ -145,67 +216,32 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
         aenl_err_set(err, "aenl_nltest: an empty design");
         return AENL_E_ARG;
     }
-    const size_t m_blk = NLT_ROW_BLOCK * nz;
-    double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)calloc(nx * nc, sizeof(double));
-    double *R = (double *)calloc(nz * nc, sizeof(double));
-    double *Rt = (double *)calloc(nc * m_blk, sizeof(double));
+    accum_t a = {d, NULL, NLT_ROW_BLOCK * nz, 0, nz};
+    a.Rt = (double *)calloc(nc * a.m_blk, sizeof(double));
     d->G = (double *)calloc(nc * nc, sizeof(double));
     d->r = (double *)calloc(nc, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || Rt == NULL || d->G == NULL || d->r == NULL)
+    aenl_status_t st = AENL_E_DIM;
+    if (a.Rt == NULL || d->G == NULL || d->r == NULL)
     {
-        free(D);
-        free(Dn);
-        free(R);
-        free(Rt);
         aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
     }
-    size_t rows = 0;
-    for (size_t t = 0; t < k->n; ++t)
+    else
     {
-        const double *F = k->F + k->slot[t] * nx * nx;
-        if (k->used[t])
-        {
-            const double *WC = k->WC + k->slot[t] * nz * nx;
-            const double *e = k->eps + t * nz;
-            nlt_mat_mul(WC, D, R, nz, nx, nc);
-            /* e(beta) = e - R beta: G += R'R and r += R'e, so that beta = G^-1 r is the force;
-             * the rows wait in Rt for a block's G update */
-            for (size_t a = 0; a < nz; ++a)
-            {
-                const double *ra = R + a * nc;
-                for (size_t i = 0; i < nc; ++i)
-                {
-                    Rt[i * m_blk + rows] = ra[i];
-                    d->r[i] += ra[i] * e[a];
-                }
-                rows++;
-            }
-            if (rows == m_blk)
-            {
-                syrk_rows(d->G, nc, Rt, m_blk, rows);
-                rows = 0;
-            }
-        }
-        design_step(d, F, t, nx, &D, &Dn);
+        st = design_walk(d, k, accumulate_rows, &a, err);
     }
-    if (rows > 0)
+    if (st == AENL_OK && a.rows > 0)
     {
-        syrk_rows(d->G, nc, Rt, m_blk, rows); /* the last, partial block */
+        syrk_rows(d->G, nc, a.Rt, a.m_blk, a.rows); /* the last, partial block */
     }
-    free(Rt);
-    for (size_t i = 0; i < nc; ++i)
+    free(a.Rt);
+    for (size_t i = 0; st == AENL_OK && i < nc; ++i)
     {
         for (size_t j = 0; j < i; ++j)
         {
             d->G[i * nc + j] = d->G[j * nc + i];
         }
     }
-    free(D);
-    free(Dn);
-    free(R);
-    return AENL_OK;
+    return st;
 }
 
 void nlt_design_free(design_t *d)
@@ -281,6 +317,71 @@ static size_t hac_lag(size_t n)
     return (size_t)floor(4.0 * pow((double)n / 100.0, 2.0 / 9.0));
 }
 
+/* The robust score's accumulator (nlt_design_robust). */
+typedef struct
+{
+    size_t nz, nc, nn, nl, hac;
+    const double *Pi;
+    double *q, *st, *z, *ring; /* nc, nl, nl, (hac + 1) nl */
+    double *score, *meat;
+    size_t ti; /* samples seen */
+} robust_t;
+
+static void robust_rows(void *ctx, const double *R, const double *e)
+{
+    robust_t *a = (robust_t *)ctx;
+    const size_t nc = a->nc;
+    const size_t nn = a->nn;
+    const size_t nl = a->nl;
+    /* the row's columns weighted by the innovations first, q = R' e, then partialled:
+     * st = q[nn..] - Pi' q[..nn], the same as partialling each channel's row and weighting
+     * after, at 1 / nz of the cost */
+    for (size_t c = 0; c < nc; ++c)
+    {
+        double v = 0.0;
+        for (size_t j = 0; j < a->nz; ++j)
+        {
+            v += R[j * nc + c] * e[j];
+        }
+        a->q[c] = v;
+    }
+    for (size_t l = 0; l < nl; ++l)
+    {
+        double x = a->q[nn + l];
+        for (size_t i = 0; i < nn; ++i)
+        {
+            x -= a->Pi[i * nl + l] * a->q[i];
+        }
+        a->st[l] = x;
+    }
+    /* the lags' Bartlett-weighted sum first, z = sum_h w_h s_{t-h}: then
+     * sum_h w_h (s_t s_{t-h}' + s_{t-h} s_t') = s_t z' + z s_t', one outer product instead of
+     * one per lag */
+    memset(a->z, 0, nl * sizeof(double));
+    for (size_t h = 1; h <= a->hac && h <= a->ti; ++h)
+    {
+        const double w = 1.0 - (double)h / (double)(a->hac + 1);
+        const double *sp = a->ring + ((a->ti - h) % (a->hac + 1)) * nl;
+        for (size_t l = 0; l < nl; ++l)
+        {
+            a->z[l] += w * sp[l];
+        }
+    }
+    for (size_t l = 0; l < nl; ++l)
+    {
+        a->score[l] += a->st[l];
+        for (size_t m = l; m < nl; ++m)
+        {
+            a->meat[l * nl + m] += a->st[l] * a->st[m] + a->st[l] * a->z[m] + a->z[l] * a->st[m];
+        }
+    }
+    if (a->hac > 0)
+    {
+        memcpy(a->ring + (a->ti % (a->hac + 1)) * nl, a->st, nl * sizeof(double));
+    }
+    a->ti++;
+}
+
 /* The heteroskedasticity-robust score of the columns nn.. of a design given its first nn
  * (Wooldridge's robust LM): the test columns are partialled on the nuisance ones with Pi
  * (nn x nl, the least-squares coefficients of G), and the per-sample score contributions
@@ -293,107 +394,37 @@ static size_t hac_lag(size_t n)
 aenl_status_t nlt_design_robust(const design_t *d, const kf_t *k, size_t nn, const double *Pi,
                                 double *score, double *meat, aenl_err_t *err)
 {
-    const size_t nx = k->nx;
-    const size_t nz = k->nz;
     const size_t nc = d->ncols;
     const size_t nl = nc - nn;
-    double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)calloc(nx * nc, sizeof(double));
-    double *R = (double *)calloc(nz * nc, sizeof(double));
-    double *st = (double *)malloc(nl * sizeof(double));
-    double *z = (double *)calloc(nl, sizeof(double));
-    double *q = (double *)calloc(nc, sizeof(double));
     const size_t hac = hac_lag(k->n);
-    double *ring = (double *)calloc((hac + 1) * nl, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL || st == NULL || z == NULL || q == NULL ||
-        ring == NULL)
-    {
-        free(D);
-        free(Dn);
-        free(R);
-        free(st);
-        free(z);
-        free(q);
-        free(ring);
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
+    robust_t a = {k->nz, nc, nn, nl, hac, Pi, NULL, NULL, NULL, NULL, score, meat, 0};
+    a.q = (double *)calloc(nc, sizeof(double));
+    a.st = (double *)malloc(nl * sizeof(double));
+    a.z = (double *)calloc(nl, sizeof(double));
+    a.ring = (double *)calloc((hac + 1) * nl, sizeof(double));
     memset(score, 0, nl * sizeof(double));
     memset(meat, 0, nl * nl * sizeof(double));
-    size_t ti = 0;
-    for (size_t t = 0; t < k->n; ++t)
+    aenl_status_t st = AENL_E_DIM;
+    if (a.q == NULL || a.st == NULL || a.z == NULL || a.ring == NULL)
     {
-        const double *F = k->F + k->slot[t] * nx * nx;
-        if (k->used[t])
-        {
-            const double *WC = k->WC + k->slot[t] * nz * nx;
-            const double *e = k->eps + t * nz;
-            nlt_mat_mul(WC, D, R, nz, nx, nc);
-            /* the row's columns weighted by the innovations first, q = R' e, then partialled:
-             * st = q[nn..] - Pi' q[..nn], the same as partialling each channel's row and
-             * weighting after, at 1 / nz of the cost */
-            for (size_t c = 0; c < nc; ++c)
-            {
-                double v = 0.0;
-                for (size_t a = 0; a < nz; ++a)
-                {
-                    v += R[a * nc + c] * e[a];
-                }
-                q[c] = v;
-            }
-            for (size_t l = 0; l < nl; ++l)
-            {
-                double x = q[nn + l];
-                for (size_t i = 0; i < nn; ++i)
-                {
-                    x -= Pi[i * nl + l] * q[i];
-                }
-                st[l] = x;
-            }
-            /* the lags' Bartlett-weighted sum first, z = sum_h w_h s_{t-h}: then
-             * sum_h w_h (s_t s_{t-h}' + s_{t-h} s_t') = s_t z' + z s_t', one outer product
-             * instead of one per lag */
-            memset(z, 0, nl * sizeof(double));
-            for (size_t h = 1; h <= hac && h <= ti; ++h)
-            {
-                const double w = 1.0 - (double)h / (double)(hac + 1);
-                const double *sp = ring + ((ti - h) % (hac + 1)) * nl;
-                for (size_t l = 0; l < nl; ++l)
-                {
-                    z[l] += w * sp[l];
-                }
-            }
-            for (size_t l = 0; l < nl; ++l)
-            {
-                score[l] += st[l];
-                for (size_t m = l; m < nl; ++m)
-                {
-                    meat[l * nl + m] += st[l] * st[m] + st[l] * z[m] + z[l] * st[m];
-                }
-            }
-            if (hac > 0)
-            {
-                memcpy(ring + (ti % (hac + 1)) * nl, st, nl * sizeof(double));
-            }
-            ti++;
-        }
-        design_step(d, F, t, nx, &D, &Dn);
+        aenl_err_set(err, "out of memory");
     }
-    for (size_t l = 0; l < nl; ++l)
+    else
+    {
+        st = design_walk(d, k, robust_rows, &a, err);
+    }
+    for (size_t l = 0; st == AENL_OK && l < nl; ++l)
     {
         for (size_t m = 0; m < l; ++m)
         {
             meat[l * nl + m] = meat[m * nl + l];
         }
     }
-    free(D);
-    free(Dn);
-    free(R);
-    free(st);
-    free(z);
-    free(q);
-    free(ring);
-    return AENL_OK;
+    free(a.q);
+    free(a.st);
+    free(a.z);
+    free(a.ring);
+    return st;
 }
 
 /* Pi (nn x nl): the coefficients of the columns nn.. of the design regressed on its first nn,
