@@ -2,9 +2,9 @@
 /**
  * @file bench_null.c
  * @brief `aenl bench null [--records N] [--from K] [--level A] [--verbose]`: the level of
- *        `identify --method test` on linear records. Every record is an exactly linear model of
- *        the project's simulator, so every nonlinear verdict is a false positive; the bench
- *        prints their share per regime, with and without measurement noise, beside the level.
+ *        `identify` (its default method, the test) on linear records. Every record is an exactly
+ * linear model of the project's simulator, so every nonlinear verdict is a false positive; the
+ * bench prints their share per regime, with and without measurement noise, beside the level.
  *
  * Design: 6 regimes (free decay, kicked decay train, first-order and Dryden turbulence, swept
  * sine and multisine force without the force given) x 2 models (airfoil2dof, section3dof) x 5
@@ -125,7 +125,7 @@ static int parse(int argc, char **argv, null_args_t *a)
         {
             printf("usage: aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
                    "                       [--force-given]\n\n"
-                   "The level of `identify --method test` on %ld linear records of the\n"
+                   "The level of `identify` (the test) on %ld linear records of the\n"
                    "simulator (free decays, kicked decay trains, first-order and Dryden\n"
                    "turbulence, swept-sine and multisine forcing without the force given; both\n"
                    "models; no noise and SNR 10, 5, 3, 2): every nonlinear verdict is a false\n"
@@ -255,7 +255,7 @@ int aenl_bench_null(int argc, char **argv)
     {
         return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
     }
-    printf("level of identify --method test (level %g) on linear records: records %ld..%ld of "
+    printf("level of identify (the test, level %g) on linear records: records %ld..%ld of "
            "%ld%s\n",
            a.level, a.from, a.records - 1, N_RECORDS,
            a.force_given ? "; forced records with their force as a known input" : "");

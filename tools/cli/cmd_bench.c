@@ -275,7 +275,7 @@ int aenl_cmd_bench(int argc, char **argv)
             "                                         (identification suite; minutes)\n"
             "       aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
             "                       [--force-given]\n"
-            "                                         (level of identify --method test; minutes)\n"
+            "                                         (level of identify, the test; minutes)\n"
             "Each kind's own --help (aenl bench null --help, ...) says more.\n"
             "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
             "double; minutes)\n");
