@@ -1035,6 +1035,8 @@ typedef struct
 {
     const char *dir, *stem, *path;
     aenl_cli_figs_t *outputs;
+    double dt;          /* the time column's step (0: the record has none) */
+    const char *t_name; /* the time column's name */
 } fig_ctx_t;
 
 static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t *ch,
@@ -1141,7 +1143,9 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
             const size_t k = (size_t)d * ch->n_grid + g;
             fprintf(f, "%u,", d);
             aenl_cli_put_num(f, ch->position[k], ",");
-            aenl_cli_put_num(f, ch->accel[k], "\n");
+            /* per sample squared, or per the time column's unit squared */
+            const double a = fc->dt > 0.0 ? ch->accel[k] / (fc->dt * fc->dt) : ch->accel[k];
+            aenl_cli_put_num(f, a, "\n");
         }
     }
     aenl_status_t st = aenl_cli_tmp_close(f, tmp, err);
@@ -1152,8 +1156,22 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
         aenl_cli_plot_text(xlabel);
-        const aenl_plot_var_t vars[] = {
-            {"in", tmp}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
+        char ylabel[400];
+        if (fc->dt > 0.0)
+        {
+            (void)snprintf(ylabel, sizeof(ylabel), "acceleration a(p), %s per %s^2", ch->name,
+                           fc->t_name);
+        }
+        else
+        {
+            (void)snprintf(ylabel, sizeof(ylabel), "acceleration a(p), %s per sample^2", ch->name);
+        }
+        aenl_cli_plot_text(ylabel);
+        const aenl_plot_var_t vars[] = {{"in", tmp},
+                                        {"marks", marks},
+                                        {"title", title},
+                                        {"xlabel", xlabel},
+                                        {"ylabel", ylabel}};
         st = run_plot(fc, ch, "restoring", vars, sizeof(vars) / sizeof(vars[0]), err);
     }
     (void)remove(tmp);
@@ -1320,7 +1338,11 @@ static aenl_status_t plot_all(const aenl_identify_result_t *r, const aenl_identi
 {
     char stem[128];
     aenl_cli_data_stem(path, stem, sizeof(stem));
-    const fig_ctx_t fc = {dir, stem, path, outs};
+    /* the time column's step, for accelerations per its unit squared */
+    const aenl_time_steps_t *ts = &chk->steps[0];
+    const double dt =
+        chk->n_time > 0 && ts->k > 1u ? (ts->t_prev - ts->t0) / (double)(ts->k - 1u) : 0.0;
+    const fig_ctx_t fc = {dir, stem, path, outs, dt > 0.0 ? dt : 0.0, chk->t_name};
     ts_view_t v;
     memset(&v, 0, sizeof(v));
     long *col = malloc((r->n_channels + 1u) * sizeof(long));

@@ -16,10 +16,15 @@ set grid
 set key top left
 set lmargin 12
 set multiplot layout 2,1 title title noenhanced
-do for [m in marks] { set arrow from first m+0, graph 0 to first m+0, graph 1 nohead dt 2 lw 1.5 lc rgb '#aa0000' }
+do for [m in marks] {
+  set arrow from first m+0, graph 0 to first m+0, graph 1 nohead dt 2 lw 1.5 lc rgb '#aa0000'
+  set label sprintf(' %.4g', m+0) at first m+0, graph 0.04 left front tc rgb '#aa0000' noenhanced
+}
+set format x '%g'
+set format y '%g'
 set xlabel xlabel noenhanced
 set ylabel sprintf('E(X_n | X_{n-L} = %s)', xlabel) noenhanced
-plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s', l)
+plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s samples', l)
 set ylabel sprintf('Var(X_n | X_{n-L} = %s)', xlabel) noenhanced
-plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s', l)
+plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s samples', l)
 unset multiplot
