@@ -13,7 +13,7 @@ set datafile separator comma
 set datafile columnheaders
 set datafile missing 'nan'
 set grid
-set key top left
+set key top left title 'lag (samples)'
 set lmargin 12
 set multiplot layout 2,1 title title noenhanced
 do for [m in marks] {
@@ -24,7 +24,7 @@ set format x '%g'
 set format y '%g'
 set xlabel xlabel noenhanced
 set ylabel sprintf('E(X_n | X_{n-L} = %s)', xlabel) noenhanced
-plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s samples', l)
+plot for [l in lags] in using 2:($1 == l+0 ? $3 : NaN) with lines lw 2 title sprintf('L = %s', l)
 set ylabel sprintf('Var(X_n | X_{n-L} = %s)', xlabel) noenhanced
-plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s samples', l)
+plot for [l in lags] in using 2:($1 == l+0 ? $4 : NaN) with lines lw 2 title sprintf('L = %s', l)
 unset multiplot

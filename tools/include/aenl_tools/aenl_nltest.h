@@ -120,7 +120,7 @@ typedef struct aenl_nlt_channel
     double law_coef[AENL_NLT_N_LAWS][2];
     double law_pts[AENL_NLT_N_LAWS][2];
     double law_scale;
-    double law_sign;
+    int law_sign; /* the frequency's change with a force along the direction: -1, 0 (unknown), 1 */
 } aenl_nlt_channel_t;
 
 /** A (channel, law) model the record cannot reject against the best one. */

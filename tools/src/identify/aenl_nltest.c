@@ -329,7 +329,7 @@ double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, doubl
                           : 0.0;
             break;
     }
-    return c->law_sign * f;
+    return c->law_sign < 0 ? -f : f;
 }
 
 const char *aenl_nlt_law_name(aenl_nlt_law_t law)
@@ -1037,8 +1037,7 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
             c->law_pts[l][1] = pts[l][1];
         }
         c->law_scale = rn->scale[j];
-        const int fs = frequency_sensitivity(rn->m, dir, j);
-        c->law_sign = fs < 0 ? -1.0 : 1.0;
+        c->law_sign = frequency_sensitivity(rn->m, dir, j);
         c->laws_fitted = 1;
         *best = best_of(crit);
         for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
@@ -1083,8 +1082,8 @@ static aenl_class_t law_class(aenl_nlt_law_t law)
 
 /* Channel j's verdict from the laws' comparison: switching points, hardening and class into c.
  * beta3: the cubic coefficient; lbest: the law of the smallest criterion. */
-static void stage2_verdict(const run_t *rn, size_t j, const double *dir, const two_point_t *tp,
-                           double beta3, size_t lbest, aenl_nlt_channel_t *c)
+static void stage2_verdict(const run_t *rn, size_t j, const two_point_t *tp, double beta3,
+                           size_t lbest, aenl_nlt_channel_t *c)
 {
     const double sc = rn->scale[j];
     c->n_points = 0;
@@ -1105,9 +1104,8 @@ static void stage2_verdict(const run_t *rn, size_t j, const double *dir, const t
     c->hardening = 0;
     if (lbest == AENL_NLT_POLYNOMIAL)
     {
-        const int fs = frequency_sensitivity(rn->m, dir, j);
         const int bs = (beta3 > 0.0) - (beta3 < 0.0);
-        c->hardening = fs * bs;
+        c->hardening = c->law_sign * bs; /* the frequency's sensitivity along the force */
     }
     c->confidence = law_confidence(c, lbest);
     c->undetermined = c->confidence < rn->opts->min_confidence;
@@ -1198,7 +1196,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
     st = law_comparison(rn, j, dir, s2, &tp, quintic, &lbest, c, err);
     if (st == AENL_OK)
     {
-        stage2_verdict(rn, j, dir, &tp, beta3, lbest, c);
+        stage2_verdict(rn, j, &tp, beta3, lbest, c);
     }
     return st;
 }
