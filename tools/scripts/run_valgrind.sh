@@ -5,6 +5,7 @@
 # exit code 3). gnuplot is a child process and is not traced. Skipped: `demo` (minutes under
 # valgrind; its pieces are covered one by one here) and `bench` (timing only).
 # Usage: run_valgrind.sh [AENL_BINARY]   (default build/strict/tools/aenl)
+# Environment: AENL_VALGRIND_JOBS runs at once (default: the number of cores).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 aenl=${1:-$root/build/strict/tools/aenl}
@@ -17,24 +18,46 @@ cd "$work"
 
 n_run=0
 fail=0
-# vg EXPECTED_EXIT LABEL ARGS...: run `aenl ARGS` under memcheck; exit 3 is a memcheck error.
+jobs=${AENL_VALGRIND_JOBS:-$(nproc)}
+pending=()
+# vg EXPECTED_EXIT LABEL ARGS...: run `aenl ARGS` under memcheck in the background (at most $jobs
+# at once, each with its own output and log files); exit 3 is a memcheck error. vg_sync waits for
+# them and reports each in the order given; a run that reads what an earlier one writes comes
+# after a vg_sync.
 vg() {
-  local want=$1 label=$2 rc=0
+  local want=$1 label=$2 id=$n_run
   shift 2
   n_run=$((n_run + 1))
-  valgrind -q --error-exitcode=3 --leak-check=full --errors-for-leak-kinds=definite,indirect \
-    --show-leak-kinds=definite,indirect --trace-children=no --log-file="$work/vg.log" \
-    "$aenl" "$@" >"$work/out.txt" 2>"$work/err.txt" || rc=$?
-  if ((rc == 3)) || [[ -s $work/vg.log ]]; then
-    printf 'valgrind %-40s MEMCHECK ERRORS (exit %d)\n' "$label" "$rc"
-    sed 's/^/  /' "$work/vg.log" | head -60
-    fail=1
-  elif ((rc != want)); then
-    printf 'valgrind %-40s exit %d, expected %d: %s\n' "$label" "$rc" "$want" "$(head -c 300 "$work/err.txt")"
-    fail=1
-  else
-    printf 'valgrind %-40s clean (exit %d)\n' "$label" "$rc"
-  fi
+  while (($(jobs -rp | wc -l) >= jobs)); do wait -n || true; done
+  printf '%s\t%s\n' "$want" "$label" >"$work/r$id.what"
+  (
+    rc=0
+    valgrind -q --error-exitcode=3 --leak-check=full --errors-for-leak-kinds=definite,indirect \
+      --show-leak-kinds=definite,indirect --trace-children=no --log-file="$work/r$id.vg" \
+      "$aenl" "$@" >"$work/r$id.out" 2>"$work/r$id.err" || rc=$?
+    echo "$rc" >"$work/r$id.rc"
+  ) &
+  pending+=("$id")
+}
+vg_sync() {
+  wait
+  local id want label rc
+  for id in "${pending[@]}"; do
+    IFS=$'\t' read -r want label <"$work/r$id.what"
+    rc=$(cat "$work/r$id.rc")
+    if ((rc == 3)) || [[ -s $work/r$id.vg ]]; then
+      printf 'valgrind %-40s MEMCHECK ERRORS (exit %d)\n' "$label" "$rc"
+      sed 's/^/  /' "$work/r$id.vg" | head -60
+      fail=1
+    elif ((rc != want)); then
+      printf 'valgrind %-40s exit %d, expected %d: %s\n' "$label" "$rc" "$want" \
+        "$(head -c 300 "$work/r$id.err")"
+      fail=1
+    else
+      printf 'valgrind %-40s clean (exit %d)\n' "$label" "$rc"
+    fi
+  done
+  pending=()
 }
 
 # Every example model, its [run] shortened to 40 output steps (the integrator, events, sticking,
@@ -82,6 +105,7 @@ vg 0 "identify --method test --input --controls" identify ms.csv --method test -
   --channel beta --controls 1 --json
 have_gnuplot=0
 command -v gnuplot >/dev/null && have_gnuplot=1
+vg_sync # m.csv is read below
 if ((have_gnuplot)); then
   vg 0 "identify --plot" identify long.csv --channel alpha --bandwidth 0.002 --plot figs
   vg 0 "moments --plot" moments long.csv --channel alpha -o m3.csv --plot m3.png
@@ -97,6 +121,7 @@ for w in truth base; do
     "$root/tools/examples/diagnose_${w}_airfoil2dof.ini" >"dg_$w.ini"
 done
 vg 0 "simulate (diagnose record)" simulate dg_truth.ini -o dg_meas.csv
+vg_sync # dg_meas.csv is read below
 vg 0 "diagnose --json --out" diagnose --measured dg_meas.csv --model dg_base.ini --json \
   --refine 0 --replicates 2 --max-evals 8 --summary-records 32 --no-plots --out dg
 vg 2 "diagnose: wrong model for the record" diagnose --measured dg_meas.csv \
@@ -135,6 +160,7 @@ vg 2 "fit: unwritable output" fit long.csv --thresholds alpha:0 -o /nonexistent/
 vg 2 "demo: unknown argument" demo --bogus
 vg 2 "demo: data folder absent" demo --data /nonexistent/data --out demo_out
 vg 2 "bench: unknown benchmark" bench nothing
+vg_sync
 
 if ((fail)); then
   echo "valgrind: FAILED ($n_run runs)"

@@ -16,7 +16,7 @@ root=$(cd "$(dirname "$0")/../.." && pwd)
 jobs=$(nproc)
 "$root/tools/scripts/deps.sh" all
 
-step() { printf '\n=== %s\n' "$*"; }
+step() { printf '\n=== %s (at %d s)\n' "$*" "$SECONDS"; }
 
 step "strict build (-Werror) + ctest"
 cmake -S "$root" -B "$root/build/strict" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_WERROR=ON >/dev/null
