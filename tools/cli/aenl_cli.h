@@ -69,6 +69,17 @@ void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *col
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
                            const char *channel);
 
+/** 1 when column col is one of the n_in columns in[]. */
+int aenl_cli_is_input(const size_t *in, size_t n_in, size_t col);
+/**
+ * The record's channels: every column but time and the inputs (in, n_in), or only column `only`
+ * (when >= 0), into chan and names (*nz of them, at most max). Returns 0, or -1 after one message
+ * (none left, more than max, a constant one).
+ */
+int aenl_cli_record_channels(const char *cmd, const aenl_table_t *t, const char *path,
+                             const size_t *in, size_t n_in, long only, size_t max,
+                             const double **chan, const char **names, size_t *nz);
+
 /** Largest sample magnitude the subcommands take: squares (variances) stay far from overflow. */
 #define AENL_CLI_MAX_ABS 1e120
 

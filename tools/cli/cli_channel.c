@@ -211,3 +211,65 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
     }
     return 0;
 }
+
+int aenl_cli_is_input(const size_t *in, size_t n_in, size_t col)
+{
+    for (size_t k = 0; k < n_in; ++k)
+    {
+        if (in[k] == col)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+int aenl_cli_record_channels(const char *cmd, const aenl_table_t *t, const char *path,
+                             const size_t *in, size_t n_in, long only, size_t max,
+                             const double **chan, const char **names, size_t *nz)
+{
+    const size_t n = t->n_rows;
+    *nz = 0;
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        if (aenl_cli_is_time_column(t->names[c]) || aenl_cli_is_input(in, n_in, c) ||
+            (only >= 0 && (long)c != only))
+        {
+            continue;
+        }
+        if (*nz == max)
+        {
+            aenl_cli_error(cmd, "%s: more than %zu channels: name one with --channel", path, max);
+            return -1;
+        }
+        chan[*nz] = t->data + c * n;
+        names[(*nz)++] = t->names[c];
+    }
+    if (*nz == 0)
+    {
+        aenl_cli_error(cmd,
+                       n_in > 0 ? "%s: no channel left to test (only time and inputs)"
+                                : "%s: no data column (only the time column)",
+                       path);
+        return -1;
+    }
+    for (size_t j = 0; j < *nz; ++j)
+    {
+        double lo = HUGE_VAL;
+        double hi = -HUGE_VAL;
+        for (size_t k = 0; k < n; ++k)
+        {
+            lo = fmin(lo, chan[j][k]); /* fmin and fmax pass over a missing sample */
+            hi = fmax(hi, chan[j][k]);
+        }
+        if (!(hi > lo)) /* nothing to test, whatever the record's length */
+        {
+            aenl_cli_error(cmd,
+                           "%s, channel %s: constant signal (every sample is %g): nothing to "
+                           "identify (name another channel with --channel)",
+                           path, names[j], lo);
+            return -1;
+        }
+    }
+    return 0;
+}

@@ -180,13 +180,11 @@ static int test_verdict(const char *csv, const char *truth_class, const char *tr
     const double *chan[AENL_NLT_MAX_CH];
     const char *names[AENL_NLT_MAX_CH];
     size_t nz = 0;
-    for (size_t c = 0; c < t.n_cols && nz < AENL_NLT_MAX_CH; ++c)
+    if (aenl_cli_record_channels(k_cmd, &t, csv, NULL, 0, -1, AENL_NLT_MAX_CH, chan, names, &nz) !=
+        0)
     {
-        if (!aenl_cli_is_time_column(t.names[c]))
-        {
-            chan[nz] = t.data + c * t.n_rows;
-            names[nz++] = t.names[c];
-        }
+        aenl_table_free(&t);
+        return -1;
     }
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);

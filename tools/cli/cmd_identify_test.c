@@ -66,18 +66,6 @@ static long input_columns(const aenl_table_t *t, const char *path, const char *l
     return n_in;
 }
 
-static int is_input(const size_t *in, long n_in, size_t c)
-{
-    for (long k = 0; k < n_in; ++k)
-    {
-        if (in[k] == c)
-        {
-            return 1;
-        }
-    }
-    return 0;
-}
-
 /* ---- figures --------------------------------------------------------------------------------- */
 
 /* Time-series figure: the whole record as a min/max envelope over at most this many bins, and
@@ -309,59 +297,6 @@ static aenl_status_t plot_all(const fig_t *f, const aenl_nlt_result_t *res,
     return st;
 }
 
-/* The channels of the record: every column but time and the inputs (in, n_in), or the one
- * named (only >= 0), into chan and names (*nz of them); 0, or -1 after the message (none left,
- * too many, a constant one). */
-static int record_channels(const aenl_table_t *t, const char *path, const size_t *in, long n_in,
-                           long only, const double **chan, const char **names, size_t *nz)
-{
-    const size_t n = t->n_rows;
-    *nz = 0;
-    for (size_t c = 0; c < t->n_cols; ++c)
-    {
-        if (aenl_cli_is_time_column(t->names[c]) || is_input(in, n_in, c) ||
-            (only >= 0 && (long)c != only))
-        {
-            continue;
-        }
-        if (*nz == AENL_NLT_MAX_CH)
-        {
-            aenl_cli_error(k_cmd, "%s: more than %d channels: name one with --channel", path,
-                           AENL_NLT_MAX_CH);
-            return -1;
-        }
-        chan[*nz] = t->data + c * n;
-        names[(*nz)++] = t->names[c];
-    }
-    if (*nz == 0)
-    {
-        aenl_cli_error(k_cmd,
-                       n_in > 0 ? "%s: no channel left to test (only time and inputs)"
-                                : "%s: no data column (only the time column)",
-                       path);
-        return -1;
-    }
-    for (size_t j = 0; j < *nz; ++j)
-    {
-        double lo = HUGE_VAL;
-        double hi = -HUGE_VAL;
-        for (size_t k = 0; k < n; ++k)
-        {
-            lo = fmin(lo, chan[j][k]); /* fmin and fmax pass over a missing sample */
-            hi = fmax(hi, chan[j][k]);
-        }
-        if (!(hi > lo)) /* nothing to test, whatever the record's length */
-        {
-            aenl_cli_error(k_cmd,
-                           "%s, channel %s: constant signal (every sample is %g): nothing to "
-                           "identify (name another channel with --channel)",
-                           path, names[j], lo);
-            return -1;
-        }
-    }
-    return 0;
-}
-
 /* The figures of a run into figs (its folder made), the time axis from the record's time
  * column (the sample index without one); 0, or -1 after the message. */
 static int figures(const aenl_table_t *t, const char *path, const char *dir,
@@ -408,7 +343,7 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
-    if (only >= 0 && is_input(in, n_in, (size_t)only))
+    if (only >= 0 && aenl_cli_is_input(in, (size_t)n_in, (size_t)only))
     {
         aenl_cli_error(k_cmd, "--channel %s is also an --input", channel);
         aenl_table_free(&t);
@@ -429,7 +364,8 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     const double *chan[AENL_NLT_MAX_CH];
     const char *names[AENL_NLT_MAX_CH];
     size_t nz = 0;
-    if (record_channels(&t, path, in, n_in, only, chan, names, &nz) != 0)
+    if (aenl_cli_record_channels(k_cmd, &t, path, in, (size_t)n_in, only, AENL_NLT_MAX_CH, chan,
+                                 names, &nz) != 0)
     {
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;

@@ -293,6 +293,19 @@ static size_t symmetric_knots(const double *q, size_t nq, double *knots)
 
 /* ---- the whole run --------------------------------------------------------------------------- */
 
+/* The freeplay law's series: the motion's part beyond a, up to b (a <= b). */
+static double gap_ramp(double u, double a, double b)
+{
+    return fmax(u - a, 0.0) - fmax(u - b, 0.0);
+}
+
+/* The hysteresis law's series: the ramp on the branch of the motion's direction dir (the
+ * falling branch mirrors the rising one), 0 at rest. */
+static double loop_branch(double u, double a1, double a2, double dir)
+{
+    return dir > 0.0 ? gap_ramp(u, a1, a2) : dir < 0.0 ? gap_ramp(u, -a2, -a1) : 0.0;
+}
+
 void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
@@ -319,14 +332,13 @@ double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, doubl
             f = k[0] * v * v * v + k[1] * v * v * v * v * v;
             break;
         case AENL_NLT_FREEPLAY:
-            f = k[0] * (fmax(v - p[0], 0.0) - fmax(v - p[1], 0.0));
+            f = k[0] * gap_ramp(v, p[0], p[1]);
             break;
-        case AENL_NLT_HYSTERESIS: /* the branches of verdict_series */
+        case AENL_NLT_HYSTERESIS:
         case AENL_NLT_N_LAWS:
         default:
-            f = dir > 0   ? k[0] * (fmax(v - p[0], 0.0) - fmax(v - p[1], 0.0)) + k[1]
-                : dir < 0 ? k[0] * (fmax(v + p[1], 0.0) - fmax(v + p[0], 0.0)) - k[1]
-                          : 0.0;
+            f = dir != 0 ? k[0] * loop_branch(v, p[0], p[1], (double)dir) + (dir > 0 ? k[1] : -k[1])
+                         : 0.0;
             break;
     }
     return c->law_sign < 0 ? -f : f;
@@ -874,10 +886,8 @@ static void verdict_series(const run_t *rn, const two_point_t *tp, double *buf)
         const double dg = rn->dsg[t];
         buf[V_U3 * n + t] = u * u * u;
         buf[V_U5 * n + t] = u * u * u * u * u;
-        buf[V_FP * n + t] = fmax(u - f1, 0.0) - fmax(u - f2, 0.0);
-        buf[V_HY * n + t] = dg > 0.0   ? fmax(u - a1, 0.0) - fmax(u - a2, 0.0)
-                            : dg < 0.0 ? fmax(u + a2, 0.0) - fmax(u + a1, 0.0)
-                                       : 0.0;
+        buf[V_FP * n + t] = gap_ramp(u, f1, f2);
+        buf[V_HY * n + t] = loop_branch(u, a1, a2, dg);
         buf[V_D * n + t] = dg;
     }
 }
