@@ -10,6 +10,7 @@
 #define AENL_CLI_H
 
 #include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_identify.h"
 #include "aenl_tools/aenl_io.h"
 #include "aenl_tools/aenl_progress.h"
 
@@ -146,6 +147,12 @@ int aenl_cmd_identify(int argc, char **argv);
  *  NULL (tools/cli/cmd_identify_test.c). */
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
                           double level, size_t n_controls, const char *plot_dir);
+/** `aenl identify --method moments` on `path` (only `channel` when not NULL) with opts, against
+ *  the baseline INI `model` when not NULL, as JSON when json, its figures in plot_dir when not
+ *  NULL (tools/cli/cmd_identify.c); the exit status. */
+int aenl_identify_by_moments(const char *path, const char *channel,
+                             const aenl_identify_opts_t *opts, const char *model, int json,
+                             const char *plot_dir);
 /** `aenl diagnose` (tools/cli/cmd_diagnose.c). */
 int aenl_cmd_diagnose(int argc, char **argv);
 /** `aenl bench diagnose` (tools/cli/bench_diagnose.c). */

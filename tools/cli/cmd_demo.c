@@ -330,16 +330,13 @@ static int identify_case(const char *csv, const char *outdir, const char *stem,
             aenl_cli_error(k_cmd, "%s: output path too long", outdir);
             return -1;
         }
-        char a0[] = "identify", a2[] = "--plot", a1[1200];
-        if (snprintf(a1, sizeof(a1), "%s", csv) >= (int)sizeof(a1))
-        {
-            aenl_cli_error(k_cmd, "%s: path too long", csv);
-            return -1;
-        }
-        char *args[] = {a0, a1, a2, dir, NULL};
-        printf("    the moments' figures and table (aenl identify %s --plot %s):\n", csv, dir);
+        printf(
+            "    the moments' figures and table (aenl identify %s --method moments --plot %s):\n",
+            csv, dir);
         (void)fflush(stdout);
-        if (aenl_cmd_identify(4, args) != AENL_EXIT_OK)
+        aenl_identify_opts_t opts;
+        aenl_identify_opts_default(&opts);
+        if (aenl_identify_by_moments(csv, NULL, &opts, NULL, 0, dir) != AENL_EXIT_OK)
         {
             return -1;
         }

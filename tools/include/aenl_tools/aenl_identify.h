@@ -27,6 +27,7 @@
 #define AENL_TOOLS_IDENTIFY_H
 
 #include <stddef.h>
+#include <stdio.h>
 #include <stdint.h>
 
 #include "aenl/aenl.h"
@@ -187,6 +188,23 @@ aenl_status_t aenl_identify_run(const aenl_identify_source_t *src, const aenl_id
                                 aenl_identify_result_t *out, aenl_err_t *err);
 
 void aenl_identify_free(aenl_identify_result_t *r);
+
+/** The class with a polynomial's hardening or softening: "polynomial (hardening)". */
+const char *aenl_identify_class_label(const aenl_classifier_result_t *res);
+/**
+ * @brief r as the JSON object of docs/identify.md (schema "aenl-identify/2") on out.
+ * @param path  the record's file name, as given; rows its data rows.
+ * @param model the baseline INI of a model-based test (NULL: none).
+ * @return AENL_OK, or AENL_E_DIM when out of memory (nothing written).
+ */
+aenl_status_t aenl_identify_print_json(FILE *out, const aenl_identify_result_t *r, const char *path,
+                                       size_t rows, const char *model);
+/**
+ * @brief r as a table on out: one line per channel, the notes, the model-based test's lines
+ *        (when applied) and the verdict; o the options of the run (bandwidth, pre-filter).
+ */
+void aenl_identify_print_table(FILE *out, const aenl_identify_result_t *r, const char *path,
+                               size_t rows, const aenl_identify_opts_t *o, const char *model);
 
 /**
  * @brief Put the verdict of a model-based test in place of the record's own: a diagnosis of the
