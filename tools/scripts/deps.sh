@@ -9,6 +9,7 @@ if [[ ${1:-all} == all ]]; then
   want+=(clang libclang-rt-14-dev valgrind) # run_fuzz.sh (libFuzzer runtime), run_valgrind.sh
   want+=(clang-tidy cppcheck)                # test_all.sh static analysis (AENL_STATIC_ANALYSIS)
   want+=(man-db)                             # the install check reads the installed man page
+  want+=(qemu-system-arm)                    # check_m4f.sh: the core's tests on an emulated M4F
 fi
 missing=()
 for p in "${want[@]}"; do
