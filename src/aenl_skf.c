@@ -232,15 +232,21 @@ static void predict(aenl_skf_t *f, uint16_t s, const aenl_real_t *x, const aenl_
         w->xp[i] += m->b[s][i];
     }
     aenl_la_mul(&w->T[0][0], LDX, &m->A[s][0][0], LDX, P, LDX, nx, nx, nx);
-    aenl_la_mul_nt(&w->Pp[0][0], LDX, &w->T[0][0], LDX, &m->A[s][0][0], LDX, nx, nx, nx);
+    /* (A P) A' is symmetric: the upper triangle, mirrored, with Q's symmetric part */
     for (uint16_t i = 0; i < nx; ++i)
     {
-        for (uint16_t j = 0; j < nx; ++j)
+        for (uint16_t j = i; j < nx; ++j)
         {
-            w->Pp[i][j] += m->Q[s][i][j];
+            aenl_real_t acc = AENL_R(0.0);
+            for (uint16_t k = 0; k < nx; ++k)
+            {
+                acc += w->T[i][k] * m->A[s][j][k];
+            }
+            acc += AENL_R(0.5) * (m->Q[s][i][j] + m->Q[s][j][i]);
+            w->Pp[i][j] = acc;
+            w->Pp[j][i] = acc;
         }
     }
-    aenl_la_symmetrise(&w->Pp[0][0], LDX, nx);
 }
 
 /*
@@ -306,46 +312,63 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, ae
         }
         x_out[i] = s;
     }
+    /* C P_p into the first rows of T (T is free), then K' = S^-1 C P_p in CP. */
+    for (uint16_t r = 0; r < nu; ++r)
+    {
+        memcpy(w->T[r], w->CP[r], sizeof(w->T[r]));
+    }
     aenl_la_chol_solve(&w->S[0][0], LDZ, nu, &w->CP[0][0], LDX, nx);
-    /* T = I - K C */
+    /* Joseph form (I - K C) P_p (I - K C)' + K R K', with I - K C applied as a rank-nu
+     * correction instead of an nx x nx product: first P_out = (I - K C) P_p = P_p - K (C P_p). */
     for (uint16_t i = 0; i < nx; ++i)
     {
         for (uint16_t j = 0; j < nx; ++j)
         {
-            aenl_real_t s = (i == j) ? AENL_R(1.0) : AENL_R(0.0);
+            aenl_real_t acc = w->Pp[i][j];
             for (uint16_t r = 0; r < nu; ++r)
             {
-                s -= w->CP[r][i] * w->Cu[r][j];
+                acc -= w->CP[r][i] * w->T[r][j];
             }
-            w->T[i][j] = s;
+            P_out[(size_t)i * LDX + j] = acc;
         }
     }
-    /* P_out = T P_p, then P_p <- (T P_p) T' (P_p is free by then) */
-    aenl_la_mul(P_out, LDX, &w->T[0][0], LDX, &w->Pp[0][0], LDX, nx, nx, nx);
-    aenl_la_mul_nt(&w->Pp[0][0], LDX, P_out, LDX, &w->T[0][0], LDX, nx, nx, nx);
-    /* R_u K' into Cu (C rows no longer needed), then + K (R_u K') */
+    /* V = P_out C' (nx x nu) into T's first columns: P_out (I - K C)' = P_out - V K'. */
+    for (uint16_t i = 0; i < nx; ++i)
+    {
+        for (uint16_t r = 0; r < nu; ++r)
+        {
+            aenl_real_t acc = AENL_R(0.0);
+            for (uint16_t j = 0; j < nx; ++j)
+            {
+                acc += P_out[(size_t)i * LDX + j] * w->Cu[r][j];
+            }
+            w->T[i][r] = acc;
+        }
+    }
+    /* R_u K' into Cu (C rows no longer needed) */
     for (uint16_t r = 0; r < nu; ++r)
     {
         for (uint16_t j = 0; j < nx; ++j)
         {
-            aenl_real_t s = AENL_R(0.0);
+            aenl_real_t acc = AENL_R(0.0);
             for (uint16_t c = 0; c < nu; ++c)
             {
-                s += m->R[w->idx[r]][w->idx[c]] * w->CP[c][j];
+                acc += m->R[w->idx[r]][w->idx[c]] * w->CP[c][j];
             }
-            w->Cu[r][j] = s;
+            w->Cu[r][j] = acc;
         }
     }
+    /* P_out - V K' + K (R_u K') */
     for (uint16_t i = 0; i < nx; ++i)
     {
         for (uint16_t j = 0; j < nx; ++j)
         {
-            aenl_real_t s = w->Pp[i][j];
+            aenl_real_t acc = P_out[(size_t)i * LDX + j];
             for (uint16_t r = 0; r < nu; ++r)
             {
-                s += w->CP[r][i] * w->Cu[r][j];
+                acc += w->CP[r][i] * w->Cu[r][j] - w->T[i][r] * w->CP[r][j];
             }
-            P_out[(size_t)i * LDX + j] = s;
+            P_out[(size_t)i * LDX + j] = acc;
         }
     }
     aenl_la_symmetrise(P_out, LDX, nx);
