@@ -245,7 +245,10 @@ static void test_nlt_freeplay_named_with_its_gap(void)
     TEST_ASSERT_FALSE(r.undetermined);
     /* named: both other laws lose their comparison with freeplay at 5 % each, and the best
      * model heads the candidates */
-    TEST_ASSERT_TRUE(r.confidence >= 0.9);
+    TEST_ASSERT_TRUE(r.class_confidence >= 0.9);
+    /* the verdict's confidence is the union bound of its law's and its channel's */
+    TEST_ASSERT_EQUAL_DOUBLE(fmax(r.class_confidence + r.channel_confidence - 1.0, 0.0),
+                             r.confidence);
     TEST_ASSERT_TRUE(r.ch[0].law_p[AENL_NLT_POLYNOMIAL] < 0.05);
     TEST_ASSERT_TRUE(r.ch[0].law_p[AENL_NLT_HYSTERESIS] < 0.05);
     TEST_ASSERT_EQUAL_DOUBLE(1.0, r.ch[0].law_p[AENL_NLT_FREEPLAY]);

@@ -147,9 +147,13 @@ typedef struct aenl_nlt_result
     aenl_class_t verdict_class; /**< LINEAR when nothing rejects; INSUFFICIENT when
                                      undetermined or the record is too short */
     int undetermined;           /**< nonlinear, but the law is undetermined */
-    double confidence;          /**< of the law: 1 - m x the largest p-value of a model with
-                                     another law (m of them), at least 0; 1 - n_channels x the
-                                     smallest stage-1 p for a linear verdict */
+    double confidence;          /**< of the verdict, law and channel both right (Bonferroni):
+                                     class_confidence + channel_confidence - 1, at least 0;
+                                     1 - n_channels x the smallest stage-1 p for a linear
+                                     verdict */
+    double class_confidence;    /**< of the law: 1 - m x the largest p-value of a model with
+                                     another law (m of them), at least 0; = confidence for a
+                                     linear verdict */
     double channel_confidence;  /**< of the channel, the same over the models on other channels
                                      (1 when only one channel rejects) */
     size_t n_candidates;        /**< models still in play, the best first */
@@ -192,12 +196,12 @@ double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, doubl
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
 
 /**
- * @brief The result as one JSON object on `out` (schema aenl-identify-test/2): file,
+ * @brief The result as one JSON object on `out` (schema aenl-identify-test/3): file,
  *        aenl_version, method "test", level, model {states, samples, loglik, impulses}, verdict
  *        {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
- *        channel_confidence, candidates [{class, channel, p_value}]}, channels [{name, class,
- *        statistic, dof, p_value, nonlinear, law_p_values {polynomial, freeplay, hysteresis},
- *        confidence, hardening, switch_points, switch_point_lo, switch_point_hi}],
+ *        class_confidence, channel_confidence, candidates [{class, channel, p_value}]}, channels
+ * [{name, class, statistic, dof, p_value, nonlinear, law_p_values {polynomial, freeplay,
+ * hysteresis}, confidence, hardening, switch_points, switch_point_lo, switch_point_hi}],
  *        model.inputs [names] when the model took known inputs, and controls (their number) with
  *        each channel's control_exceed and control_p when linear controls were run. names: the
  *        channels; input_names: the inputs (NULL when there are none).

@@ -1784,8 +1784,11 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
         }
     }
     res->verdict = bj;
-    res->confidence = c->confidence;
+    res->class_confidence = c->confidence;
     res->channel_confidence = bonferroni_confidence(pmax_ch, m_ch);
+    /* the verdict names a law and a channel: right when both are (a union bound, as each
+     * confidence is one) */
+    res->confidence = fmax(res->class_confidence + res->channel_confidence - 1.0, 0.0);
     res->undetermined = c->undetermined;
     res->verdict_class = c->cls;
     return AENL_OK;
@@ -1954,6 +1957,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     if (st == AENL_OK)
     {
         res->confidence = bonferroni_confidence(pmin, n_ch);
+        res->class_confidence = res->confidence;
         res->channel_confidence = 1.0;
         st = verdict_comparison(&rn, res, err);
     }

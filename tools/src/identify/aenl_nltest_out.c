@@ -120,6 +120,7 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
         bad |= add(v, "switch_point_hi", cJSON_CreateArray());
     }
     bad |= add(v, "confidence", num(r->confidence));
+    bad |= add(v, "class_confidence", num(r->class_confidence));
     bad |=
         add(v, "channel_confidence", c != NULL ? num(r->channel_confidence) : cJSON_CreateNull());
     cJSON *cand = cJSON_CreateArray();
@@ -155,7 +156,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/2"));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/3"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "method", cJSON_CreateString("test"));
@@ -268,8 +269,8 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
     if (r->verdict >= 0)
     {
         const aenl_nlt_channel_t *c = &r->ch[r->verdict];
-        (void)fprintf(out, " in %s (confidence %.3f; channel %.3f)", names[r->verdict],
-                      r->confidence, r->channel_confidence);
+        (void)fprintf(out, " in %s (confidence %.3f: the law %.3f, the channel %.3f)",
+                      names[r->verdict], r->confidence, r->class_confidence, r->channel_confidence);
         if (r->verdict_class == AENL_CLASS_POLYNOMIAL && c->hardening != 0)
         {
             (void)fprintf(out, ", %s", c->hardening > 0 ? "hardening" : "softening");
