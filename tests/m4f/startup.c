@@ -31,16 +31,27 @@ void _fini(void)
 {
 }
 
-/* Initial stack, reset, then NMI, HardFault, MemManage, BusFault and UsageFault: a fault ends the
- * run with a message, so a crash cannot pass for a test result. */
-__attribute__((section(".vectors"), used)) static void (*const k_vectors[7])(void) = {
+/* Initial stack and reset, then the system exceptions (NMI, the faults, SVCall, DebugMonitor,
+ * PendSV, SysTick; 0 where the architecture reserves the slot): any of them ends the run with a
+ * message, so a crash cannot pass for a test result. No interrupt is enabled. */
+__attribute__((section(".vectors"), used)) static void (*const k_vectors[16])(void) = {
     (void (*)(void))(uintptr_t)&__stack_top,
     aenl_m4f_reset,
-    aenl_m4f_fault,
-    aenl_m4f_fault,
-    aenl_m4f_fault,
-    aenl_m4f_fault,
-    aenl_m4f_fault};
+    aenl_m4f_fault, /* NMI */
+    aenl_m4f_fault, /* HardFault */
+    aenl_m4f_fault, /* MemManage */
+    aenl_m4f_fault, /* BusFault */
+    aenl_m4f_fault, /* UsageFault */
+    0,
+    0,
+    0,
+    0,
+    aenl_m4f_fault, /* SVCall */
+    aenl_m4f_fault, /* DebugMonitor */
+    0,
+    aenl_m4f_fault, /* PendSV */
+    aenl_m4f_fault  /* SysTick */
+};
 
 void aenl_m4f_reset(void)
 {

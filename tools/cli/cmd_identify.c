@@ -1077,6 +1077,10 @@ int aenl_identify_by_moments(const char *path, const char *channel,
     a.model = model;
     a.json = json;
     a.plot_dir = plot_dir;
+    if (json)
+    {
+        aenl_cli_set_notes(0); /* stdout holds one JSON document; its notes go in it */
+    }
     return by_moments(&a);
 }
 

@@ -80,8 +80,9 @@ for elf in "$build"/tests/m4f/test_*_m4f.elf; do
   name=$(basename "$elf" .elf)
   rc=0
   out=$(qemu "$elf" 2>&1) || rc=$?
-  summary=$(echo "$out" | grep -E '^[0-9]+ Tests [0-9]+ Failures [0-9]+ Ignored' | tail -n 1)
-  if ((rc != 0)) || [[ $(echo "$out" | tail -n 1) != OK* ]]; then
+  # a crash, a hang or a suite that ran nothing prints no such line: each is a failure
+  summary=$(echo "$out" | grep -E '^[1-9][0-9]* Tests 0 Failures [0-9]+ Ignored' | tail -n 1 || true)
+  if ((rc != 0)) || [[ -z $summary || $(echo "$out" | tail -n 1) != OK* ]]; then
     echo "m4f: FAIL: $name on the emulated Cortex-M4F (exit $rc):"; echo "$out" | tail -n 30; exit 1
   fi
   echo "m4f: $name on the emulated Cortex-M4F: $summary"

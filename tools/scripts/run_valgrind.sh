@@ -5,7 +5,8 @@
 # exit code 3). gnuplot is a child process and is not traced. Skipped: `demo` (minutes under
 # valgrind; its pieces are covered one by one here) and `bench` (timing only).
 # Usage: run_valgrind.sh [AENL_BINARY]   (default build/strict/tools/aenl)
-# Environment: AENL_VALGRIND_JOBS runs at once (default: the number of cores).
+# Environment: AENL_VALGRIND_JOBS runs at once (default: the number of cores, at most 4: each
+# memcheck run holds several times the command's memory).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 aenl=${1:-$root/build/strict/tools/aenl}
@@ -13,12 +14,15 @@ aenl=${1:-$root/build/strict/tools/aenl}
 aenl=$(cd "$(dirname "$aenl")" && pwd)/$(basename "$aenl")
 command -v valgrind >/dev/null || { echo "run_valgrind.sh: valgrind not installed" >&2; exit 1; }
 work=$(mktemp -d "${TMPDIR:-/tmp}/aenl_valgrind.XXXXXX")
-trap 'rm -rf "$work"' EXIT
+# on any exit the runs still going are stopped before their folder goes
+trap 'kill $(jobs -p) 2>/dev/null || true; wait 2>/dev/null || true; rm -rf "$work"' EXIT
 cd "$work"
 
 n_run=0
 fail=0
-jobs=${AENL_VALGRIND_JOBS:-$(nproc)}
+cores=$(nproc)
+jobs=${AENL_VALGRIND_JOBS:-$((cores < 4 ? cores : 4))}
+[[ $jobs =~ ^[1-9][0-9]*$ ]] || { echo "run_valgrind.sh: AENL_VALGRIND_JOBS must be a positive integer" >&2; exit 1; }
 pending=()
 # vg EXPECTED_EXIT LABEL ARGS...: run `aenl ARGS` under memcheck in the background (at most $jobs
 # at once, each with its own output and log files); exit 3 is a memcheck error. vg_sync waits for

@@ -10,7 +10,8 @@
 #   3b. libFuzzer targets (CSV reader, INI loader, aenl_moments and aenl_skf f32/f64) for a bounded
 #       time each from the committed seed corpus (tools/scripts/run_fuzz.sh);
 #   3c. valgrind memcheck of every CLI subcommand, success and error paths (run_valgrind.sh);
-#   4. the Cortex-M4F cross build of aenl_core_f32 with the undefined-symbol allow-list and sizes.
+#   4. the Cortex-M4F cross build of aenl_core_f32 with the undefined-symbol allow-list and sizes,
+#      its unit suites on an emulated Cortex-M4F (QEMU) and the instructions per sample there.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 jobs=$(nproc)
@@ -39,7 +40,7 @@ step "fuzz (libFuzzer, ${AENL_FUZZ_SECONDS:-25} s per target)"
 step "valgrind memcheck of the CLI"
 "$root/tools/scripts/run_valgrind.sh" "$root/build/strict/tools/aenl"
 
-step "Cortex-M4F cross build of the core"
+step "Cortex-M4F cross build of the core, its tests on an emulated Cortex-M4F"
 "$root/tools/scripts/check_m4f.sh" "$root/build/m4f"
 
 step "all checks passed"

@@ -199,9 +199,10 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
  * @brief The result as one JSON object on `out` (schema aenl-identify-test/3): file,
  *        aenl_version, method "test", level, model {states, samples, loglik, impulses}, verdict
  *        {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
- *        class_confidence, channel_confidence, candidates [{class, channel, p_value}]}, channels
- * [{name, class, statistic, dof, p_value, nonlinear, law_p_values {polynomial, freeplay,
- * hysteresis}, confidence, hardening, switch_points, switch_point_lo, switch_point_hi}],
+ *        class_confidence, channel_confidence, candidates [{class, channel, p_value}]},
+ *        channels [{name, class, statistic, dof, p_value, nonlinear, law_p_values {polynomial,
+ *        freeplay, hysteresis}, confidence, hardening, switch_points, switch_point_lo,
+ *        switch_point_hi}],
  *        model.inputs [names] when the model took known inputs, and controls (their number) with
  *        each channel's control_exceed and control_p when linear controls were run. names: the
  *        channels; input_names: the inputs (NULL when there are none).

@@ -188,7 +188,6 @@ static void notes_of(const aenl_identify_result_t *r, int by_model, const notes_
     }
 }
 
-/* Print the object; -1 when memory ran out (nothing printed). */
 /* The verdict is the pipeline's (aenl_identify_result_t: verdict, verdict_class,
  * verdict_confidence). */
 static void json_note(void *ctx, const char *line)

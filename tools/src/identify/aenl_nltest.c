@@ -1713,8 +1713,9 @@ static double bonferroni_confidence(double pmax, size_t m)
 
 /* The record's verdict. Its channel is the rejecting channel of the largest stage-1 statistic
  * (every channel's has the same degrees of freedom: the largest is the smallest p-value, and
- * stays comparable where the p-values underflow to 0), its law that channel's best, named with
- * the confidence of the comparison of the channel's laws. The channel's own confidence comes
+ * stays comparable where the p-values underflow to 0), its law that channel's best, named when
+ * the comparison of the channel's laws is confident (class_confidence). The channel's own
+ * confidence comes
  * from the same comparison across channels: every channel's best law explains the same
  * innovations, so the verdict's and another channel's compare by Vuong's test as two laws of one
  * channel do (Bonferroni over the other rejecting channels). A law of the verdict channel, or
