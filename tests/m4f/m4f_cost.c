@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "aenl/aenl.h"
+#include "aenl_bench_cfg.h"
 
 #define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
 #define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
@@ -126,17 +127,7 @@ static void make_model(void)
 static aenl_status_t setup(void)
 {
     aenl_moments_cfg_t c;
-    memset(&c, 0, sizeof(c));
-    c.x_min = 996.0f;
-    c.x_max = 1004.0f;
-    c.n_grid = 64u;
-    c.bandwidth = 3.0f * (c.x_max - c.x_min) / 63.0f;
-    c.n_lags = 3u;
-    c.lags[0] = 1u;
-    c.lags[1] = 10u;
-    c.lags[2] = 30u;
-    c.forgetting = 1.0f;
-    c.direction_split = 1u;
+    aenl_bench_std_moments(&c, 996.0f, 1004.0f);
     aenl_status_t st = aenl_moments_init(&g_moments, &c);
     aenl_classifier_cfg_t cc;
     aenl_classifier_cfg_default(&cc);

@@ -27,6 +27,7 @@
 #include <time.h>
 
 #include "aenl/aenl_moments.h"
+#include "aenl_bench_cfg.h"
 
 #define N_CHECKED 9u
 #define OFFSET    1000.0
@@ -69,17 +70,7 @@ int main(int argc, char **argv)
         n_samples = (uint64_t)v;
     }
     aenl_moments_cfg_t c;
-    memset(&c, 0, sizeof(c));
-    c.x_min = 996.0f;
-    c.x_max = 1004.0f;
-    c.n_grid = 64u;
-    c.bandwidth = 3.0f * (c.x_max - c.x_min) / 63.0f;
-    c.n_lags = 3u;
-    c.lags[0] = 1u;
-    c.lags[1] = 10u;
-    c.lags[2] = 30u;
-    c.forgetting = 1.0f;
-    c.direction_split = 1u;
+    aenl_bench_std_moments(&c, 996.0f, 1004.0f);
     if (aenl_moments_init(&g_m, &c) != AENL_OK)
     {
         fprintf(stderr, "aenl_stream_bench: configuration rejected\n");
