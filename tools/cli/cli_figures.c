@@ -162,6 +162,48 @@ void aenl_cli_put_num(FILE *f, double v, const char *sep)
     }
 }
 
+aenl_status_t aenl_cli_ts_files(aenl_cli_ts_row_fn row, const void *ctx, size_t n_bins,
+                                size_t n_det, char env[64], char det[64], aenl_err_t *err)
+{
+    FILE *f = aenl_cli_tmp_open(env, err);
+    if (f == NULL)
+    {
+        return AENL_E_IO;
+    }
+    double t = 0.0;
+    double lo = 0.0;
+    double hi = 0.0;
+    fprintf(f, "t,lo,hi\n");
+    for (size_t b = 0; b < n_bins; ++b)
+    {
+        row(ctx, 0, b, &t, &lo, &hi);
+        aenl_cli_put_num(f, t, ",");
+        aenl_cli_put_num(f, lo <= hi ? lo : (double)NAN, ",");
+        aenl_cli_put_num(f, lo <= hi ? hi : (double)NAN, "\n");
+    }
+    aenl_status_t st = aenl_cli_tmp_close(f, env, err);
+    f = st == AENL_OK ? aenl_cli_tmp_open(det, err) : NULL;
+    if (f == NULL)
+    {
+        (void)remove(env);
+        return st == AENL_OK ? AENL_E_IO : st;
+    }
+    fprintf(f, "t,x\n");
+    for (size_t k = 0; k < n_det; ++k)
+    {
+        row(ctx, 1, k, &t, &lo, &hi);
+        aenl_cli_put_num(f, t, ",");
+        aenl_cli_put_num(f, lo, "\n");
+    }
+    st = aenl_cli_tmp_close(f, det, err);
+    if (st != AENL_OK)
+    {
+        (void)remove(env);
+        (void)remove(det);
+    }
+    return st;
+}
+
 /* Channel name as a file-name piece: letters, digits, '-', '_' and '.' kept, others '_'. */
 void aenl_cli_file_piece(const char *s, char *out, size_t n)
 {

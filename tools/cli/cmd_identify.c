@@ -776,59 +776,51 @@ static aenl_status_t ts_view_read(ts_view_t *v, const aenl_identify_source_t *sr
     return st;
 }
 
+/* Channel c of the view as time-series rows (aenl_cli_ts_row_fn). */
+typedef struct
+{
+    const ts_view_t *v;
+    size_t c;
+} ts_rows_t;
+
+static void ts_row(const void *ctx, int detail, size_t k, double *t, double *lo, double *hi)
+{
+    const ts_rows_t *r = (const ts_rows_t *)ctx;
+    const ts_view_t *v = r->v;
+    if (detail)
+    {
+        const double *d = v->det + ((v->ring_start + k) % v->detail) * (1u + v->n_ch);
+        *t = d[0];
+        *lo = d[1u + r->c];
+        return;
+    }
+    *t = v->bin_t[k];
+    *lo = v->lo[r->c * v->n_bins + k];
+    *hi = v->hi[r->c * v->n_bins + k];
+}
+
 static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, size_t c,
                                      const aenl_identify_channel_t *ch, aenl_err_t *err)
 {
     char env[64], det[64];
-    FILE *f = aenl_cli_tmp_open(env, err);
-    if (f == NULL)
-    {
-        return AENL_E_IO;
-    }
-    fprintf(f, "t,lo,hi\n");
-    for (size_t b = 0; b < v->n_bins; ++b)
-    {
-        const double lo = v->lo[c * v->n_bins + b], hi = v->hi[c * v->n_bins + b];
-        aenl_cli_put_num(f, v->bin_t[b], ",");
-        aenl_cli_put_num(f, lo <= hi ? lo : (double)NAN, ",");
-        aenl_cli_put_num(f, lo <= hi ? hi : (double)NAN, "\n");
-    }
-    aenl_status_t st = aenl_cli_tmp_close(f, env, err);
+    const ts_rows_t rows = {v, c};
+    aenl_status_t st = aenl_cli_ts_files(ts_row, &rows, v->n_bins, v->n_det, env, det, err);
     if (st != AENL_OK)
     {
-        (void)remove(env);
         return st;
     }
-    f = aenl_cli_tmp_open(det, err);
-    if (f == NULL)
-    {
-        (void)remove(env);
-        return AENL_E_IO;
-    }
-    fprintf(f, "t,x\n");
-    for (size_t k = 0; k < v->n_det; ++k)
-    {
-        const double *d = v->det + ((v->ring_start + k) % v->detail) * (1u + v->n_ch);
-        aenl_cli_put_num(f, d[0], ",");
-        aenl_cli_put_num(f, d[1u + c], "\n");
-    }
-    st = aenl_cli_tmp_close(f, det, err);
-    if (st == AENL_OK)
-    {
-        char title[600], marks[256], ylabel[300], label[128];
-        fig_title(fc, ch, "record", title, sizeof(title));
-        marks_label(&ch->res, marks, sizeof(marks));
-        (void)snprintf(ylabel, sizeof(ylabel), "%s", ch->name);
-        aenl_cli_plot_text(ylabel);
-        (void)snprintf(label, sizeof(label), "%zu", v->per_bin);
-        char tlabel[128];
-        (void)snprintf(tlabel, sizeof(tlabel), "%s", v->t_name != NULL ? v->t_name : "row");
-        aenl_cli_plot_text(tlabel);
-        const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
-                                        {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
-                                        {"tlabel", tlabel}};
-        st = run_plot(fc, ch, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
-    }
+    char title[600], marks[256], ylabel[300], label[128], tlabel[128];
+    fig_title(fc, ch, "record", title, sizeof(title));
+    marks_label(&ch->res, marks, sizeof(marks));
+    (void)snprintf(ylabel, sizeof(ylabel), "%s", ch->name);
+    aenl_cli_plot_text(ylabel);
+    (void)snprintf(label, sizeof(label), "%zu", v->per_bin);
+    (void)snprintf(tlabel, sizeof(tlabel), "%s", v->t_name != NULL ? v->t_name : "row");
+    aenl_cli_plot_text(tlabel);
+    const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
+                                    {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
+                                    {"tlabel", tlabel}};
+    st = run_plot(fc, ch, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
     (void)remove(env);
     (void)remove(det);
     return st;

@@ -135,61 +135,60 @@ static void title_of(const fig_t *f, const aenl_nlt_channel_t *c, const char *na
     aenl_cli_plot_text(buf);
 }
 
+/* A channel's record as time-series rows: bins of `per` samples, then the last samples. */
+typedef struct
+{
+    const fig_t *f;
+    const double *x;
+    size_t per, first_det;
+} ts_rows_t;
+
+static void ts_row(const void *ctx, int detail, size_t k, double *t, double *lo, double *hi)
+{
+    const ts_rows_t *r = (const ts_rows_t *)ctx;
+    const size_t n = r->f->n;
+    const size_t i0 = detail ? r->first_det + k : k * r->per;
+    *t = r->f->time != NULL ? r->f->time[i0] : (double)i0;
+    if (detail)
+    {
+        *lo = r->x[i0];
+        return;
+    }
+    *lo = HUGE_VAL;
+    *hi = -HUGE_VAL;
+    for (size_t i = i0; i < n && i < i0 + r->per; ++i)
+    {
+        *lo = fmin(*lo, r->x[i]);
+        *hi = fmax(*hi, r->x[i]);
+    }
+}
+
 /* (1) The record: envelope of the whole, the last samples at full rate, switching points. */
 static aenl_status_t plot_record(const fig_t *f, const double *x, const aenl_nlt_channel_t *c,
                                  const char *name, aenl_err_t *err)
 {
-    char env[64], det[64];
-    FILE *fe = aenl_cli_tmp_open(env, err);
-    if (fe == NULL)
-    {
-        return AENL_E_IO;
-    }
     const size_t n = f->n;
-    const size_t per = (n + TS_BINS - 1u) / TS_BINS;
-    fprintf(fe, "t,lo,hi\n");
-    for (size_t b = 0; b * per < n; ++b)
+    const size_t per = n > TS_BINS ? (n + TS_BINS - 1u) / TS_BINS : 1u;
+    const ts_rows_t rows = {f, x, per, n > TS_DETAIL ? n - TS_DETAIL : 0u};
+    char env[64], det[64];
+    aenl_status_t st =
+        aenl_cli_ts_files(ts_row, &rows, (n + per - 1u) / per, n - rows.first_det, env, det, err);
+    if (st != AENL_OK)
     {
-        double lo = HUGE_VAL;
-        double hi = -HUGE_VAL;
-        for (size_t i = b * per; i < n && i < (b + 1u) * per; ++i)
-        {
-            lo = fmin(lo, x[i]);
-            hi = fmax(hi, x[i]);
-        }
-        aenl_cli_put_num(fe, f->time != NULL ? f->time[b * per] : (double)(b * per), ",");
-        aenl_cli_put_num(fe, lo <= hi ? lo : (double)NAN, ",");
-        aenl_cli_put_num(fe, lo <= hi ? hi : (double)NAN, "\n");
+        return st;
     }
-    aenl_status_t st = aenl_cli_tmp_close(fe, env, err);
-    FILE *fd = st == AENL_OK ? aenl_cli_tmp_open(det, err) : NULL;
-    if (fd == NULL)
-    {
-        (void)remove(env);
-        return st == AENL_OK ? AENL_E_IO : st;
-    }
-    fprintf(fd, "t,x\n");
-    for (size_t i = n > TS_DETAIL ? n - TS_DETAIL : 0u; i < n; ++i)
-    {
-        aenl_cli_put_num(fd, f->time != NULL ? f->time[i] : (double)i, ",");
-        aenl_cli_put_num(fd, x[i], "\n");
-    }
-    st = aenl_cli_tmp_close(fd, det, err);
-    if (st == AENL_OK)
-    {
-        char title[600], marks[512], spans[1024], ylabel[300], tlabel[300], label[32];
-        title_of(f, c, name, "record", title, sizeof(title));
-        marks_of(c, marks, spans, sizeof(marks));
-        (void)snprintf(ylabel, sizeof(ylabel), "%s", name);
-        aenl_cli_plot_text(ylabel);
-        (void)snprintf(tlabel, sizeof(tlabel), "%s", f->time != NULL ? f->t_name : "sample");
-        aenl_cli_plot_text(tlabel);
-        (void)snprintf(label, sizeof(label), "%zu", per);
-        const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
-                                        {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
-                                        {"tlabel", tlabel}};
-        st = draw(f, name, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
-    }
+    char title[600], marks[512], spans[1024], ylabel[300], tlabel[300], label[32];
+    title_of(f, c, name, "record", title, sizeof(title));
+    marks_of(c, marks, spans, sizeof(marks));
+    (void)snprintf(ylabel, sizeof(ylabel), "%s", name);
+    aenl_cli_plot_text(ylabel);
+    (void)snprintf(tlabel, sizeof(tlabel), "%s", f->time != NULL ? f->t_name : "sample");
+    aenl_cli_plot_text(tlabel);
+    (void)snprintf(label, sizeof(label), "%zu", per);
+    const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
+                                    {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
+                                    {"tlabel", tlabel}};
+    st = draw(f, name, "timeseries", vars, sizeof(vars) / sizeof(vars[0]), err);
     (void)remove(env);
     (void)remove(det);
     return st;
