@@ -102,6 +102,19 @@ static void test_json_identify_test_with_input_and_controls(void)
     const char *full[] = {"identify", rec,      "--method",   "test", "--input",
                           "f_pitch",  "--json", "--controls", "1",    NULL};
     check_output("identify-test", full);
+    /* the same section without measurement noise: its channels are dithered, and say so */
+    const char *ini0 = cli_file("j_ms0.ini", "[model]\ntype = section3dof\nvelocity = 12\n\n"
+                                             "[excitation]\ntype = multisine\ndof = pitch\n"
+                                             "rms_deg = 0.5\nf_min = 1\nf_max = 20\nperiod = 2\n"
+                                             "seed = 3\n\n[run]\nduration = 4\ndt = 0.002\n");
+    const char *rec0 = simulated(ini0, "j_ms0.csv");
+    const char *clean[] = {"identify", rec0, "--input", "f_pitch", "--json", NULL};
+    check_output("identify-test", clean);
+#ifndef AENL_TEST_SANITIZED
+    cli_result_t r;
+    cli_run(&r, clean);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "\"dithered\""), r.out);
+#endif
 }
 
 static void test_json_fit_and_diagnose(void)

@@ -114,9 +114,11 @@ static void test_nlt_long_run_variance_brute_force(void)
 /* ---- records -----------------------------------------------------------------------------------
  */
 
-/* The 2-DOF airfoil under first-order gusts below its flutter speed, with noise at SNR 5;
- * law: the pitch law (linear unless given). y: n x 2 row-major (alpha, xi). */
-static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t *n_out)
+/* The 2-DOF airfoil at U* = 4 (below its flutter speed), run as set by how (gusts, noise,
+ * initial state), with the pitch law pitch (linear when NULL). y: n x 2 row-major (alpha, xi). */
+static double *airfoil_run(const aenl_sim_law_t *pitch,
+                           void (*how)(aenl_sim_model_t *, aenl_sim_run_t *, uint64_t),
+                           uint64_t seed, size_t *n_out)
 {
     aenl_sim_model_t m;
     aenl_sim_run_t run;
@@ -127,14 +129,8 @@ static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t
     {
         m.law[AENL_SIM_DOF_PITCH] = *pitch;
     }
-    run.duration = 4000.0;
     run.dt = 0.5;
-    run.turbulence = 1;
-    run.turb_intensity = 0.004;
-    run.turb_length = 4.0;
-    run.turb_seed = seed;
-    run.snr = 5.0;
-    run.noise_seed = seed + 1000u;
+    how(&m, &run, seed);
     aenl_sim_result_t r;
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -151,6 +147,34 @@ static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t
     return y;
 }
 
+/* First-order gusts, noise at SNR 5. */
+static void gusts(aenl_sim_model_t *m, aenl_sim_run_t *run, uint64_t seed)
+{
+    (void)m;
+    run->duration = 4000.0;
+    run->turbulence = 1;
+    run->turb_intensity = 0.004;
+    run->turb_length = 4.0;
+    run->turb_seed = seed;
+    run->snr = 5.0;
+    run->noise_seed = seed + 1000u;
+}
+
+/* A release from 3 deg of pitch, no gusts, no measurement noise. */
+static void noise_free_release(aenl_sim_model_t *m, aenl_sim_run_t *run, uint64_t seed)
+{
+    (void)seed;
+    m->x0[AENL_SIM_DOF_PITCH] = 3.0 * DEG;
+    run->duration = 3000.0;
+    run->snr = 0.0;
+}
+
+/* The airfoil under gusts with noise (airfoil_run, gusts). */
+static double *airfoil_record(const aenl_sim_law_t *pitch, uint64_t seed, size_t *n_out)
+{
+    return airfoil_run(pitch, gusts, seed, n_out);
+}
+
 /* A pitch freeplay of 1 deg starting at -0.3 deg (no preload, no stiffness inside). */
 static aenl_sim_law_t pitch_freeplay(void)
 {
@@ -160,6 +184,29 @@ static aenl_sim_law_t pitch_freeplay(void)
     law.delta = 1.0 * DEG;
     law.x_f = -0.3 * DEG;
     return law;
+}
+
+/* A cubic pitch spring R = a + c3 a^3 (a in rad). */
+static aenl_sim_law_t pitch_cubic(double c3)
+{
+    aenl_sim_law_t law;
+    memset(&law, 0, sizeof(law));
+    law.kind = AENL_SIM_LAW_POLYNOMIAL;
+    law.n_coeffs = 3;
+    law.coeffs[0] = 1.0;
+    law.coeffs[2] = c3;
+    return law;
+}
+
+/* The test of the two-channel record y (n samples, freed here) with the default options. */
+static void test_record(double *y, size_t n, aenl_nlt_result_t *r)
+{
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, r, &err), err.msg);
+    free(y);
 }
 
 /* Linear records: at level 0.01 the number of nonlinear verdicts among 20 is binomial(20, 0.01)
@@ -332,21 +379,11 @@ static void test_nlt_kicks_are_impulses(void)
  * alpha, and hardening: the frequency rises with amplitude. */
 static void test_nlt_hardening_cubic(void)
 {
-    aenl_sim_law_t law;
-    memset(&law, 0, sizeof(law));
-    law.kind = AENL_SIM_LAW_POLYNOMIAL;
-    law.n_coeffs = 3;
-    law.coeffs[0] = 1.0;
-    law.coeffs[2] = 3e5;
+    const aenl_sim_law_t law = pitch_cubic(3e5);
     size_t n = 0;
     double *y = airfoil_record(&law, 5151u, &n);
-    aenl_nlt_opts_t o;
-    aenl_nlt_opts_default(&o);
     aenl_nlt_result_t r;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
-    free(y);
+    test_record(y, n, &r);
     TEST_ASSERT_EQUAL_INT(0, r.verdict);
     TEST_ASSERT_EQUAL_INT(AENL_CLASS_POLYNOMIAL, r.verdict_class);
     TEST_ASSERT_EQUAL_INT(1, r.ch[0].hardening);
@@ -363,6 +400,36 @@ static void test_nlt_hardening_cubic(void)
     TEST_ASSERT_TRUE(down < 0.0);
     TEST_ASSERT_TRUE(isnan(aenl_nlt_law_force(&r.ch[1], AENL_NLT_POLYNOMIAL, a, 0)) ||
                      r.ch[1].laws_fitted);
+}
+
+/* A record without measurement noise is dithered (the fitted noise is nil), and the test then
+ * works as on a measured record: the linear decay stays linear, the same decay with a hardening
+ * pitch cubic is a polynomial in alpha. A record with noise is not dithered. */
+static void test_nlt_noise_free_records_dithered(void)
+{
+    const aenl_sim_law_t law = pitch_cubic(100.0);
+    for (int k = 0; k < 2; ++k)
+    {
+        size_t n = 0;
+        double *y = airfoil_run(k == 0 ? NULL : &law, noise_free_release, 0u, &n);
+        aenl_nlt_result_t r;
+        test_record(y, n, &r);
+        printf("noise-free decay, %s: %zu channels dithered, verdict %s (chi-square %.1f, %.1f on "
+               "%.0f)\n",
+               k == 0 ? "linear" : "cubic", r.n_dithered,
+               aenl_nlt_class_name(r.verdict_class, r.undetermined), r.ch[0].stat, r.ch[1].stat,
+               r.ch[0].dof);
+        TEST_ASSERT_EQUAL_size_t(2, r.n_dithered);
+        TEST_ASSERT_TRUE(r.ch[0].dithered && r.ch[1].dithered);
+        TEST_ASSERT_EQUAL_INT(k == 0 ? -1 : 0, r.verdict);
+        TEST_ASSERT_EQUAL_INT(k == 0 ? AENL_CLASS_LINEAR : AENL_CLASS_POLYNOMIAL, r.verdict_class);
+    }
+    size_t n = 0;
+    double *y = airfoil_record(NULL, 7001u, &n);
+    aenl_nlt_result_t r;
+    test_record(y, n, &r);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_dithered);
+    TEST_ASSERT_FALSE(r.ch[0].dithered || r.ch[1].dithered);
 }
 
 static void test_nlt_bad_input(void)
@@ -701,6 +768,7 @@ int main(void)
     RUN_TEST(test_nlt_bad_input);
     RUN_TEST(test_nlt_kicks_are_impulses);
     RUN_TEST(test_nlt_hardening_cubic);
+    RUN_TEST(test_nlt_noise_free_records_dithered);
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);

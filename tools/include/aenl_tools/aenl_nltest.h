@@ -7,7 +7,10 @@
  * (aenl_em, one mode): x_{t+1} = A x_t + b + w_t, y_t = C x_t + v_t, the measurement noise in
  * the measurement equation, its order chosen by BIC. Samples whose innovation is beyond what the
  * model's Gaussian noise allows (impulses: taps, kicks) restart the filter from a widened state
- * covariance. Its Kalman filter gives the innovations e_t, their covariances S_t
+ * covariance. A channel without measurement noise (its fitted R at the likelihood's boundary)
+ * is dithered with white noise of AENL_NLT_DITHER of its spread and the model fitted again, so
+ * that the innovations are noise, as the test assumes. Its Kalman filter gives the innovations
+ * e_t, their covariances S_t
  * and the filtered outputs u_t = C x_{t|t}. A structural law in the degree of freedom seen by
  * channel j enters as a force: x_{t+1} = ... + B g(u_{j,t}, d_t), with B an unknown direction
  * (one coefficient per state) and g a candidate shape; d_t = sign(u_{j,t} - u_{j,t-1}) is the
@@ -57,6 +60,9 @@
 #define AENL_NLT_MAX_CH     8 /**< channels of a record */
 #define AENL_NLT_MAX_POINTS 4 /**< switching points of one law */
 #define AENL_NLT_MAX_INPUT  4 /**< known inputs (each drives the model with two values per step) */
+/** Noise added to a channel that carries none, in units of its standard deviation (a noise-free
+ *  record leaves the linear model's likelihood at its boundary, where the test is not valid) */
+#define AENL_NLT_DITHER 1e-3
 
 /** Candidate laws, in the order of the weight arrays. */
 typedef enum
@@ -111,6 +117,8 @@ typedef struct aenl_nlt_channel
     double points[AENL_NLT_MAX_POINTS];   /**< ascending, in the channel's unit */
     double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
     double point_hi[AENL_NLT_MAX_POINTS];
+    int dithered;          /**< 1: the channel carried no measurement noise, and white noise of
+                                AENL_NLT_DITHER of its standard deviation was added */
     size_t control_exceed; /**< linear controls whose statistic reaches this channel's */
     double control_p;      /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
     /** 1 when the laws were fitted (the channel rejects): aenl_nlt_law_force can draw them */
@@ -137,6 +145,7 @@ typedef struct aenl_nlt_result
     size_t n_channels, n_samples, n_states;
     size_t n_inputs;   /**< known inputs the linear model took */
     size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
+    size_t n_dithered; /**< channels without measurement noise, dithered (see ch[].dithered) */
     size_t n_controls; /**< linear controls tested (those that could not be fitted are left out) */
     double loglik;     /**< of the linear model */
     double level;      /**< the level used */

@@ -13,11 +13,12 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_nltest.h"
 
-#define NLT_MAX_X         12    /* states of the linear model */
-#define NLT_STEADY_TOL    1e-11 /* relative change of P at which the filter is taken as steady */
-#define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
-#define NLT_IMPULSE_LEVEL 1e-4  /* tail of a jump statistic taken for an impulse */
-#define NLT_ROW_BLOCK     32    /* samples whose regression rows update G together */
+#define NLT_MAX_X         12      /* states of the linear model */
+#define NLT_STEADY_TOL    1e-11   /* relative change of P at which the filter is taken as steady */
+#define NLT_RIDGE         1e-10   /* relative ridge on the scaled normal equations */
+#define NLT_IMPULSE_LEVEL 1e-4    /* tail of a jump statistic taken for an impulse */
+#define NLT_DITHER_SEED   0x5EEDu /* the dither's noise: fixed, so a run is repeatable */
+#define NLT_ROW_BLOCK     32      /* samples whose regression rows update G together */
 #define NLT_NUIS_MAX      (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
 
 typedef struct

@@ -147,6 +147,28 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
     return v;
 }
 
+/* A JSON array of names[p], p < n, those with sel[p] set (all when sel is NULL); NULL when it
+ * cannot be made. */
+static cJSON *name_array(const char *const *names, size_t n, const int *sel)
+{
+    cJSON *a = cJSON_CreateArray();
+    for (size_t p = 0; a != NULL && p < n; ++p)
+    {
+        if (sel != NULL && !sel[p])
+        {
+            continue;
+        }
+        cJSON *nm = cJSON_CreateString(names[p]);
+        if (nm == NULL)
+        {
+            cJSON_Delete(a);
+            return NULL;
+        }
+        cJSON_AddItemToArray(a, nm);
+    }
+    return a;
+}
+
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
                                   const char *const *input_names, const char *path)
 {
@@ -167,18 +189,16 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         bad |= add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
         if (r->n_inputs > 0 && input_names != NULL)
         {
-            cJSON *ins = cJSON_CreateArray();
-            bad |= ins == NULL;
-            for (size_t p = 0; ins != NULL && p < r->n_inputs; ++p)
+            bad |= add(model, "inputs", name_array(input_names, r->n_inputs, NULL));
+        }
+        if (r->n_dithered > 0)
+        {
+            int sel[AENL_NLT_MAX_CH] = {0};
+            for (size_t j = 0; j < r->n_channels; ++j)
             {
-                cJSON *nm = cJSON_CreateString(input_names[p]);
-                bad |= nm == NULL;
-                if (nm != NULL)
-                {
-                    cJSON_AddItemToArray(ins, nm);
-                }
+                sel[j] = r->ch[j].dithered;
             }
-            bad |= add(model, "inputs", ins);
+            bad |= add(model, "dithered", name_array(names, r->n_channels, sel));
         }
         bad |= add(root, "model", model);
         model = NULL;
@@ -234,6 +254,16 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
         (void)fprintf(out, r->n_inputs == 1
                                ? " (it drives the linear model and is not tested)\n"
                                : " (they drive the linear model and are not tested)\n");
+    }
+    if (r->n_dithered > 0)
+    {
+        (void)fprintf(out, "no measurement noise in");
+        for (size_t j = 0; j < r->n_channels; ++j)
+        {
+            (void)fprintf(out, r->ch[j].dithered ? " %s" : "", names[j]);
+        }
+        (void)fprintf(out, ": white noise of %g of the standard deviation added (dither)\n",
+                      AENL_NLT_DITHER);
     }
     (void)fprintf(out,
                   "%s: %lu samples, %lu channel%s; linear state-space model with %lu states "
