@@ -432,6 +432,54 @@ static void test_nlt_noise_free_records_dithered(void)
     TEST_ASSERT_FALSE(r.ch[0].dithered || r.ch[1].dithered);
 }
 
+/* A narrow-band motion at 5.5 samples per period (an AR(2) process with poles at radius rho and
+ * angle w, its lag-one autocorrelation 2 rho cos(w) / (1 + rho^2) by Yule-Walker) seen in two
+ * channels with noise at SNR 10: each channel's samples per period matches 2 pi / arccos of that
+ * autocorrelation, and the table notes that the motion is sampled coarsely. */
+static void test_nlt_samples_per_period(void)
+{
+    const size_t n = 6000;
+    const double w = 2.0 * acos(-1.0) / 5.5;
+    const double rho = 0.99;
+    const double ref = 2.0 * acos(-1.0) / acos(2.0 * rho * cos(w) / (1.0 + rho * rho));
+    double *y = (double *)malloc(2u * n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(y);
+    uint64_t g = 77u;
+    double x1 = 0.0;
+    double x2 = 0.0;
+    const double sd =
+        sqrt((1.0 + rho * rho) / ((1.0 - rho * rho) * ((1.0 + rho * rho) * (1.0 + rho * rho) -
+                                                       4.0 * rho * rho * cos(w) * cos(w))));
+    for (size_t t = 0; t < n + 500u; ++t)
+    {
+        const double x = 2.0 * rho * cos(w) * x1 - rho * rho * x2 + test_gauss(&g);
+        if (t >= 500u)
+        {
+            y[2u * (t - 500u)] = x + 0.1 * sd * test_gauss(&g);
+            y[2u * (t - 500u) + 1u] = x1 + 0.1 * sd * test_gauss(&g);
+        }
+        x2 = x1;
+        x1 = x;
+    }
+    aenl_nlt_result_t r;
+    test_record(y, n, &r);
+    printf("samples per period: %.3f, %.3f (AR(2): %.3f)\n", r.ch[0].samples_per_period,
+           r.ch[1].samples_per_period, ref);
+    TEST_ASSERT_DOUBLE_WITHIN(0.03 * ref, ref, r.ch[0].samples_per_period);
+    TEST_ASSERT_DOUBLE_WITHIN(0.03 * ref, ref, r.ch[1].samples_per_period);
+    char buf[4096] = {0};
+    FILE *f = tmpfile();
+    TEST_ASSERT_NOT_NULL(f);
+    const char *names[2] = {"a", "b"};
+    aenl_nlt_print_table(f, &r, names, NULL, "rec.csv");
+    rewind(f);
+    const size_t got = fread(buf, 1, sizeof(buf) - 1u, f);
+    (void)fclose(f);
+    buf[got] = '\0';
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(buf, "note: a moves with 5."), buf);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(buf, "note: b moves with 5."), buf);
+}
+
 static void test_nlt_bad_input(void)
 {
     double y[400];
@@ -769,6 +817,7 @@ int main(void)
     RUN_TEST(test_nlt_kicks_are_impulses);
     RUN_TEST(test_nlt_hardening_cubic);
     RUN_TEST(test_nlt_noise_free_records_dithered);
+    RUN_TEST(test_nlt_samples_per_period);
     RUN_TEST(test_nlt_freeplay_named_with_its_gap);
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);

@@ -63,6 +63,10 @@
 /** Noise added to a channel that carries none, in units of its standard deviation (a noise-free
  *  record leaves the linear model's likelihood at its boundary, where the test is not valid) */
 #define AENL_NLT_DITHER 1e-3
+/** Samples per period of the motion below which the output notes that the law's shape and
+ *  switching points are resolved coarsely: the direction of motion between samples then lags
+ *  the motion by more than 22.5 degrees of phase, and a cycle is seen at fewer positions */
+#define AENL_NLT_MIN_SAMPLES_PER_PERIOD 8.0
 
 /** Candidate laws, in the order of the weight arrays. */
 typedef enum
@@ -117,10 +121,14 @@ typedef struct aenl_nlt_channel
     double points[AENL_NLT_MAX_POINTS];   /**< ascending, in the channel's unit */
     double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
     double point_hi[AENL_NLT_MAX_POINTS];
-    int dithered;          /**< 1: the channel carried no measurement noise, and white noise of
-                                AENL_NLT_DITHER of its standard deviation was added */
-    size_t control_exceed; /**< linear controls whose statistic reaches this channel's */
-    double control_p;      /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
+    double samples_per_period; /**< of the channel's filtered motion: 2 pi / arccos of its
+                                    lag-one autocorrelation (infinite when it does not
+                                    oscillate); below AENL_NLT_MIN_SAMPLES_PER_PERIOD the
+                                    law's shape is resolved coarsely */
+    int dithered;              /**< 1: the channel carried no measurement noise, and white noise of
+                                    AENL_NLT_DITHER of its standard deviation was added */
+    size_t control_exceed;     /**< linear controls whose statistic reaches this channel's */
+    double control_p;          /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
     /** 1 when the laws were fitted (the channel rejects): aenl_nlt_law_force can draw them */
     int laws_fitted;
     /* Each law as fitted in the comparison, for aenl_nlt_law_force: coefficients and switching

@@ -1680,6 +1680,31 @@ static void channel_series(const run_t *rn, size_t j)
     direction(rn->kf->u, n_ch, j, n, rn->dsg);
 }
 
+/* The motion's samples per period from the lag-one autocorrelation r of the filtered output u
+ * of rn->lin: 2 pi / arccos(r), exact for a sampled sinusoid (r = cos(2 pi / N)) and the mean
+ * period of a narrow-band motion; infinity when r >= 1 (no oscillation seen), 2 at r = -1. The
+ * filtered output, not the record, so that measurement noise does not shorten it. */
+static double samples_per_period(const run_t *rn)
+{
+    const size_t n = rn->n;
+    double mean = 0.0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        mean += rn->lin[t];
+    }
+    mean /= (double)n;
+    double c0 = 0.0;
+    double c1 = 0.0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        const double v = rn->lin[t] - mean;
+        c0 += v * v;
+        c1 += t > 0 ? v * (rn->lin[t - 1u] - mean) : 0.0;
+    }
+    const double r = c0 > 0.0 ? c1 / c0 : 1.0;
+    return r >= 1.0 ? (double)INFINITY : 2.0 * acos(-1.0) / acos(fmax(r, -1.0));
+}
+
 /* Both stages for channel j, its series set by channel_series (stage 2 only when stage 1 finds
  * it nonlinear and not stats_only); *pmin receives the smallest stage-1 p-value so far. */
 static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_result_t *res,
@@ -1690,6 +1715,7 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
     double dir[NLT_MAX_X];
     double s2 = 1.0;
     c->cls = AENL_CLASS_LINEAR;
+    c->samples_per_period = samples_per_period(rn);
     aenl_status_t st = stage1(rn, j, c, dir, &s2, err);
     if (st != AENL_OK)
     {

@@ -81,6 +81,7 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t
     bad |= add(o, "law_p_values", w);
     bad |= add(o, "confidence", num(c->nonlinear ? c->confidence : (double)NAN));
     const int poly = c->nonlinear && !c->undetermined && c->cls == AENL_CLASS_POLYNOMIAL;
+    bad |= add(o, "samples_per_period", num(c->samples_per_period));
     bad |= add(o, "hardening",
                poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
     bad |= add_points(o, c, c->undetermined);
@@ -329,4 +330,17 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                       r->confidence);
     }
     (void)fprintf(out, "\n");
+    for (size_t j = 0; j < r->n_channels; ++j)
+    {
+        if (r->ch[j].samples_per_period < AENL_NLT_MIN_SAMPLES_PER_PERIOD)
+        {
+            (void)fprintf(out,
+                          "note: %s moves with %.1f samples per period (fewer than %g): the "
+                          "direction of motion lags it by %.0f degrees and a cycle is seen at "
+                          "few positions, so the law's shape and switching points are resolved "
+                          "coarsely; sample faster where you can\n",
+                          names[j], r->ch[j].samples_per_period, AENL_NLT_MIN_SAMPLES_PER_PERIOD,
+                          180.0 / r->ch[j].samples_per_period);
+        }
+    }
 }
