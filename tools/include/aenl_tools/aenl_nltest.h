@@ -7,15 +7,15 @@
  * (aenl_em, one mode): x_{t+1} = A x_t + b + w_t, y_t = C x_t + v_t, the measurement noise in
  * the measurement equation, its order chosen by BIC. Samples whose innovation is beyond what the
  * model's Gaussian noise allows (impulses: taps, kicks) restart the filter from a widened state
- * covariance. A channel without measurement noise (its fitted R at the likelihood's boundary)
- * is dithered with white noise of AENL_NLT_DITHER of its spread and the model fitted again, so
- * that the innovations are noise, as the test assumes. Its Kalman filter gives the innovations
- * e_t, their covariances S_t
- * and the filtered outputs u_t = C x_{t|t}. A structural law in the degree of freedom seen by
- * channel j enters as a force: x_{t+1} = ... + B g(u_{j,t}, d_t), with B an unknown direction
- * (one coefficient per state) and g a candidate shape; d_t = sign(u_{j,t} - u_{j,t-1}) is the
- * direction of motion that a hysteresis loop needs. g is a function of the filtered past only,
- * so under the linear model the innovations are independent of it.
+ * covariance. A channel whose fitted measurement noise is at the likelihood's boundary (a
+ * noise-free record) is dithered with white noise of AENL_NLT_DITHER of its standard deviation
+ * and the model fitted again, so that the innovations are noise, as the test assumes. Its Kalman
+ * filter gives the innovations e_t, their covariances S_t and the filtered outputs u_t = C x_{t|t}.
+ * A structural law in the degree of freedom seen by channel j enters as a force: x_{t+1} = ... + B
+ * g(u_{j,t}, d_t), with B an unknown direction (one coefficient per state) and g a candidate shape;
+ * d_t = sign(u_{j,t} - u_{j,t-1}) is the direction of motion that a hysteresis loop needs. g is a
+ * function of the filtered past only, so under the linear model the innovations are independent of
+ * it.
  *
  * Test (stage 1, one per channel). The heteroskedasticity-robust score test of B = 0 for the
  * generic shapes u^2, u^3, d and d u, with an offset and a perturbation of A along every filtered
@@ -60,8 +60,9 @@
 #define AENL_NLT_MAX_CH     8 /**< channels of a record */
 #define AENL_NLT_MAX_POINTS 4 /**< switching points of one law */
 #define AENL_NLT_MAX_INPUT  4 /**< known inputs (each drives the model with two values per step) */
-/** Noise added to a channel that carries none, in units of its standard deviation (a noise-free
- *  record leaves the linear model's likelihood at its boundary, where the test is not valid) */
+/** Noise added to a channel whose fitted measurement noise is at the likelihood's boundary (its
+ *  standard deviation below a tenth of this), in units of the channel's standard deviation: a
+ *  noise-free record leaves the innovations a deterministic misfit, where the test is not valid */
 #define AENL_NLT_DITHER 1e-3
 /** Samples per period of the motion below which the output notes that the law's shape and
  *  switching points are resolved coarsely: the direction of motion between samples then lags
@@ -122,11 +123,13 @@ typedef struct aenl_nlt_channel
     double point_lo[AENL_NLT_MAX_POINTS]; /**< profile-likelihood 95 % interval */
     double point_hi[AENL_NLT_MAX_POINTS];
     double samples_per_period; /**< of the channel's filtered motion: 2 pi / arccos of its
-                                    lag-one autocorrelation (infinite when it does not
-                                    oscillate); below AENL_NLT_MIN_SAMPLES_PER_PERIOD the
-                                    law's shape is resolved coarsely */
-    int dithered;              /**< 1: the channel carried no measurement noise, and white noise of
-                                    AENL_NLT_DITHER of its standard deviation was added */
+                                    lag-one autocorrelation (large for a slow or
+                                    non-oscillating motion, infinite for a constant one);
+                                    below AENL_NLT_MIN_SAMPLES_PER_PERIOD the law's shape is
+                                    resolved coarsely */
+    int dithered;              /**< 1: the channel's fitted measurement noise was at the
+                                    boundary, and white noise of AENL_NLT_DITHER of its standard
+                                    deviation was added */
     size_t control_exceed;     /**< linear controls whose statistic reaches this channel's */
     double control_p;          /**< (1 + control_exceed) / (1 + n_controls); 1 without controls */
     /** 1 when the laws were fitted (the channel rejects): aenl_nlt_law_force can draw them */
@@ -153,7 +156,7 @@ typedef struct aenl_nlt_result
     size_t n_channels, n_samples, n_states;
     size_t n_inputs;   /**< known inputs the linear model took */
     size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
-    size_t n_dithered; /**< channels without measurement noise, dithered (see ch[].dithered) */
+    size_t n_dithered; /**< channels dithered (see ch[].dithered) */
     size_t n_controls; /**< linear controls tested (those that could not be fitted are left out) */
     double loglik;     /**< of the linear model */
     double level;      /**< the level used */
@@ -181,7 +184,7 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
 
 /**
  * @brief Test and identify a record: y is n x n_ch row-major, raw channel values, every one
- *        finite (the test takes complete rows only).
+ *        finite (the test takes complete rows only). res is valid only when AENL_OK returns.
  * @return AENL_OK; AENL_E_ARG for bad options, a missing sample, too few samples for the model
  *         (the message says how many it needs), a constant channel or one that barely moves;
  *         AENL_E_NUMERIC when the linear model cannot be fitted; AENL_E_DIM out of memory.
@@ -213,14 +216,15 @@ double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, doubl
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
 
 /**
- * @brief The result as one JSON object on `out` (schema aenl-identify-test/3): file,
+ * @brief The result as one JSON object on `out` (schema aenl-identify-test/4): file,
  *        aenl_version, method "test", level, model {states, samples, loglik, impulses}, verdict
  *        {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
  *        class_confidence, channel_confidence, candidates [{class, channel, p_value}]},
  *        channels [{name, class, statistic, dof, p_value, nonlinear, law_p_values {polynomial,
- *        freeplay, hysteresis}, confidence, hardening, switch_points, switch_point_lo,
- *        switch_point_hi}],
- *        model.inputs [names] when the model took known inputs, and controls (their number) with
+ *        freeplay, hysteresis}, confidence, samples_per_period (null when infinite), hardening,
+ *        switch_points, switch_point_lo, switch_point_hi}],
+ *        model.inputs [names] when the model took known inputs, model.dithered [names] when some
+ *        channels were dithered, and controls (their number) with
  *        each channel's control_exceed and control_p when linear controls were run. names: the
  *        channels; input_names: the inputs (NULL when there are none).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).

@@ -1681,9 +1681,10 @@ static void channel_series(const run_t *rn, size_t j)
 }
 
 /* The motion's samples per period from the lag-one autocorrelation r of the filtered output u
- * of rn->lin: 2 pi / arccos(r), exact for a sampled sinusoid (r = cos(2 pi / N)) and the mean
- * period of a narrow-band motion; infinity when r >= 1 (no oscillation seen), 2 at r = -1. The
- * filtered output, not the record, so that measurement noise does not shorten it. */
+ * (rn->lin): 2 pi / arccos(r), exact for a sampled sinusoid (r = cos(2 pi / N)) and the mean
+ * period of a narrow-band motion; large for a slow or non-oscillating motion (r near 1),
+ * infinite for a constant one, 2 at r = -1. The filtered output, not the record, so that
+ * measurement noise does not shorten it. */
 static double samples_per_period(const run_t *rn)
 {
     const size_t n = rn->n;
@@ -1855,16 +1856,17 @@ static aenl_status_t filter_with_impulses(const double *ys, const run_t *rn,
 }
 
 /* Dither: white Gaussian noise of AENL_NLT_DITHER (of the channel's standard deviation) added to
- * each channel of the scaled record ys whose fitted measurement noise variance (of em's model)
- * is below AENL_NLT_DITHER^2; dithered[j] says which. Returns how many. The test's null
- * distribution rests on innovations that are a martingale difference with a regular covariance; a
- * channel without measurement noise (a simulation) puts the likelihood's maximum on its boundary (R
- * singular), where EM stops early and the innovations are the model's deterministic misfit: a
- * law's misfit is then concentrated in the large early motion of a decay, and the robust
- * statistic, whose variance is that same misfit, cannot exceed the handful of independent
- * pieces it spans. Independent noise added to a linear record leaves it a linear record, so
- * the test's level is kept; at 60 dB below the signal it is below the noise of any measured
- * record and far above the record's rounding. */
+ * each channel of the scaled record ys whose fitted measurement noise standard deviation (of
+ * em's model) is below a tenth of that, i.e. at the likelihood's boundary; dithered[j] says
+ * which. Returns how many. The test's null distribution rests on innovations that are a
+ * martingale difference with a regular covariance; a channel without measurement noise (a
+ * simulation) puts the likelihood's maximum on its boundary (R singular), where EM stops early
+ * and the innovations are the model's deterministic misfit: a law's misfit is then concentrated
+ * in the large early motion of a decay, and the robust statistic, whose variance is that same
+ * misfit, cannot exceed the handful of independent pieces it spans. Independent noise added to
+ * a linear record leaves it a linear record. At 60 dB below the signal it is far above the
+ * record's rounding; the tenth keeps a dithered record's linear controls, whose noise is the
+ * dither, from being dithered again. */
 static size_t dither(double *ys, size_t n, size_t m, const aenl_em_model_t *mod, int *dithered)
 {
     aenl_rng_t g;
@@ -1872,7 +1874,8 @@ static size_t dither(double *ys, size_t n, size_t m, const aenl_em_model_t *mod,
     size_t cnt = 0;
     for (size_t j = 0; j < m; ++j)
     {
-        dithered[j] = !(mod->R[j * m + j] >= AENL_NLT_DITHER * AENL_NLT_DITHER);
+        const double floor_sd = 0.1 * AENL_NLT_DITHER;
+        dithered[j] = mod->R[j * m + j] < floor_sd * floor_sd;
         for (size_t t = 0; dithered[j] && t < n; ++t)
         {
             ys[t * m + j] += AENL_NLT_DITHER * aenl_rng_gauss(&g);
@@ -1883,8 +1886,9 @@ static size_t dither(double *ys, size_t n, size_t m, const aenl_em_model_t *mod,
 }
 
 /* The linear model of the scaled record ys and its Kalman filter pass into kf (set up here even
- * when st, the status so far, is a failure: the run frees it either way). Channels without
- * measurement noise are dithered first (dithered[j], one per channel). */
+ * when st, the status so far, is a failure: the run frees it either way). Channels whose fitted
+ * noise is nil are dithered after a first fit, and the model fitted again before the filter
+ * runs (dithered[j], one per channel). */
 static aenl_status_t fit_and_filter(aenl_status_t st, double *ys, const double *in,
                                     const size_t *cand, size_t n_cand, const run_t *rn,
                                     aenl_em_result_t *em, kf_t *kf, size_t *n_impulses,
@@ -1902,6 +1906,12 @@ static aenl_status_t fit_and_filter(aenl_status_t st, double *ys, const double *
     {
         aenl_em_result_free(em);
         st = fit_linear_order(ys, n, n_ch, cand, n_cand, rn->opts->em_iter, in, n_in, em, err);
+        if (st != AENL_OK && err != NULL)
+        {
+            char why[sizeof(err->msg)];
+            (void)snprintf(why, sizeof(why), "%s", err->msg);
+            aenl_err_set(err, "%s, once dithered (the record's fitted noise is nil)", why);
+        }
     }
     memset(kf, 0, sizeof(*kf));
     kf->n = n;

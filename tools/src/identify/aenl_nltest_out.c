@@ -179,7 +179,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/3"));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/4"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "method", cJSON_CreateString("test"));
@@ -258,10 +258,13 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
     }
     if (r->n_dithered > 0)
     {
-        (void)fprintf(out, "no measurement noise in");
+        (void)fprintf(out, "fitted measurement noise nil in");
         for (size_t j = 0; j < r->n_channels; ++j)
         {
-            (void)fprintf(out, r->ch[j].dithered ? " %s" : "", names[j]);
+            if (r->ch[j].dithered)
+            {
+                (void)fprintf(out, " %s", names[j]);
+            }
         }
         (void)fprintf(out, ": white noise of %g of the standard deviation added (dither)\n",
                       AENL_NLT_DITHER);
