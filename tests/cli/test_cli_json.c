@@ -39,18 +39,11 @@ static cJSON *load_schema(const char *name)
     return s;
 }
 
-/* The command's stdout is one JSON document that satisfies the named schema. The outputs'
+/* The command's stdout is one JSON document that satisfies the named schema (and holds the text
+ * must, unless NULL). The outputs'
  * memory safety is checked elsewhere (valgrind of every subcommand), so the sanitizer build,
  * where the runs take minutes, leaves this contract to the strict build. */
-static void check_output_with(const char *schema, const char *const *args, const char *must);
-
-static void check_output(const char *schema, const char *const *args)
-{
-    check_output_with(schema, args, NULL);
-}
-
-/* check_output, and the output holds the text must (unless NULL). */
-static void check_output_with(const char *schema, const char *const *args, const char *must)
+static void check_output(const char *schema, const char *const *args, const char *must)
 {
 #ifdef AENL_TEST_SANITIZED
     (void)schema;
@@ -87,13 +80,13 @@ static void test_json_identify_and_flutter(void)
 {
     const char *rec = simulated(EXAMPLES "paper_hysteresis_pitch.ini", "j_hyst.csv");
     const char *id[] = {"identify", rec, "--method", "moments", "--json", NULL};
-    check_output("identify", id);
+    check_output("identify", id, NULL);
     const char *fl[] = {"flutter", EXAMPLES "paper_polynomial_pitch.ini", "--json", NULL};
-    check_output("flutter", fl);
+    check_output("flutter", fl, NULL);
     const char *fl3[] = {
         "flutter", EXAMPLES "section3dof_multisine.ini", "--json", "--sweep", "--points", "3",
         NULL};
-    check_output("flutter", fl3);
+    check_output("flutter", fl3, NULL);
 }
 
 static void test_json_identify_test_with_input_and_controls(void)
@@ -107,10 +100,10 @@ static void test_json_identify_test_with_input_and_controls(void)
     const char *rec = simulated(ini, "j_ms.csv");
     /* the test is identify's default method */
     const char *plain[] = {"identify", rec, "--json", NULL};
-    check_output("identify-test", plain);
+    check_output("identify-test", plain, NULL);
     const char *full[] = {"identify", rec,      "--method",   "test", "--input",
                           "f_pitch",  "--json", "--controls", "1",    NULL};
-    check_output("identify-test", full);
+    check_output("identify-test", full, NULL);
     /* the same section without measurement noise: its channels are dithered, and say so */
     const char *ini0 = cli_file("j_ms0.ini", "[model]\ntype = section3dof\nvelocity = 12\n\n"
                                              "[excitation]\ntype = multisine\ndof = pitch\n"
@@ -118,22 +111,22 @@ static void test_json_identify_test_with_input_and_controls(void)
                                              "seed = 3\n\n[run]\nduration = 4\ndt = 0.002\n");
     const char *rec0 = simulated(ini0, "j_ms0.csv");
     const char *clean[] = {"identify", rec0, "--input", "f_pitch", "--json", NULL};
-    check_output_with("identify-test", clean, "\"dithered\"");
+    check_output("identify-test", clean, "\"dithered\"");
 }
 
 static void test_json_fit_and_diagnose(void)
 {
     const char *rec = simulated(EXAMPLES "paper_polynomial_pitch.ini", "j_poly.csv");
     const char *fit[] = {"fit", rec, "--thresholds", "alpha:0.0", "--iter", "5", "--json", NULL};
-    check_output("fit", fit);
+    check_output("fit", fit, NULL);
     const char *boot[] = {"fit",         rec, "--thresholds", "alpha:0.0", "--iter", "5",
                           "--bootstrap", "2", "--json",       NULL};
-    check_output("fit", boot);
+    check_output("fit", boot, NULL);
     const char *meas = simulated(EXAMPLES "diagnose_truth_airfoil2dof.ini", "j_dg.csv");
     const char *dg[] = {
         "diagnose", "--measured",  meas, "--model",    EXAMPLES "diagnose_base_airfoil2dof.ini",
         "--json",   "--max-evals", "20", "--no-plots", NULL};
-    check_output("diagnose", dg);
+    check_output("diagnose", dg, NULL);
 }
 
 /* The check fails where it should: each mutation of a valid document, and an unknown keyword. */

@@ -228,13 +228,8 @@ static void test_nlt_linear_records_hold_the_level(void)
     {
         size_t n = 0;
         double *y = airfoil_record(NULL, 7000u + s, &n);
-        aenl_nlt_opts_t o;
-        aenl_nlt_opts_default(&o);
         aenl_nlt_result_t r;
-        aenl_err_t err;
-        aenl_err_clear(&err);
-        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
-        free(y);
+        test_record(y, n, &r);
         TEST_ASSERT_EQUAL_size_t(2, r.n_channels);
         /* BIC's choice among 4 and 6 states per channel and 12 */
         TEST_ASSERT_TRUE(r.n_states == 8u || r.n_states == 12u);
@@ -335,42 +330,28 @@ static void test_nlt_freeplay_named_with_its_gap(void)
     TEST_ASSERT_DOUBLE_WITHIN(1e-9 * fabs(right) + 1e-12, right, left);
 }
 
+/* Pitch-rate kicks every 150 time units (rate 0.002-0.003), noise at SNR 10. */
+static void kicks(aenl_sim_model_t *m, aenl_sim_run_t *run, uint64_t seed)
+{
+    (void)m;
+    run->duration = 3000.0;
+    run->kicks = 1;
+    run->kick_dof = AENL_SIM_DOF_PITCH;
+    run->kick_every = 150.0;
+    run->kick_rate = 0.002;
+    run->kick_rate_max = 0.003;
+    run->kick_seed = seed;
+    run->snr = 10.0;
+    run->noise_seed = seed + 1u;
+}
+
 /* Kicks (the pitch rate jumps every 150 time units) are impulses: the filter restarts there. */
 static void test_nlt_kicks_are_impulses(void)
 {
-    aenl_sim_model_t m;
-    aenl_sim_run_t run;
-    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
-    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
-    aenl_sim_set_velocity(&m, 4.0);
-    run.duration = 3000.0;
-    run.dt = 0.5;
-    run.kicks = 1;
-    run.kick_dof = AENL_SIM_DOF_PITCH;
-    run.kick_every = 150.0;
-    run.kick_rate = 0.002;
-    run.kick_rate_max = 0.003;
-    run.kick_seed = 11;
-    run.snr = 10.0;
-    run.noise_seed = 12;
-    aenl_sim_result_t sim;
-    aenl_err_t err;
-    aenl_err_clear(&err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &sim, &err), err.msg);
-    const size_t n = sim.n_samples;
-    double *y = malloc(2u * n * sizeof(double));
-    TEST_ASSERT_NOT_NULL(y);
-    for (size_t k = 0; k < n; ++k)
-    {
-        y[2u * k] = sim.y[k];
-        y[2u * k + 1u] = sim.y[n + k];
-    }
-    aenl_sim_result_free(&sim);
-    aenl_nlt_opts_t o;
-    aenl_nlt_opts_default(&o);
+    size_t n = 0;
+    double *y = airfoil_run(NULL, kicks, 11u, &n);
     aenl_nlt_result_t r;
-    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
-    free(y);
+    test_record(y, n, &r);
     printf("kicked record: %zu impulses (20 kicks)\n", r.n_impulses);
     TEST_ASSERT_TRUE(r.n_impulses >= 5u);
 }

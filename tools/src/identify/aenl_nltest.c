@@ -1871,10 +1871,10 @@ static size_t dither(double *ys, size_t n, size_t m, const aenl_em_model_t *mod,
 {
     aenl_rng_t g;
     aenl_rng_seed(&g, NLT_DITHER_SEED);
+    const double floor_sd = 0.1 * AENL_NLT_DITHER;
     size_t cnt = 0;
     for (size_t j = 0; j < m; ++j)
     {
-        const double floor_sd = 0.1 * AENL_NLT_DITHER;
         dithered[j] = mod->R[j * m + j] < floor_sd * floor_sd;
         for (size_t t = 0; dithered[j] && t < n; ++t)
         {
