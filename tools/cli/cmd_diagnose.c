@@ -16,6 +16,7 @@
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_diagnose.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_plot.h"
 #include "aenl_tools/aenl_sim.h"
 
@@ -26,8 +27,8 @@ static void help(void)
     printf(
         "usage: aenl diagnose --measured DATA.csv --model BASE.ini [--out DIR] [--json]\n"
         "                     [--replicates N] [--penalty P] [--seed S] [--refine K]\n"
-        "                     [--max-evals M] [--summary-records N] [--no-plots]\n"
-        "                     [-v]\n\n"
+        "                     [--max-evals M] [--summary-records N] [--jobs N]\n"
+        "                     [--no-plots] [-v]\n\n"
         "Simulates the baseline model BASE.ini under the conditions of the record (its [run] dt\n"
         "must be the record's sample step; the record's length sets the duration), compares\n"
         "per-channel signatures (amplitude quantiles and envelope, conditional mean and std\n"
@@ -56,6 +57,8 @@ static void help(void)
         "                 fits within twice its floor, records of the baseline that the\n"
         "                 record's summaries are ranked among (the report says whether they\n"
         "                 agree); 32..4096, default 64; 0: neither (keep the gap's fit)\n"
+        "--jobs N         simulations run at once, on N threads (default: the processors\n"
+        "                 online); the answer is the same for any N\n"
         "--time COL       the record's time column is COL (default: the one named t, time,\n"
         "                 tau or timestamp, alone or with a unit)\n"
         "--no-plots       no figures\n"
@@ -229,6 +232,14 @@ static int number_option(int argc, char **argv, int *i, const char *a, aenl_diag
             return -1;
         }
         o->summary_records = (unsigned)lv;
+    }
+    else if (strcmp(a, "--jobs") == 0)
+    {
+        if (long_option(argc, argv, i, "--jobs", 1, AENL_MAX_JOBS, &v, &lv))
+        {
+            return -1;
+        }
+        aenl_set_jobs((unsigned)lv);
     }
     else if (strcmp(a, "--seed") == 0)
     {

@@ -14,6 +14,7 @@
 
 #include "aenl_diagnose_internal.h"
 #include "aenl_tools/aenl_clock.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_rng.h"
 
 #define N_CH_MAX AENL_SIM_MAX_Q
@@ -388,6 +389,61 @@ static aenl_status_t nominal_rv(ctx_t *x, const aenl_sim_model_t *m, unsigned n_
     return st;
 }
 
+/* Replicates 1..n_rep of model m (their own excitation and noise seeds) into the signatures
+ * s + r n_ch, at once, each on its own copy of the context. */
+typedef struct
+{
+    const ctx_t *x;
+    const aenl_sim_model_t *m;
+    aenl_diagnose_sig_t *s;
+    unsigned *sims;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} rep_job_t;
+
+static void rep_task(void *ctx, size_t i)
+{
+    const rep_job_t *j = (const rep_job_t *)ctx;
+    ctx_t x = *j->x;
+    x.n_sims = 0;
+    aenl_err_clear(&j->err[i]);
+    j->st[i] =
+        sim_sig(&x, j->m, (unsigned)i + 1u, j->s + (i + 1u) * x.n_ch, NULL, NULL, &j->err[i]);
+    j->sims[i] = x.n_sims;
+}
+
+static aenl_status_t replicate_sigs(ctx_t *x, const aenl_sim_model_t *m, unsigned n_rep,
+                                    aenl_diagnose_sig_t *s, aenl_err_t *err)
+{
+    unsigned *sims = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*sims));
+    aenl_status_t *st = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*st));
+    aenl_err_t *errs = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*errs));
+    aenl_status_t out = AENL_OK;
+    if (sims == NULL || st == NULL || errs == NULL)
+    {
+        aenl_err_set(err, "out of memory (replicates)");
+        out = AENL_E_DIM;
+    }
+    else
+    {
+        rep_job_t job = {x, m, s, sims, st, errs};
+        aenl_parallel_for(n_rep, rep_task, &job);
+    }
+    for (unsigned r = 0; r < n_rep && out == AENL_OK; ++r)
+    {
+        x->n_sims += sims[r];
+        out = st[r];
+        if (out != AENL_OK)
+        {
+            aenl_err_set(err, "%s", errs[r].msg);
+        }
+    }
+    free(sims);
+    free(st);
+    free(errs);
+    return out;
+}
+
 static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
                               const aenl_diagnose_sig_t *main_sig, unsigned n_rep, floor_t *fl,
                               double *elem, aenl_err_t *err)
@@ -400,11 +456,7 @@ static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
         return AENL_E_DIM;
     }
     memcpy(s, main_sig, x->n_ch * sizeof(*s));
-    aenl_status_t st = AENL_OK;
-    for (unsigned r = 1; r <= n_rep && st == AENL_OK; ++r)
-    {
-        st = sim_sig(x, m, r, s + (size_t)r * x->n_ch, NULL, NULL, err);
-    }
+    aenl_status_t st = replicate_sigs(x, m, n_rep, s, err);
     memset(fl, 0, sizeof(*fl));
     const size_t per_ch = (size_t)N_FAM * AENL_DIAGNOSE_N_CURVE;
     if (elem != NULL)
@@ -565,6 +617,29 @@ typedef struct
     aenl_status_t st;
 } obj_t;
 
+/* The total gap squared of candidate sp with parameters th into *j (sig: scratch, n_ch). */
+static aenl_status_t gap2_of(ctx_t *x, const aenl_sim_model_t *base, const spec_t *sp,
+                             const double *th, aenl_diagnose_sig_t *sig, double *j, aenl_err_t *err)
+{
+    aenl_sim_model_t m = *base;
+    spec_law(sp, th, &m.law[sp->dof]);
+    const aenl_status_t st = sim_sig(x, &m, 0, sig, NULL, NULL, err);
+    const double g = st == AENL_OK ? gap_of(x, x->res->sig_meas, sig, NULL, NULL) : HUGE_VAL;
+    *j = g * g;
+    return st;
+}
+
+/* An evaluation of candidate sp at th that gave j: counted, and kept when it is the best. */
+static void note_eval(spec_t *sp, const double *th, double j)
+{
+    sp->n_evals++;
+    if (j < sp->best)
+    {
+        sp->best = j;
+        memcpy(sp->theta, th, sizeof(double) * sp->n_par);
+    }
+}
+
 /* Objective: total gap squared of the candidate with parameters th. */
 static double objective(obj_t *o, const double *th)
 {
@@ -572,21 +647,13 @@ static double objective(obj_t *o, const double *th)
     {
         return HUGE_VAL;
     }
-    aenl_sim_model_t m = *o->base;
-    spec_law(o->sp, th, &m.law[o->sp->dof]);
-    o->st = sim_sig(o->x, &m, 0, o->sig, NULL, NULL, o->err);
+    double j = HUGE_VAL;
+    o->st = gap2_of(o->x, o->base, o->sp, th, o->sig, &j, o->err);
     if (o->st != AENL_OK)
     {
         return HUGE_VAL;
     }
-    const double g = gap_of(o->x, o->x->res->sig_meas, o->sig, NULL, NULL);
-    const double j = g * g;
-    o->sp->n_evals++;
-    if (j < o->sp->best)
-    {
-        o->sp->best = j;
-        memcpy(o->sp->theta, th, sizeof(double) * o->sp->n_par);
-    }
+    note_eval(o->sp, th, j);
     return j;
 }
 
@@ -1024,71 +1091,178 @@ static void order_by_best(const spec_t *sp, size_t n, size_t *order)
 
 /* Nelder-Mead on candidate s from its best point with the first steps; fmt: the progress line
  * (effect, DOF, gap). */
-static void refine(obj_t *o, spec_t *s, unsigned max_evals, const char *fmt)
+/* One evaluation of the coarse grid: candidate k at th, on its own copy of the context (the
+ * simulations it counts are added afterwards, in order). */
+typedef struct
 {
+    size_t k;
+    double th[AENL_DIAGNOSE_MAX_PAR];
+    double j;
+    unsigned sims;
+    aenl_status_t st;
+    aenl_err_t err;
+} grid_task_t;
+
+typedef struct
+{
+    ctx_t *x;
+    const aenl_sim_model_t *base;
+    const spec_t *sp;
+    grid_task_t *task;
+} grid_job_t;
+
+static void grid_task(void *ctx, size_t i)
+{
+    const grid_job_t *g = (const grid_job_t *)ctx;
+    grid_task_t *t = &g->task[i];
+    ctx_t x = *g->x;
+    x.n_sims = 0;
+    aenl_err_clear(&t->err);
+    aenl_diagnose_sig_t *sig = malloc(x.n_ch * sizeof(*sig));
+    if (sig == NULL)
+    {
+        aenl_err_set(&t->err, "out of memory (signatures)");
+        t->st = AENL_E_DIM;
+        return;
+    }
+    t->st = gap2_of(&x, g->base, &g->sp[t->k], t->th, sig, &t->j, &t->err);
+    t->sims = x.n_sims;
+    free(sig);
+}
+
+/* Stage 1: the coarse grid of every candidate, all its points at once. */
+static aenl_status_t run_grid(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
+                              aenl_err_t *err)
+{
+    double g[AENL_DIAGNOSE_MAX_CAND][16][AENL_DIAGNOSE_MAX_PAR];
+    size_t ng[AENL_DIAGNOSE_MAX_CAND];
+    size_t n_task = 0;
+    for (size_t k = 0; k < n_sp; ++k)
+    {
+        memset(g[k], 0, sizeof(g[k]));
+        ng[k] = spec_grid(&sp[k], g[k]);
+        n_task += ng[k];
+    }
+    grid_task_t *task = calloc(n_task > 0u ? n_task : 1u, sizeof(*task));
+    if (task == NULL)
+    {
+        aenl_err_set(err, "out of memory (grid)");
+        return AENL_E_DIM;
+    }
+    for (size_t k = 0, i = 0; k < n_sp; ++k)
+    {
+        for (size_t q = 0; q < ng[k]; ++q, ++i)
+        {
+            task[i].k = k;
+            memcpy(task[i].th, g[k][q], sizeof(g[k][q]));
+        }
+    }
+    grid_job_t job = {x, base, sp, task};
+    aenl_parallel_for(n_task, grid_task, &job);
+    aenl_status_t st = AENL_OK;
+    for (size_t k = 0, i = 0; k < n_sp && st == AENL_OK; ++k)
+    {
+        sp[k].best = HUGE_VAL;
+        memcpy(sp[k].theta, g[k][0], sizeof(g[k][0]));
+        for (size_t q = 0; q < ng[k] && st == AENL_OK; ++q, ++i)
+        {
+            x->n_sims += task[i].sims;
+            st = task[i].st;
+            if (st == AENL_OK)
+            {
+                note_eval(&sp[k], task[i].th, task[i].j);
+            }
+            else
+            {
+                aenl_err_set(err, "%s", task[i].err.msg);
+            }
+        }
+        if (st == AENL_OK)
+        {
+            progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
+                     aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
+            advance(x);
+        }
+    }
+    free(task);
+    return st;
+}
+
+/* Nelder-Mead on several candidates at once (stages 2 and 3): candidate sp[order[i]] for
+ * i < n, each on its own copy of the context; progress is reported afterwards, in order. */
+typedef struct
+{
+    ctx_t *x;
+    const aenl_sim_model_t *base;
+    spec_t *sp;
+    const size_t *order;
+    unsigned max_evals;
+    unsigned *sims;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} refine_job_t;
+
+static void refine_task(void *ctx, size_t i)
+{
+    const refine_job_t *r = (const refine_job_t *)ctx;
+    ctx_t x = *r->x;
+    x.n_sims = 0;
+    aenl_err_clear(&r->err[i]);
+    aenl_diagnose_sig_t *sig = malloc(x.n_ch * sizeof(*sig));
+    if (sig == NULL)
+    {
+        aenl_err_set(&r->err[i], "out of memory (signatures)");
+        r->st[i] = AENL_E_DIM;
+        return;
+    }
+    spec_t *s = &r->sp[r->order[i]];
+    obj_t o = {&x, r->base, s, sig, &r->err[i], AENL_OK};
     double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
     spec_step(s, step);
-    o->sp = s;
-    nelder_mead(o, step, max_evals);
-    progress(o->x, fmt, aenl_diagnose_effect_name(s->effect), aenl_diagnose_dof_name(s->dof),
-             sqrt(s->best));
+    nelder_mead(&o, step, r->max_evals);
+    r->st[i] = o.st;
+    r->sims[i] = x.n_sims;
+    free(sig);
+}
+
+static aenl_status_t refine_all(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp,
+                                const size_t *order, size_t n, unsigned max_evals, const char *fmt,
+                                aenl_err_t *err)
+{
+    unsigned sims[AENL_DIAGNOSE_MAX_CAND] = {0};
+    aenl_status_t sts[AENL_DIAGNOSE_MAX_CAND];
+    aenl_err_t errs[AENL_DIAGNOSE_MAX_CAND];
+    refine_job_t job = {x, base, sp, order, max_evals, sims, sts, errs};
+    aenl_parallel_for(n, refine_task, &job);
+    for (size_t i = 0; i < n; ++i)
+    {
+        x->n_sims += sims[i];
+        if (sts[i] != AENL_OK)
+        {
+            aenl_err_set(err, "%s", errs[i].msg);
+            return sts[i];
+        }
+        const spec_t *s = &sp[order[i]];
+        progress(x, fmt, aenl_diagnose_effect_name(s->effect), aenl_diagnose_dof_name(s->dof),
+                 sqrt(s->best));
+        advance(x);
+    }
+    return AENL_OK;
 }
 
 static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
                                     const aenl_diagnose_opts_t *opts, aenl_err_t *err)
 {
-    aenl_diagnose_sig_t *sig = malloc(x->n_ch * sizeof(*sig));
-    if (sig == NULL)
+    aenl_status_t st = run_grid(x, base, sp, n_sp, err);
+    if (st != AENL_OK)
     {
-        aenl_err_set(err, "out of memory (signatures)");
-        return AENL_E_DIM;
-    }
-    obj_t o = {x, base, NULL, sig, err, AENL_OK};
-    /* Stage 1: coarse grid for every candidate. */
-    for (size_t k = 0; k < n_sp && o.st == AENL_OK; ++k)
-    {
-        double g[16][AENL_DIAGNOSE_MAX_PAR] = {{0}};
-        const size_t ng = spec_grid(&sp[k], g);
-        o.sp = &sp[k];
-        sp[k].best = HUGE_VAL;
-        memcpy(sp[k].theta, g[0], sizeof(g[0]));
-        for (size_t i = 0; i < ng && o.st == AENL_OK; ++i)
-        {
-            (void)objective(&o, g[i]);
-        }
-        progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
-                 aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
-        advance(x);
+        return st;
     }
     /* Stage 2: Nelder-Mead from the best grid point of the most promising candidates. */
     size_t order[AENL_DIAGNOSE_MAX_CAND];
     order_by_best(sp, n_sp, order);
-    for (size_t i = 0; i < n_sp && i < opts->n_refine && o.st == AENL_OK; ++i)
-    {
-        refine(&o, &sp[order[i]], opts->max_evals, "refined %s %s: gap %.4g");
-        advance(x);
-    }
-    free(sig);
-    return o.st;
-}
-
-/* Stage 3, the contenders (the best N_FLOOR_CAND): Nelder-Mead once more from the estimate with a
- * fresh simplex of the first steps. A simplex can collapse before it reaches the minimum (its
- * vertices fall into a lower-dimensional face, and its steps shrink without leaving it); a fresh
- * simplex around the estimate spans every direction again. */
-static aenl_status_t restart(ctx_t *x, const aenl_sim_model_t *base, spec_t *s,
-                             const aenl_diagnose_opts_t *opts, aenl_err_t *err)
-{
-    aenl_diagnose_sig_t *sig = malloc(x->n_ch * sizeof(*sig));
-    if (sig == NULL)
-    {
-        aenl_err_set(err, "out of memory (signatures)");
-        return AENL_E_DIM;
-    }
-    obj_t o = {x, base, s, sig, err, AENL_OK};
-    refine(&o, s, opts->max_evals, "restarted %s %s: gap %.4g");
-    free(sig);
-    return o.st;
+    const size_t n = n_sp < opts->n_refine ? n_sp : opts->n_refine;
+    return refine_all(x, base, sp, order, n, opts->max_evals, "refined %s %s: gap %.4g", err);
 }
 
 /* Upper 0.1 % point of chi-square with k degrees of freedom (Wilson-Hilferty; within 1 % for
@@ -1616,53 +1790,58 @@ static aenl_status_t fit_candidates(diag_t *d, aenl_err_t *err)
     {
         return st;
     }
+    /* Stage 3, the contenders (the best N_FLOOR_CAND): Nelder-Mead once more from the estimate
+     * with a fresh simplex of the first steps. A simplex can collapse before it reaches the
+     * minimum (its vertices fall into a lower-dimensional face, and its steps shrink without
+     * leaving it); a fresh simplex around the estimate spans every direction again. */
     order_by_best(d->sp, d->n_sp, d->order);
-    for (size_t i = 0; i < d->n_sp && i < N_FLOOR_CAND; ++i)
-    {
-        st = restart(&d->x, d->base, &d->sp[d->order[i]], d->opts, err);
-        if (st != AENL_OK)
-        {
-            return st;
-        }
-        advance(&d->x);
-    }
+    const size_t n_con = d->n_sp < N_FLOOR_CAND ? d->n_sp : N_FLOOR_CAND;
+    st = refine_all(&d->x, d->base, d->sp, d->order, n_con, d->opts->max_evals,
+                    "restarted %s %s: gap %.4g", err);
     order_by_best(d->sp, d->n_sp, d->order);
-    return AENL_OK;
-}
-
-/* The floor of contender i (law cd->law) into d->fl_cand[i], cd->floor and cd->bounded; the
- * common floors and the pooled relative variances take it in. */
-static aenl_status_t contender_floor(diag_t *d, size_t i, aenl_diagnose_cand_t *cd, aenl_err_t *err)
-{
-    const size_t n_ch = d->x.n_ch;
-    floor_t *const fl_c = &d->fl_cand[i];
-    aenl_sim_model_t m = *d->base;
-    m.law[cd->dof] = cd->law;
-    aenl_diagnose_sig_t *ms = malloc(n_ch * sizeof(*ms));
-    if (ms == NULL)
-    {
-        aenl_err_set(err, "out of memory (signatures)");
-        return AENL_E_DIM;
-    }
-    aenl_status_t st = sim_sig(&d->x, &m, 0, ms, NULL, NULL, err);
-    if (st == AENL_OK)
-    {
-        st = floor_of(&d->x, &m, ms, d->opts->n_replicates, fl_c, NULL, err);
-    }
-    free(ms);
-    cd->floor = st == AENL_OK ? fl_c->ch[n_ch] : 0.0;
-    cd->bounded = st == AENL_OK ? fl_c->bounded : 1.0;
-    d->common = fmax(d->common, cd->floor);
-    d->common_same = st == AENL_OK ? fmax(d->common_same, fl_c->same) : d->common_same;
-    if (st == AENL_OK)
-    {
-        pool_rv(fl_c, d->rv, d->n_rv);
-    }
     return st;
 }
 
+/* The floors of the contenders, cand[i] for i < n, into fl[i], at once: each one's main run and
+ * replicates on its own copy of the context. */
+typedef struct
+{
+    const diag_t *d;
+    const aenl_diagnose_cand_t *cand;
+    floor_t *fl;
+    unsigned *sims;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} floor_job_t;
+
+static void floor_task(void *ctx, size_t i)
+{
+    const floor_job_t *j = (const floor_job_t *)ctx;
+    ctx_t x = j->d->x;
+    x.n_sims = 0;
+    aenl_err_clear(&j->err[i]);
+    aenl_sim_model_t m = *j->d->base;
+    m.law[j->cand[i].dof] = j->cand[i].law;
+    aenl_diagnose_sig_t *ms = malloc(x.n_ch * sizeof(*ms));
+    if (ms == NULL)
+    {
+        aenl_err_set(&j->err[i], "out of memory (signatures)");
+        j->st[i] = AENL_E_DIM;
+        return;
+    }
+    aenl_status_t st = sim_sig(&x, &m, 0, ms, NULL, NULL, &j->err[i]);
+    if (st == AENL_OK)
+    {
+        st = floor_of(&x, &m, ms, j->d->opts->n_replicates, &j->fl[i], NULL, &j->err[i]);
+    }
+    free(ms);
+    j->st[i] = st;
+    j->sims[i] = x.n_sims;
+}
+
 /* The result's candidates, best gap first, and the floors of the best N_FLOOR_CAND: the
- * common yardstick of the choice. */
+ * common yardstick of the choice. A contender's floor goes into d->fl_cand[i], cd->floor and
+ * cd->bounded; the common floors and the pooled relative variances take it in. */
 static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
 {
     aenl_diagnose_result_t *r = d->x.res;
@@ -1671,7 +1850,6 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
     memset(d->fl_cand, 0, sizeof(d->fl_cand));
     pool_rv(&d->fl_base, d->rv, d->n_rv);
     r->n_cand = d->n_sp;
-    aenl_status_t st = AENL_OK;
     for (size_t i = 0; i < d->n_sp; ++i)
     {
         const spec_t *s = &d->sp[d->order[i]];
@@ -1685,13 +1863,30 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
         cd->refined = i < d->opts->n_refine;
         cd->score = HUGE_VAL;
         cd->bounded = 1.0;
-        if (i < N_FLOOR_CAND && st == AENL_OK)
-        {
-            st = contender_floor(d, i, cd, err);
-            advance(&d->x);
-        }
     }
-    return st;
+    const size_t n_con = d->n_sp < N_FLOOR_CAND ? d->n_sp : N_FLOOR_CAND;
+    unsigned sims[N_FLOOR_CAND] = {0};
+    aenl_status_t sts[N_FLOOR_CAND];
+    aenl_err_t errs[N_FLOOR_CAND];
+    floor_job_t job = {d, r->cand, d->fl_cand, sims, sts, errs};
+    aenl_parallel_for(n_con, floor_task, &job);
+    for (size_t i = 0; i < n_con; ++i)
+    {
+        d->x.n_sims += sims[i];
+        if (sts[i] != AENL_OK)
+        {
+            aenl_err_set(err, "%s", errs[i].msg);
+            return sts[i];
+        }
+        aenl_diagnose_cand_t *cd = &r->cand[i];
+        cd->floor = d->fl_cand[i].ch[d->x.n_ch];
+        cd->bounded = d->fl_cand[i].bounded;
+        d->common = fmax(d->common, cd->floor);
+        d->common_same = fmax(d->common_same, d->fl_cand[i].same);
+        pool_rv(&d->fl_cand[i], d->rv, d->n_rv);
+        advance(&d->x);
+    }
+    return AENL_OK;
 }
 
 /* The scale of the floor the record follows. The replicates differ in their excitation

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "aenl_diagnose_internal.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_rng.h"
 
 /* Summaries per channel: mean, log std, log kurtosis, log peak frequency, and the second and
@@ -165,6 +166,89 @@ static aenl_sim_run_t replicate_run(const aenl_sim_run_t *run, unsigned q)
     return out;
 }
 
+/* A batch of records whose summaries are independent of each other: record q is model[q]
+ * under run[q]; its summaries go to s + q N_SUM. They are simulated at once, each into its own
+ * slots; the status is the first failure in the order of q, as one after the other would
+ * stop there, and *d the summaries a record. */
+typedef struct
+{
+    const aenl_sim_model_t *const *model;
+    const aenl_sim_run_t *run;
+    const double *noise_sd;
+    double *s;
+    size_t *d;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} batch_t;
+
+static void batch_task(void *ctx, size_t q)
+{
+    const batch_t *b = (const batch_t *)ctx;
+    aenl_err_clear(&b->err[q]);
+    b->d[q] = 0;
+    b->st[q] =
+        summaries(b->model[q], &b->run[q], b->noise_sd, b->s + q * N_SUM, &b->d[q], &b->err[q]);
+}
+
+static aenl_status_t summaries_batch(const aenl_sim_model_t *const *model,
+                                     const aenl_sim_run_t *run, const double *noise_sd, size_t n,
+                                     double *s, size_t *d, aenl_err_t *err)
+{
+    size_t *dq = calloc(n > 0u ? n : 1u, sizeof(*dq));
+    aenl_status_t *st = calloc(n > 0u ? n : 1u, sizeof(*st));
+    aenl_err_t *errs = calloc(n > 0u ? n : 1u, sizeof(*errs));
+    aenl_status_t out = AENL_OK;
+    if (dq == NULL || st == NULL || errs == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+        out = AENL_E_DIM;
+    }
+    else
+    {
+        batch_t b = {model, run, noise_sd, s, dq, st, errs};
+        aenl_parallel_for(n, batch_task, &b);
+    }
+    for (size_t q = 0; q < n && out == AENL_OK; ++q)
+    {
+        out = st[q];
+        *d = st[q] == AENL_OK ? dq[q] : *d;
+        if (out != AENL_OK)
+        {
+            aenl_err_set(err, "%s", errs[q].msg);
+        }
+    }
+    free(dq);
+    free(st);
+    free(errs);
+    return out;
+}
+
+/* The summaries of `model` under the runs of replicates 0..n-1 into s + q N_SUM (a batch). */
+static aenl_status_t model_summaries(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
+                                     const double *noise_sd, unsigned n, double *s, size_t *d,
+                                     aenl_err_t *err)
+{
+    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(*mq));
+    aenl_sim_run_t *rq = malloc((n > 0u ? n : 1u) * sizeof(*rq));
+    aenl_status_t st = AENL_E_DIM;
+    if (mq == NULL || rq == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+    }
+    else
+    {
+        for (unsigned q = 0; q < n; ++q)
+        {
+            mq[q] = model;
+            rq[q] = replicate_run(run_in, q);
+        }
+        st = summaries_batch(mq, rq, noise_sd, n, s, d, err);
+    }
+    free(mq);
+    free(rq);
+    return st;
+}
+
 /* Mean and covariance cov (d x d, unbiased) of the rows s[q * N_SUM + 0..d-1], q < n_rows;
  * mean and cov start at zero. */
 static void row_moments(const double *s, size_t n_rows, size_t d, double *mean, double *cov)
@@ -195,13 +279,7 @@ static aenl_status_t replicate_summaries(const aenl_sim_model_t *model,
                                          const aenl_sim_run_t *run_in, const double *noise_sd,
                                          unsigned n_rep, double *s, size_t *d, aenl_err_t *err)
 {
-    aenl_status_t st = AENL_OK;
-    for (unsigned q = 0; q < n_rep && st == AENL_OK; ++q)
-    {
-        const aenl_sim_run_t run = replicate_run(run_in, q);
-        st = summaries(model, &run, noise_sd, s + (size_t)q * N_SUM, d, err);
-    }
-    return st;
+    return model_summaries(model, run_in, noise_sd, n_rep, s, d, err);
 }
 
 /* What the summaries say about the parameters at `model`: Cholesky factor of their covariance
@@ -216,6 +294,66 @@ typedef struct
     double fisher[AENL_DIAGNOSE_MAX_PAR * AENL_DIAGNOSE_MAX_PAR];
     double unbias; /* (n_rep - d - 2) / (n_rep - 1) */
 } info_t;
+
+/* Sensitivities of the summaries to the np parameters of the law: central differences over the
+ * seeds of the first n_jac replicates, per seed (jq[q][i][k]) and their mean (jac, d x np, from
+ * zero). The 2 np n_jac records are one batch, taken in the order parameter, seed, sign. */
+static aenl_status_t sensitivities(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
+                                   aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
+                                   const double *noise_sd, unsigned n_jac, size_t d, double *jq,
+                                   double *jac, aenl_err_t *err)
+{
+    const size_t np = aenl_diagnose_law_n_params(effect, &model->law[dof]);
+    const size_t n = 2u * np * n_jac;
+    aenl_sim_model_t mpm[2u * AENL_DIAGNOSE_MAX_PAR];
+    double h[AENL_DIAGNOSE_MAX_PAR] = {0.0};
+    for (size_t k = 0; k < np; ++k)
+    {
+        const double v = aenl_diagnose_param_get(&model->law[dof], effect, k);
+        h[k] = REL_STEP * fmax(fabs(v), 1e-12);
+        mpm[2u * k] = *model;
+        mpm[2u * k + 1u] = *model;
+        aenl_diagnose_param_set(&mpm[2u * k].law[dof], effect, k, v + h[k]);
+        aenl_diagnose_param_set(&mpm[2u * k + 1u].law[dof], effect, k, v - h[k]);
+    }
+    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(*mq));
+    aenl_sim_run_t *rq = malloc((n > 0u ? n : 1u) * sizeof(*rq));
+    double *sq = calloc((n > 0u ? n : 1u) * N_SUM, sizeof(double));
+    aenl_status_t st = AENL_E_DIM;
+    if (mq == NULL || rq == NULL || sq == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+    }
+    else
+    {
+        for (size_t t = 0; t < n; ++t)
+        {
+            const size_t k = t / (2u * n_jac), q = (t / 2u) % n_jac;
+            mq[t] = &mpm[2u * k + t % 2u];
+            rq[t] = replicate_run(run_in, (unsigned)q);
+        }
+        size_t dd = 0;
+        st = summaries_batch(mq, rq, noise_sd, n, sq, &dd, err);
+    }
+    for (size_t k = 0; k < np && st == AENL_OK; ++k)
+    {
+        for (unsigned q = 0; q < n_jac; ++q)
+        {
+            const double *sp = sq + (2u * (k * n_jac + q)) * N_SUM;
+            const double *sm = sp + N_SUM;
+            for (size_t i = 0; i < d; ++i)
+            {
+                const double g = (sp[i] - sm[i]) / (2.0 * h[k]);
+                jq[((size_t)q * d + i) * np + k] = g;
+                jac[i * np + k] += g / (double)n_jac;
+            }
+        }
+    }
+    free(mq);
+    free(rq);
+    free(sq);
+    return st;
+}
 
 static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_run_t *run_in,
                                  aenl_diagnose_effect_t effect, aenl_sim_dof_t dof,
@@ -263,30 +401,9 @@ static aenl_status_t information(const aenl_sim_model_t *model, const aenl_sim_r
     }
     /* Sensitivities: central differences over the first n_jac replicates' seeds, per seed
      * (jq[q][i][k]) and their mean (jac). */
-    for (size_t k = 0; k < np && st == AENL_OK; ++k)
+    if (st == AENL_OK)
     {
-        aenl_sim_model_t mp = *model, mm = *model;
-        const double v = aenl_diagnose_param_get(&model->law[dof], effect, k);
-        const double h = REL_STEP * fmax(fabs(v), 1e-12);
-        aenl_diagnose_param_set(&mp.law[dof], effect, k, v + h);
-        aenl_diagnose_param_set(&mm.law[dof], effect, k, v - h);
-        for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
-        {
-            const aenl_sim_run_t run = replicate_run(run_in, q);
-            double sp[N_SUM] = {0.0}, sm[N_SUM] = {0.0};
-            size_t dp = 0, dm = 0;
-            st = summaries(&mp, &run, noise_sd, sp, &dp, err);
-            if (st == AENL_OK)
-            {
-                st = summaries(&mm, &run, noise_sd, sm, &dm, err);
-            }
-            for (size_t i = 0; i < d && st == AENL_OK; ++i)
-            {
-                const double g = (sp[i] - sm[i]) / (2.0 * h);
-                jq[((size_t)q * d + i) * np + k] = g;
-                jac[i * np + k] += g / (double)n_jac;
-            }
-        }
+        st = sensitivities(model, run_in, effect, dof, noise_sd, n_jac, d, jq, jac, err);
     }
     /* Fisher information J' S^-1 J with the unbiased inverse (factor (n - d - 2) / (n - 1)),
      * less what the noise of the mean sensitivities adds to it on average. */
@@ -421,18 +538,22 @@ static aenl_status_t centre_of(const aenl_sim_model_t *m, const aenl_sim_run_t *
                                aenl_err_t *err)
 {
     memset(centre, 0, d * sizeof(double));
-    aenl_status_t st = AENL_OK;
+    double *sq = calloc((n_jac > 0u ? n_jac : 1u) * N_SUM, sizeof(double));
+    if (sq == NULL)
+    {
+        aenl_err_set(err, "out of memory (summaries)");
+        return AENL_E_DIM;
+    }
+    size_t dq = 0;
+    const aenl_status_t st = model_summaries(m, run_in, noise_sd, n_jac, sq, &dq, err);
     for (unsigned q = 0; q < n_jac && st == AENL_OK; ++q)
     {
-        const aenl_sim_run_t run = replicate_run(run_in, q);
-        double sq[N_SUM] = {0.0};
-        size_t dq = 0;
-        st = summaries(m, &run, noise_sd, sq, &dq, err);
-        for (size_t i = 0; i < d && st == AENL_OK; ++i)
+        for (size_t i = 0; i < d; ++i)
         {
-            centre[i] += sq[i] / (double)n_jac;
+            centre[i] += sq[(size_t)q * N_SUM + i] / (double)n_jac;
         }
     }
+    free(sq);
     return st;
 }
 
