@@ -3,17 +3,20 @@
  * @file test_parallel.c
  * @brief aenl_parallel_for: every index exactly once at any thread count, a loop inside a task
  *        on that task's thread, the thread-count setting; and the diagnosis, whose simulations it
- *        runs at once, giving the same answer on one thread and on several.
+ *        and the record-alone test run at once, giving the same answer on one thread and on
+ *        several.
  */
 #define _POSIX_C_SOURCE 200809L
 
 #include <pthread.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "aenl_diagnose_cases.h"
 #include "aenl_tools/aenl_diagnose.h"
+#include "aenl_tools/aenl_nltest.h"
 #include "aenl_tools/aenl_parallel.h"
 #include "unity.h"
 
@@ -191,6 +194,52 @@ static void test_diagnosis_same_on_any_thread_count(void)
     aenl_diagnose_result_free(&b);
 }
 
+/* The record-alone test of a 2-DOF airfoil under gusts with a hardening pitch spring, its two
+ * channels and two linear controls run at once, on jobs threads. */
+static void nltest_with(unsigned jobs, aenl_nlt_result_t *r)
+{
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    aenl_sim_set_velocity(&m, 4.0);
+    m.law[AENL_SIM_DOF_PITCH].kind = AENL_SIM_LAW_POLYNOMIAL;
+    m.law[AENL_SIM_DOF_PITCH].n_coeffs = 3;
+    m.law[AENL_SIM_DOF_PITCH].coeffs[0] = 1.0;
+    m.law[AENL_SIM_DOF_PITCH].coeffs[2] = 400.0;
+    run.dt = 0.5;
+    run.duration = 2999.0 * run.dt;
+    run.turbulence = 1;
+    run.turb_intensity = 0.05;
+    run.turb_length = 4.0;
+    run.turb_seed = 5;
+    run.snr = 10.0;
+    run.noise_seed = 6;
+    aenl_sim_result_t sr;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_sim_simulate(&m, &run, &sr, &err), err.msg);
+    const double *cols[2] = {sr.y, sr.y + sr.n_samples};
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    o.n_controls = 2;
+    aenl_set_jobs(jobs);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run_columns(cols, sr.n_samples, 2, &o, r, &err),
+                                  err.msg);
+    aenl_sim_result_free(&sr);
+}
+
+static void test_nltest_same_on_any_thread_count(void)
+{
+    static aenl_nlt_result_t a, b;
+    nltest_with(1, &a);
+    nltest_with(3, &b);
+    printf("nltest: p %g %g, impulses %zu\n", a.ch[0].p, a.ch[1].p, a.n_impulses);
+    TEST_ASSERT_TRUE(a.ch[0].nonlinear);
+    TEST_ASSERT_EQUAL_size_t(2, a.n_controls);
+    TEST_ASSERT_EQUAL_MEMORY(&a, &b, sizeof(a));
+}
+
 int main(void)
 {
     UNITY_BEGIN();
@@ -199,5 +248,6 @@ int main(void)
     RUN_TEST(test_nested_loop_stays_on_its_thread);
     RUN_TEST(test_jobs_setting);
     RUN_TEST(test_diagnosis_same_on_any_thread_count);
+    RUN_TEST(test_nltest_same_on_any_thread_count);
     return UNITY_END();
 }

@@ -18,6 +18,7 @@
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_identify.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_plot.h"
 
 static const char *const k_cmd = "identify";
@@ -34,7 +35,7 @@ static void help(void)
            "                     [--input COL[,COL]] [--controls N]\n"
            "       aenl identify DATA.csv --method moments [--channel C] [--json] [--plot DIR]\n"
            "                     [--bandwidth H] [--no-prefilter] [--forced] [--model BASE.ini]\n"
-           "       (either form: [--time COL])\n\n"
+           "       (either form: [--time COL] [--jobs N])\n\n"
            "Tests every channel of a record (or only C) for a structural nonlinearity, names its\n"
            "law (polynomial, hardening or softening; freeplay; hysteresis) with switching points\n"
            "in the channel's units, and names the channel that carries it. Every column is a\n"
@@ -94,7 +95,10 @@ static void help(void)
            "                when the baseline fits within its noise, or nothing explains the\n"
            "                misfit, the record's own verdict stands. The record is then held in\n"
            "                memory, and the test runs a few hundred simulations of it (seconds\n"
-           "                to minutes)\n");
+           "                to minutes)\n"
+           "--jobs N        (either method) threads for the work that can run at once: the\n"
+           "                test's channels and controls, --model's simulations (default: the\n"
+           "                processors online); the answer is the same for any N\n");
 }
 
 /* ---- the record, checked on its way to the pipeline ------------------------------------------ */
@@ -333,6 +337,16 @@ static int parse_value_option(const char *o, int argc, char **argv, int *i, args
         {
             return -1;
         }
+    }
+    else if (strcmp(o, "--jobs") == 0)
+    {
+        long jobs = 0;
+        if ((v = aenl_cli_value(k_cmd, argc, argv, i)) == NULL ||
+            aenl_cli_parse_long(k_cmd, "--jobs", v, 1, AENL_MAX_JOBS, &jobs) != 0)
+        {
+            return -1;
+        }
+        aenl_set_jobs((unsigned)jobs);
     }
     else if (strcmp(o, "--input") == 0)
     {

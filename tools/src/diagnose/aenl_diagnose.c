@@ -1870,7 +1870,7 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
     aenl_err_t errs[N_FLOOR_CAND];
     floor_job_t job = {d, r->cand, d->fl_cand, sims, sts, errs};
     aenl_parallel_for(n_con, floor_task, &job);
-    for (size_t i = 0; i < n_con; ++i)
+    for (size_t i = 0; i < d->n_sp && i < N_FLOOR_CAND; ++i)
     {
         d->x.n_sims += sims[i];
         if (sts[i] != AENL_OK)

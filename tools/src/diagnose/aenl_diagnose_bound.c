@@ -194,29 +194,34 @@ static aenl_status_t summaries_batch(const aenl_sim_model_t *const *model,
                                      const aenl_sim_run_t *run, const double *noise_sd, size_t n,
                                      double *s, size_t *d, aenl_err_t *err)
 {
-    size_t *dq = calloc(n > 0u ? n : 1u, sizeof(*dq));
-    aenl_status_t *st = calloc(n > 0u ? n : 1u, sizeof(*st));
-    aenl_err_t *errs = calloc(n > 0u ? n : 1u, sizeof(*errs));
+    const size_t n1 = n > 0u ? n : 1u;
+    double *sq = calloc(n1 * N_SUM, sizeof(double));
+    size_t *dq = calloc(n1, sizeof(*dq));
+    aenl_status_t *st = calloc(n1, sizeof(*st));
+    aenl_err_t *errs = calloc(n1, sizeof(*errs));
     aenl_status_t out = AENL_OK;
-    if (dq == NULL || st == NULL || errs == NULL)
+    if (sq == NULL || dq == NULL || st == NULL || errs == NULL)
     {
         aenl_err_set(err, "out of memory (summaries)");
         out = AENL_E_DIM;
     }
     else
     {
-        batch_t b = {model, run, noise_sd, s, dq, st, errs};
+        batch_t b = {model, run, noise_sd, sq, dq, st, errs};
         aenl_parallel_for(n, batch_task, &b);
     }
     for (size_t q = 0; q < n && out == AENL_OK; ++q)
     {
         out = st[q];
-        *d = st[q] == AENL_OK ? dq[q] : *d;
         if (out != AENL_OK)
         {
             aenl_err_set(err, "%s", errs[q].msg);
+            break;
         }
+        *d = dq[q];
+        memcpy(s + q * N_SUM, sq + q * N_SUM, N_SUM * sizeof(double));
     }
+    free(sq);
     free(dq);
     free(st);
     free(errs);
@@ -228,7 +233,7 @@ static aenl_status_t model_summaries(const aenl_sim_model_t *model, const aenl_s
                                      const double *noise_sd, unsigned n, double *s, size_t *d,
                                      aenl_err_t *err)
 {
-    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(*mq));
+    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(const aenl_sim_model_t *));
     aenl_sim_run_t *rq = malloc((n > 0u ? n : 1u) * sizeof(*rq));
     aenl_status_t st = AENL_E_DIM;
     if (mq == NULL || rq == NULL)
@@ -316,7 +321,7 @@ static aenl_status_t sensitivities(const aenl_sim_model_t *model, const aenl_sim
         aenl_diagnose_param_set(&mpm[2u * k].law[dof], effect, k, v + h[k]);
         aenl_diagnose_param_set(&mpm[2u * k + 1u].law[dof], effect, k, v - h[k]);
     }
-    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(*mq));
+    const aenl_sim_model_t **mq = malloc((n > 0u ? n : 1u) * sizeof(const aenl_sim_model_t *));
     aenl_sim_run_t *rq = malloc((n > 0u ? n : 1u) * sizeof(*rq));
     double *sq = calloc((n > 0u ? n : 1u) * N_SUM, sizeof(double));
     aenl_status_t st = AENL_E_DIM;
@@ -328,7 +333,7 @@ static aenl_status_t sensitivities(const aenl_sim_model_t *model, const aenl_sim
     {
         for (size_t t = 0; t < n; ++t)
         {
-            const size_t k = t / (2u * n_jac), q = (t / 2u) % n_jac;
+            const size_t k = t / (2u * (size_t)n_jac), q = (t / 2u) % n_jac;
             mq[t] = &mpm[2u * k + t % 2u];
             rq[t] = replicate_run(run_in, (unsigned)q);
         }

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_tools/aenl_stats.h"
 #include "aenl_nlt_internal.h"
@@ -1454,6 +1455,52 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
                               const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res, aenl_err_t *err,
                               int stats_only, kept_t *keep);
 
+/* Linear controls at once: control b (index first + i of a batch) simulated with its own seed
+ * into its own buffer and tested (stage 1 only); its statistics go to stat[b][channel], ok[b]
+ * says whether its linear model could be fitted. */
+typedef struct
+{
+    const aenl_em_model_t *m;
+    const double *in;
+    const double *Lq, *Lr;
+    size_t n, n_ch;
+    const aenl_nlt_opts_t *o;
+    uint64_t seed;
+    size_t first;
+    double *stat;
+    int *ok;
+} control_job_t;
+
+static void control_task(void *ctx, size_t i)
+{
+    const control_job_t *c = (const control_job_t *)ctx;
+    const size_t b = c->first + i;
+    c->ok[b] = 0;
+    double *buf = (double *)malloc(c->n * c->n_ch * sizeof(double));
+    aenl_nlt_result_t *rc = (aenl_nlt_result_t *)malloc(sizeof(*rc));
+    if (buf != NULL && rc != NULL)
+    {
+        double *y[AENL_NLT_MAX_CH];
+        for (size_t j = 0; j < c->n_ch; ++j)
+        {
+            y[j] = buf + j * c->n;
+        }
+        aenl_rng_t g;
+        aenl_rng_seed(&g, c->seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
+        simulate_control(c->m, c->in, c->m->n_u, c->Lq, c->Lr, &g, c->n, y);
+        aenl_err_t e2;
+        aenl_err_clear(&e2);
+        c->ok[b] =
+            run_core((const double *const *)y, 1, c->n, c->n_ch, c->o, rc, &e2, 1, NULL) == AENL_OK;
+        for (size_t j = 0; c->ok[b] && j < c->n_ch; ++j)
+        {
+            c->stat[b * AENL_NLT_MAX_CH + j] = rc->ch[j].stat;
+        }
+    }
+    free(buf);
+    free(rc);
+}
+
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
  * run's scaled inputs), each tested like the record; a channel's control p-value is the share
  * of controls (the record counted among them) whose statistic reaches the record's: the test's
@@ -1472,42 +1519,43 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
         aenl_err_set(err, "the linear model's noise covariances are not positive: no controls");
         return AENL_E_NUMERIC;
     }
-    double *buf = (double *)malloc(n * n_ch * sizeof(double));
-    if (buf == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    double *y[AENL_NLT_MAX_CH];
-    for (size_t j = 0; j < n_ch; ++j)
-    {
-        y[j] = buf + j * n;
-    }
     aenl_nlt_opts_t o = *opts;
     o.n_controls = 0;
     o.input = m->n_u > 0 ? in_col : NULL; /* the record's inputs: their first n_input series */
-    aenl_rng_t g;
+    control_job_t job = {m, in, Lq, Lr, n, n_ch, &o, opts->control_seed, 0, NULL, NULL};
+    job.stat = (double *)malloc(opts->n_controls * AENL_NLT_MAX_CH * sizeof(double));
+    job.ok = (int *)malloc(opts->n_controls * sizeof(int));
+    if (job.stat == NULL || job.ok == NULL)
+    {
+        free(job.stat);
+        free(job.ok);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    /* in batches of as many as run at once, so that progress is reported as they finish */
+    const size_t batch = aenl_jobs();
+    for (size_t b0 = 0; b0 < opts->n_controls; b0 += batch)
+    {
+        job.first = b0;
+        const size_t nb = opts->n_controls - b0 < batch ? opts->n_controls - b0 : batch;
+        aenl_parallel_for(nb, control_task, &job);
+        aenl_progress_report(opts->progress, b0 + nb, opts->n_controls);
+    }
     for (size_t b = 0; b < opts->n_controls; ++b)
     {
-        aenl_rng_seed(&g, opts->control_seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
-        simulate_control(m, in, m->n_u, Lq, Lr, &g, n, y);
-        aenl_nlt_result_t rc;
-        aenl_err_t e2;
-        aenl_err_clear(&e2);
-        const aenl_status_t sc =
-            run_core((const double *const *)y, 1, n, n_ch, &o, &rc, &e2, 1, NULL);
-        aenl_progress_report(opts->progress, b + 1u, opts->n_controls);
-        if (sc != AENL_OK)
+        if (!job.ok[b])
         {
             continue;
         }
         res->n_controls++;
         for (size_t j = 0; j < n_ch; ++j)
         {
-            res->ch[j].control_exceed += rc.ch[j].stat >= res->ch[j].stat ? 1u : 0u;
+            res->ch[j].control_exceed +=
+                job.stat[b * AENL_NLT_MAX_CH + j] >= res->ch[j].stat ? 1u : 0u;
         }
     }
-    free(buf);
+    free(job.stat);
+    free(job.ok);
     for (size_t j = 0; j < n_ch; ++j)
     {
         res->ch[j].control_p =
@@ -1641,8 +1689,8 @@ static aenl_status_t scale_inputs(const aenl_nlt_opts_t *opts, size_t n, double 
     return AENL_OK;
 }
 
-/* The per-channel series of rn (n each; work 4 n). 0, or -1 when one could not be allocated
- * (the others are freed with the run). */
+/* A channel's series of rn (n each; work 4 n). 0, or -1 when one could not be allocated (the
+ * others are freed by free_series). */
 static int alloc_series(run_t *rn)
 {
     const size_t n = rn->n;
@@ -1650,11 +1698,7 @@ static int alloc_series(run_t *rn)
     rn->lin = (double *)malloc(n * sizeof(double));
     rn->dsg = (double *)malloc(n * sizeof(double));
     rn->work = (double *)malloc(4u * n * sizeof(double));
-    rn->loss = (double *)malloc(rn->nz * n * AENL_NLT_N_LAWS * sizeof(double));
-    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ||
-                   rn->loss == NULL
-               ? -1
-               : 0;
+    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ? -1 : 0;
 }
 
 static void free_series(run_t *rn)
@@ -1663,7 +1707,6 @@ static void free_series(run_t *rn)
     free(rn->lin);
     free(rn->dsg);
     free(rn->work);
-    free(rn->loss);
 }
 
 /* Channel j's series for both stages: the offset, the filtered output and its direction of
@@ -1729,6 +1772,68 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
     {
         st = stage2(rn, j, dir, s2, c, err);
     }
+    return st;
+}
+
+/* The channels' tests at once: each channel's stages on a copy of the run with its own series;
+ * a channel writes only its result, its block of the losses and its row of the comparison. */
+typedef struct
+{
+    run_t *rn;
+    aenl_nlt_result_t *res;
+    int stats_only;
+    double pmin[AENL_NLT_MAX_CH];
+    aenl_status_t st[AENL_NLT_MAX_CH];
+    aenl_err_t err[AENL_NLT_MAX_CH];
+} chan_job_t;
+
+static void channel_task(void *ctx, size_t j)
+{
+    chan_job_t *c = (chan_job_t *)ctx;
+    run_t r = *c->rn;
+    aenl_err_clear(&c->err[j]);
+    c->pmin[j] = 1.0;
+    if (alloc_series(&r) != 0)
+    {
+        aenl_err_set(&c->err[j], "out of memory");
+        c->st[j] = AENL_E_DIM;
+    }
+    else
+    {
+        channel_series(&r, j);
+        c->st[j] = test_channel(&r, j, c->stats_only, c->res, &c->pmin[j], &c->err[j]);
+        memcpy(c->rn->crit[j], r.crit[j], sizeof(r.crit[j]));
+        c->rn->compared[j] = r.compared[j];
+    }
+    free_series(&r);
+}
+
+/* Both stages of every channel (test_channel); *pmin receives the smallest stage-1 p-value. The
+ * first channel that fails, in order, gives the status. */
+static aenl_status_t test_channels(run_t *rn, int stats_only, aenl_nlt_result_t *res, double *pmin,
+                                   aenl_err_t *err)
+{
+    chan_job_t *c = (chan_job_t *)calloc(1, sizeof(*c));
+    if (c == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    c->rn = rn;
+    c->res = res;
+    c->stats_only = stats_only;
+    aenl_parallel_for(rn->nz, channel_task, c);
+    aenl_status_t st = AENL_OK;
+    for (size_t j = 0; j < rn->nz && st == AENL_OK; ++j)
+    {
+        st = c->st[j];
+        *pmin = fmin(*pmin, c->pmin[j]);
+        if (st != AENL_OK)
+        {
+            aenl_err_set(err, "%s", c->err[j].msg);
+        }
+    }
+    free(c);
     return st;
 }
 
@@ -2018,7 +2123,8 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     rn.nx = em.model.n_x;
     rn.kf = &kf;
     rn.m = &em.model;
-    if (alloc_series(&rn) != 0 && st == AENL_OK)
+    rn.loss = (double *)malloc(n_ch * n * AENL_NLT_N_LAWS * sizeof(double));
+    if (rn.loss == NULL && st == AENL_OK)
     {
         aenl_err_set(err, "out of memory");
         st = AENL_E_DIM;
@@ -2026,10 +2132,9 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     result_header(res, &rn, em.loglik_final);
     rn.lnrows = log(fmax((double)kf.rows, 2.0));
     double pmin = 1.0;
-    for (size_t j = 0; j < n_ch && st == AENL_OK; ++j)
+    if (st == AENL_OK)
     {
-        channel_series(&rn, j);
-        st = test_channel(&rn, j, stats_only, res, &pmin, err);
+        st = test_channels(&rn, stats_only, res, &pmin, err);
     }
     if (st == AENL_OK)
     {
@@ -2038,7 +2143,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
         res->channel_confidence = 1.0;
         st = verdict_comparison(&rn, res, err);
     }
-    free_series(&rn);
+    free(rn.loss);
     nlt_kf_free(&kf);
     return hand_over(st, keep, &em, in, in_col);
 }
