@@ -11,6 +11,9 @@
 
 #include <stddef.h>
 
+#include "aenl/aenl_types.h"
+#include "aenl_tools/aenl_io.h"
+
 /** The largest number of threads aenl_parallel_for starts. */
 #define AENL_MAX_JOBS 64u
 
@@ -37,5 +40,16 @@ unsigned aenl_jobs(void);
  *        share to the others.
  */
 void aenl_parallel_for(size_t n, aenl_task_fn fn, void *ctx);
+
+/** A task that can fail: the work of index i; its status, with the cause in err. */
+typedef aenl_status_t (*aenl_task_try_fn)(void *ctx, size_t i, aenl_err_t *err);
+
+/**
+ * @brief As aenl_parallel_for, for tasks that can fail: every task runs, each with its own
+ *        error, and the status is that of the first task in index order that failed (its cause
+ *        into err), as a loop that stopped there would give; AENL_OK when none did. AENL_E_DIM
+ *        when the bookkeeping cannot be allocated (then no task runs).
+ */
+aenl_status_t aenl_parallel_try(size_t n, aenl_task_try_fn fn, void *ctx, aenl_err_t *err);
 
 #endif /* AENL_TOOLS_PARALLEL_H */

@@ -8,6 +8,7 @@
 #include "aenl_tools/aenl_parallel.h"
 
 #include <pthread.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 static unsigned g_jobs; /* 0: the processors online */
@@ -104,4 +105,47 @@ void aenl_parallel_for(size_t n, aenl_task_fn fn, void *ctx)
         (void)pthread_join(th[k], NULL);
     }
     (void)pthread_mutex_destroy(&p.mu);
+}
+
+typedef struct
+{
+    aenl_task_try_fn fn;
+    void *ctx;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} try_t;
+
+static void try_task(void *ctx, size_t i)
+{
+    const try_t *t = (const try_t *)ctx;
+    aenl_err_clear(&t->err[i]);
+    t->st[i] = t->fn(t->ctx, i, &t->err[i]);
+}
+
+aenl_status_t aenl_parallel_try(size_t n, aenl_task_try_fn fn, void *ctx, aenl_err_t *err)
+{
+    const size_t n1 = n > 0u ? n : 1u;
+    try_t t = {fn, ctx, (aenl_status_t *)calloc(n1, sizeof(aenl_status_t)),
+               (aenl_err_t *)calloc(n1, sizeof(aenl_err_t))};
+    aenl_status_t out = AENL_OK;
+    if (t.st == NULL || t.err == NULL)
+    {
+        aenl_err_set(err, "out of memory (tasks)");
+        out = AENL_E_DIM;
+    }
+    else
+    {
+        aenl_parallel_for(n, try_task, &t);
+    }
+    for (size_t i = 0; i < n && out == AENL_OK; ++i)
+    {
+        if (t.st[i] != AENL_OK)
+        {
+            aenl_err_set(err, "%s", t.err[i].msg);
+            out = t.st[i];
+        }
+    }
+    free(t.st);
+    free(t.err);
+    return out;
 }

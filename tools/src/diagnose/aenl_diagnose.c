@@ -397,51 +397,36 @@ typedef struct
     const aenl_sim_model_t *m;
     aenl_diagnose_sig_t *s;
     unsigned *sims;
-    aenl_status_t *st;
-    aenl_err_t *err;
 } rep_job_t;
 
-static void rep_task(void *ctx, size_t i)
+static aenl_status_t rep_task(void *ctx, size_t i, aenl_err_t *err)
 {
     const rep_job_t *j = (const rep_job_t *)ctx;
     ctx_t x = *j->x;
     x.n_sims = 0;
-    aenl_err_clear(&j->err[i]);
-    j->st[i] =
-        sim_sig(&x, j->m, (unsigned)i + 1u, j->s + (i + 1u) * x.n_ch, NULL, NULL, &j->err[i]);
+    const aenl_status_t st =
+        sim_sig(&x, j->m, (unsigned)i + 1u, j->s + (i + 1u) * x.n_ch, NULL, NULL, err);
     j->sims[i] = x.n_sims;
+    return st;
 }
 
 static aenl_status_t replicate_sigs(ctx_t *x, const aenl_sim_model_t *m, unsigned n_rep,
                                     aenl_diagnose_sig_t *s, aenl_err_t *err)
 {
     unsigned *sims = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*sims));
-    aenl_status_t *st = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*st));
-    aenl_err_t *errs = calloc(n_rep > 0u ? n_rep : 1u, sizeof(*errs));
-    aenl_status_t out = AENL_OK;
-    if (sims == NULL || st == NULL || errs == NULL)
+    if (sims == NULL)
     {
         aenl_err_set(err, "out of memory (replicates)");
-        out = AENL_E_DIM;
+        return AENL_E_DIM;
     }
-    else
-    {
-        rep_job_t job = {x, m, s, sims, st, errs};
-        aenl_parallel_for(n_rep, rep_task, &job);
-    }
-    for (unsigned r = 0; r < n_rep && out == AENL_OK; ++r)
+    rep_job_t job = {x, m, s, sims};
+    const aenl_status_t st = aenl_parallel_try(n_rep, rep_task, &job, err);
+    for (unsigned r = 0; r < n_rep; ++r)
     {
         x->n_sims += sims[r];
-        out = st[r];
-        if (out != AENL_OK)
-        {
-            aenl_err_set(err, "%s", errs[r].msg);
-        }
     }
     free(sims);
-    free(st);
-    free(errs);
-    return out;
+    return st;
 }
 
 static aenl_status_t floor_of(ctx_t *x, const aenl_sim_model_t *m,
@@ -1099,8 +1084,6 @@ typedef struct
     double th[AENL_DIAGNOSE_MAX_PAR];
     double j;
     unsigned sims;
-    aenl_status_t st;
-    aenl_err_t err;
 } grid_task_t;
 
 typedef struct
@@ -1111,23 +1094,22 @@ typedef struct
     grid_task_t *task;
 } grid_job_t;
 
-static void grid_task(void *ctx, size_t i)
+static aenl_status_t grid_task(void *ctx, size_t i, aenl_err_t *err)
 {
     const grid_job_t *g = (const grid_job_t *)ctx;
     grid_task_t *t = &g->task[i];
     ctx_t x = *g->x;
     x.n_sims = 0;
-    aenl_err_clear(&t->err);
     aenl_diagnose_sig_t *sig = malloc(x.n_ch * sizeof(*sig));
     if (sig == NULL)
     {
-        aenl_err_set(&t->err, "out of memory (signatures)");
-        t->st = AENL_E_DIM;
-        return;
+        aenl_err_set(err, "out of memory (signatures)");
+        return AENL_E_DIM;
     }
-    t->st = gap2_of(&x, g->base, &g->sp[t->k], t->th, sig, &t->j, &t->err);
+    const aenl_status_t st = gap2_of(&x, g->base, &g->sp[t->k], t->th, sig, &t->j, err);
     t->sims = x.n_sims;
     free(sig);
+    return st;
 }
 
 /* Stage 1: the coarse grid of every candidate, all its points at once. */
@@ -1158,31 +1140,19 @@ static aenl_status_t run_grid(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp
         }
     }
     grid_job_t job = {x, base, sp, task};
-    aenl_parallel_for(n_task, grid_task, &job);
-    aenl_status_t st = AENL_OK;
+    const aenl_status_t st = aenl_parallel_try(n_task, grid_task, &job, err);
     for (size_t k = 0, i = 0; k < n_sp && st == AENL_OK; ++k)
     {
         sp[k].best = HUGE_VAL;
         memcpy(sp[k].theta, g[k][0], sizeof(g[k][0]));
-        for (size_t q = 0; q < ng[k] && st == AENL_OK; ++q, ++i)
+        for (size_t q = 0; q < ng[k]; ++q, ++i)
         {
             x->n_sims += task[i].sims;
-            st = task[i].st;
-            if (st == AENL_OK)
-            {
-                note_eval(&sp[k], task[i].th, task[i].j);
-            }
-            else
-            {
-                aenl_err_set(err, "%s", task[i].err.msg);
-            }
+            note_eval(&sp[k], task[i].th, task[i].j);
         }
-        if (st == AENL_OK)
-        {
-            progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
-                     aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
-            advance(x);
-        }
+        progress(x, "grid %s %s: gap %.4g", aenl_diagnose_effect_name(sp[k].effect),
+                 aenl_diagnose_dof_name(sp[k].dof), sqrt(sp[k].best));
+        advance(x);
     }
     free(task);
     return st;
@@ -1198,31 +1168,27 @@ typedef struct
     const size_t *order;
     unsigned max_evals;
     unsigned *sims;
-    aenl_status_t *st;
-    aenl_err_t *err;
 } refine_job_t;
 
-static void refine_task(void *ctx, size_t i)
+static aenl_status_t refine_task(void *ctx, size_t i, aenl_err_t *err)
 {
     const refine_job_t *r = (const refine_job_t *)ctx;
     ctx_t x = *r->x;
     x.n_sims = 0;
-    aenl_err_clear(&r->err[i]);
     aenl_diagnose_sig_t *sig = malloc(x.n_ch * sizeof(*sig));
     if (sig == NULL)
     {
-        aenl_err_set(&r->err[i], "out of memory (signatures)");
-        r->st[i] = AENL_E_DIM;
-        return;
+        aenl_err_set(err, "out of memory (signatures)");
+        return AENL_E_DIM;
     }
     spec_t *s = &r->sp[r->order[i]];
-    obj_t o = {&x, r->base, s, sig, &r->err[i], AENL_OK};
+    obj_t o = {&x, r->base, s, sig, err, AENL_OK};
     double step[AENL_DIAGNOSE_MAX_PAR] = {0.0};
     spec_step(s, step);
     nelder_mead(&o, step, r->max_evals);
-    r->st[i] = o.st;
     r->sims[i] = x.n_sims;
     free(sig);
+    return o.st;
 }
 
 static aenl_status_t refine_all(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp,
@@ -1230,24 +1196,17 @@ static aenl_status_t refine_all(ctx_t *x, const aenl_sim_model_t *base, spec_t *
                                 aenl_err_t *err)
 {
     unsigned sims[AENL_DIAGNOSE_MAX_CAND] = {0};
-    aenl_status_t sts[AENL_DIAGNOSE_MAX_CAND];
-    aenl_err_t errs[AENL_DIAGNOSE_MAX_CAND];
-    refine_job_t job = {x, base, sp, order, max_evals, sims, sts, errs};
-    aenl_parallel_for(n, refine_task, &job);
-    for (size_t i = 0; i < n; ++i)
+    refine_job_t job = {x, base, sp, order, max_evals, sims};
+    const aenl_status_t st = aenl_parallel_try(n, refine_task, &job, err);
+    for (size_t i = 0; i < n && st == AENL_OK; ++i)
     {
         x->n_sims += sims[i];
-        if (sts[i] != AENL_OK)
-        {
-            aenl_err_set(err, "%s", errs[i].msg);
-            return sts[i];
-        }
         const spec_t *s = &sp[order[i]];
         progress(x, fmt, aenl_diagnose_effect_name(s->effect), aenl_diagnose_dof_name(s->dof),
                  sqrt(s->best));
         advance(x);
     }
-    return AENL_OK;
+    return st;
 }
 
 static aenl_status_t run_candidates(ctx_t *x, const aenl_sim_model_t *base, spec_t *sp, size_t n_sp,
@@ -1810,33 +1769,29 @@ typedef struct
     const aenl_diagnose_cand_t *cand;
     floor_t *fl;
     unsigned *sims;
-    aenl_status_t *st;
-    aenl_err_t *err;
 } floor_job_t;
 
-static void floor_task(void *ctx, size_t i)
+static aenl_status_t floor_task(void *ctx, size_t i, aenl_err_t *err)
 {
     const floor_job_t *j = (const floor_job_t *)ctx;
     ctx_t x = j->d->x;
     x.n_sims = 0;
-    aenl_err_clear(&j->err[i]);
     aenl_sim_model_t m = *j->d->base;
     m.law[j->cand[i].dof] = j->cand[i].law;
     aenl_diagnose_sig_t *ms = malloc(x.n_ch * sizeof(*ms));
     if (ms == NULL)
     {
-        aenl_err_set(&j->err[i], "out of memory (signatures)");
-        j->st[i] = AENL_E_DIM;
-        return;
+        aenl_err_set(err, "out of memory (signatures)");
+        return AENL_E_DIM;
     }
-    aenl_status_t st = sim_sig(&x, &m, 0, ms, NULL, NULL, &j->err[i]);
+    aenl_status_t st = sim_sig(&x, &m, 0, ms, NULL, NULL, err);
     if (st == AENL_OK)
     {
-        st = floor_of(&x, &m, ms, j->d->opts->n_replicates, &j->fl[i], NULL, &j->err[i]);
+        st = floor_of(&x, &m, ms, j->d->opts->n_replicates, &j->fl[i], NULL, err);
     }
     free(ms);
-    j->st[i] = st;
     j->sims[i] = x.n_sims;
+    return st;
 }
 
 /* The result's candidates, best gap first, and the floors of the best N_FLOOR_CAND: the
@@ -1866,18 +1821,11 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
     }
     const size_t n_con = d->n_sp < N_FLOOR_CAND ? d->n_sp : N_FLOOR_CAND;
     unsigned sims[N_FLOOR_CAND] = {0};
-    aenl_status_t sts[N_FLOOR_CAND];
-    aenl_err_t errs[N_FLOOR_CAND];
-    floor_job_t job = {d, r->cand, d->fl_cand, sims, sts, errs};
-    aenl_parallel_for(n_con, floor_task, &job);
-    for (size_t i = 0; i < d->n_sp && i < N_FLOOR_CAND; ++i)
+    floor_job_t job = {d, r->cand, d->fl_cand, sims};
+    const aenl_status_t st = aenl_parallel_try(n_con, floor_task, &job, err);
+    for (size_t i = 0; i < d->n_sp && i < N_FLOOR_CAND && st == AENL_OK; ++i)
     {
         d->x.n_sims += sims[i];
-        if (sts[i] != AENL_OK)
-        {
-            aenl_err_set(err, "%s", errs[i].msg);
-            return sts[i];
-        }
         aenl_diagnose_cand_t *cd = &r->cand[i];
         cd->floor = d->fl_cand[i].ch[d->x.n_ch];
         cd->bounded = d->fl_cand[i].bounded;
@@ -1886,7 +1834,7 @@ static aenl_status_t rank_candidates(diag_t *d, aenl_err_t *err)
         pool_rv(&d->fl_cand[i], d->rv, d->n_rv);
         advance(&d->x);
     }
-    return AENL_OK;
+    return st;
 }
 
 /* The scale of the floor the record follows. The replicates differ in their excitation

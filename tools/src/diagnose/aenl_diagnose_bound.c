@@ -177,17 +177,13 @@ typedef struct
     const double *noise_sd;
     double *s;
     size_t *d;
-    aenl_status_t *st;
-    aenl_err_t *err;
 } batch_t;
 
-static void batch_task(void *ctx, size_t q)
+static aenl_status_t batch_task(void *ctx, size_t q, aenl_err_t *err)
 {
     const batch_t *b = (const batch_t *)ctx;
-    aenl_err_clear(&b->err[q]);
     b->d[q] = 0;
-    b->st[q] =
-        summaries(b->model[q], &b->run[q], b->noise_sd, b->s + q * N_SUM, &b->d[q], &b->err[q]);
+    return summaries(b->model[q], &b->run[q], b->noise_sd, b->s + q * N_SUM, &b->d[q], err);
 }
 
 static aenl_status_t summaries_batch(const aenl_sim_model_t *const *model,
@@ -197,35 +193,24 @@ static aenl_status_t summaries_batch(const aenl_sim_model_t *const *model,
     const size_t n1 = n > 0u ? n : 1u;
     double *sq = calloc(n1 * N_SUM, sizeof(double));
     size_t *dq = calloc(n1, sizeof(*dq));
-    aenl_status_t *st = calloc(n1, sizeof(*st));
-    aenl_err_t *errs = calloc(n1, sizeof(*errs));
-    aenl_status_t out = AENL_OK;
-    if (sq == NULL || dq == NULL || st == NULL || errs == NULL)
+    aenl_status_t st = AENL_E_DIM;
+    if (sq == NULL || dq == NULL)
     {
         aenl_err_set(err, "out of memory (summaries)");
-        out = AENL_E_DIM;
     }
     else
     {
-        batch_t b = {model, run, noise_sd, sq, dq, st, errs};
-        aenl_parallel_for(n, batch_task, &b);
+        batch_t b = {model, run, noise_sd, sq, dq};
+        st = aenl_parallel_try(n, batch_task, &b, err);
     }
-    for (size_t q = 0; q < n && out == AENL_OK; ++q)
+    for (size_t q = 0; q < n && st == AENL_OK; ++q)
     {
-        out = st[q];
-        if (out != AENL_OK)
-        {
-            aenl_err_set(err, "%s", errs[q].msg);
-            break;
-        }
         *d = dq[q];
         memcpy(s + q * N_SUM, sq + q * N_SUM, N_SUM * sizeof(double));
     }
     free(sq);
     free(dq);
-    free(st);
-    free(errs);
-    return out;
+    return st;
 }
 
 /* The summaries of `model` under the runs of replicates 0..n-1 into s + q N_SUM (a batch). */

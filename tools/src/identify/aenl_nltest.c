@@ -1317,6 +1317,25 @@ static aenl_status_t fit_linear(const double *ys, size_t n, size_t m, size_t nx,
     return st;
 }
 
+/* The candidate orders' fits at once: order cand[c] into em[c], its status and cause. */
+typedef struct
+{
+    const double *ys, *in;
+    size_t n, m, n_in, iters;
+    const size_t *cand;
+    aenl_em_result_t *em;
+    aenl_status_t *st;
+    aenl_err_t *err;
+} order_job_t;
+
+static void order_task(void *ctx, size_t c)
+{
+    const order_job_t *o = (const order_job_t *)ctx;
+    aenl_err_clear(&o->err[c]);
+    o->st[c] =
+        fit_linear(o->ys, o->n, o->m, o->cand[c], o->iters, o->in, o->n_in, &o->em[c], &o->err[c]);
+}
+
 /* The order by the Bayesian information criterion over the candidates: -2 log-likelihood plus
  * ln(samples) per parameter the data can tell apart. A state-space model is known only up to a
  * change of state basis, so its identifiable parameters are those of the innovations form in a
@@ -1327,33 +1346,36 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
                                       size_t n_cand, size_t iters, const double *in, size_t n_in,
                                       aenl_em_result_t *best, aenl_err_t *err)
 {
+    aenl_em_result_t em[3];
+    aenl_status_t sts[3];
+    aenl_err_t errs[3];
+    memset(em, 0, sizeof(em));
+    order_job_t job = {ys, in, n, m, n_in, iters, cand, em, sts, errs};
+    aenl_parallel_for(n_cand, order_task, &job);
     double bic_best = INFINITY;
     aenl_status_t st_last = AENL_E_NUMERIC;
     memset(best, 0, sizeof(*best));
     for (size_t c = 0; c < n_cand; ++c)
     {
-        aenl_em_result_t em;
-        aenl_err_t e2;
-        aenl_err_clear(&e2);
-        st_last = fit_linear(ys, n, m, cand[c], iters, in, n_in, &em, &e2);
+        st_last = sts[c];
         if (st_last != AENL_OK)
         {
-            aenl_err_set(err, "%s", e2.msg);
+            aenl_err_set(err, "%s", errs[c].msg);
             continue;
         }
         const double nx = (double)cand[c];
         const double dm = (double)m;
         const double k = 2.0 * nx * dm + 0.5 * dm * (dm + 1.0) + dm + nx * (double)n_in;
-        const double bic = -2.0 * em.loglik_final + k * log((double)n);
+        const double bic = -2.0 * em[c].loglik_final + k * log((double)n);
         if (bic < bic_best)
         {
             aenl_em_result_free(best);
-            *best = em;
+            *best = em[c];
             bic_best = bic;
         }
         else
         {
-            aenl_em_result_free(&em);
+            aenl_em_result_free(&em[c]);
         }
     }
     if (isfinite(bic_best))
@@ -1783,29 +1805,27 @@ typedef struct
     aenl_nlt_result_t *res;
     int stats_only;
     double pmin[AENL_NLT_MAX_CH];
-    aenl_status_t st[AENL_NLT_MAX_CH];
-    aenl_err_t err[AENL_NLT_MAX_CH];
 } chan_job_t;
 
-static void channel_task(void *ctx, size_t j)
+static aenl_status_t channel_task(void *ctx, size_t j, aenl_err_t *err)
 {
     chan_job_t *c = (chan_job_t *)ctx;
     run_t r = *c->rn;
-    aenl_err_clear(&c->err[j]);
     c->pmin[j] = 1.0;
+    aenl_status_t st = AENL_E_DIM;
     if (alloc_series(&r) != 0)
     {
-        aenl_err_set(&c->err[j], "out of memory");
-        c->st[j] = AENL_E_DIM;
+        aenl_err_set(err, "out of memory");
     }
     else
     {
         channel_series(&r, j);
-        c->st[j] = test_channel(&r, j, c->stats_only, c->res, &c->pmin[j], &c->err[j]);
+        st = test_channel(&r, j, c->stats_only, c->res, &c->pmin[j], err);
         memcpy(c->rn->crit[j], r.crit[j], sizeof(r.crit[j]));
         c->rn->compared[j] = r.compared[j];
     }
     free_series(&r);
+    return st;
 }
 
 /* Both stages of every channel (test_channel); *pmin receives the smallest stage-1 p-value. The
@@ -1813,27 +1833,16 @@ static void channel_task(void *ctx, size_t j)
 static aenl_status_t test_channels(run_t *rn, int stats_only, aenl_nlt_result_t *res, double *pmin,
                                    aenl_err_t *err)
 {
-    chan_job_t *c = (chan_job_t *)calloc(1, sizeof(*c));
-    if (c == NULL)
-    {
-        aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
-    }
-    c->rn = rn;
-    c->res = res;
-    c->stats_only = stats_only;
-    aenl_parallel_for(rn->nz, channel_task, c);
-    aenl_status_t st = AENL_OK;
+    chan_job_t c;
+    memset(&c, 0, sizeof(c));
+    c.rn = rn;
+    c.res = res;
+    c.stats_only = stats_only;
+    const aenl_status_t st = aenl_parallel_try(rn->nz, channel_task, &c, err);
     for (size_t j = 0; j < rn->nz && st == AENL_OK; ++j)
     {
-        st = c->st[j];
-        *pmin = fmin(*pmin, c->pmin[j]);
-        if (st != AENL_OK)
-        {
-            aenl_err_set(err, "%s", c->err[j].msg);
-        }
+        *pmin = fmin(*pmin, c.pmin[j]);
     }
-    free(c);
     return st;
 }
 
