@@ -35,6 +35,7 @@
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_identify.h"
+#include "aenl_tools/aenl_parallel.h"
 
 static const char *const k_cmd = "bench identify";
 
@@ -114,7 +115,7 @@ static void usage(void)
 {
     printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
            "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
-           "                           [--unknown-gusts] [--method moments|test]\n\n"
+           "                           [--unknown-gusts] [--method moments|test] [--jobs N]\n\n"
            "The identification evaluation suite: N cases (default 240: every stratum\n"
            "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
            "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
@@ -133,7 +134,8 @@ static void usage(void)
            "--unknown-gusts gives it another, as for gusts nobody measured (a real record).\n"
            "--method test identifies each record with `identify --method test` (the likelihood-\n"
            "based test on the record alone) instead; its undetermined verdicts are the 'undet'\n"
-           "column, and its cost per value (samples x channels) is printed.\n",
+           "column, and its cost per value (samples x channels) is printed, on the threads it ran\n"
+           "on (--jobs N, default one per processor; --jobs 1 for the one-core figure).\n",
            AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
@@ -200,6 +202,16 @@ static int parse_args(int argc, char **argv, args_t *a)
             {
                 return -1;
             }
+        }
+        else if (strcmp(s, "--jobs") == 0)
+        {
+            const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
+            long jobs = 0;
+            if (v == NULL || aenl_cli_parse_long(k_cmd, s, v, 1, AENL_MAX_JOBS, &jobs) != 0)
+            {
+                return -1;
+            }
+            aenl_set_jobs((unsigned)jobs);
         }
         else if (strcmp(s, "--rows") == 0)
         {
@@ -1152,9 +1164,10 @@ int aenl_bench_identify(int argc, char **argv)
     if (a.method_test)
     {
         printf("identify --method test: %.3g s per million values (samples x channels), %.3g s "
-               "for a 20 000-sample 3-channel record at that rate (one core)\n",
+               "for a 20 000-sample 3-channel record at that rate (%u thread%s)\n",
                a.samples > 0 ? t.t_id / (double)a.samples * 1e6 : 0.0,
-               a.samples > 0 ? t.t_id / (double)a.samples * 60000.0 : 0.0);
+               a.samples > 0 ? t.t_id / (double)a.samples * 60000.0 : 0.0, aenl_jobs(),
+               aenl_jobs() == 1u ? "" : "s");
         printf("\nwall time %.1f s\n", wall);
         for (unsigned l = 0; l < N_SNR; ++l)
         {
