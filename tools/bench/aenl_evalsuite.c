@@ -1079,7 +1079,7 @@ static aenl_status_t quantiles(const double *y, size_t n, double *q01, double *q
         return AENL_E_IO;
     }
     memcpy(s, y, n * sizeof(double));
-    qsort(s, n, sizeof(double), aenl_cmp_double);
+    aenl_sort_doubles(s, n);
     *q01 = s[(size_t)(0.01 * (double)(n - 1))];
     *q99 = s[(size_t)(0.99 * (double)(n - 1))];
     free(s);
@@ -1107,7 +1107,7 @@ static double release_decay(const aenl_eval_case_t *c, const double *x)
     {
         return 1.0;
     }
-    qsort(r, m, sizeof(double), aenl_cmp_double);
+    aenl_sort_doubles(r, m);
     return r[m / 2];
 }
 

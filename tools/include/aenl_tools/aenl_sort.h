@@ -2,7 +2,8 @@
 /**
  * @file aenl_sort.h
  * @brief Host helpers on sorted samples: the qsort comparator of doubles and the interpolated
- *        quantile, shared by the bandwidth, curves, diagnose and evaluation-suite modules.
+ *        quantile and an in-place sort of doubles, shared by the bandwidth, curves, diagnose and
+ * evaluation-suite modules.
  */
 #ifndef AENL_TOOLS_SORT_H
 #define AENL_TOOLS_SORT_H
@@ -11,6 +12,14 @@
 
 /** qsort comparator of doubles, ascending (no NaN expected). */
 int aenl_cmp_double(const void *a, const void *b);
+
+/**
+ * @brief Sorts v[0..n-1] ascending in place (no NaN expected): the order qsort with
+ *        aenl_cmp_double gives, several times faster (no comparison through a function pointer;
+ *        introsort: quicksort on the median of three, insertion sort for short runs, heapsort
+ *        when the partitions degrade, so O(n log n) at worst).
+ */
+void aenl_sort_doubles(double *v, size_t n);
 
 /**
  * @brief Quantile p in [0, 1] of sorted s[0..n-1] (n >= 1) by linear interpolation between the

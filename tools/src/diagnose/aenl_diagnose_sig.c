@@ -371,7 +371,7 @@ aenl_status_t aenl_diagnose_chan_setup(const double *x, size_t n, aenl_diagnose_
         ym += s[i];
     }
     c->mean = ym / (double)m;
-    qsort(s, m, sizeof(double), aenl_cmp_double);
+    aenl_sort_doubles(s, m);
     c->x_min = aenl_quantile_sorted(s, m, 0.01);
     c->x_max = aenl_quantile_sorted(s, m, 0.99);
     free(y);
@@ -499,7 +499,7 @@ aenl_status_t aenl_diagnose_signature(const double *x, size_t n, const aenl_diag
         else
         {
             memcpy(sorted, ys, m * sizeof(double));
-            qsort(sorted, m, sizeof(double), aenl_cmp_double);
+            aenl_sort_doubles(sorted, m);
             for (size_t q = 0; q < AENL_DIAGNOSE_N_QUANT; ++q)
             {
                 s->quant[q] = aenl_quantile_sorted(sorted, m, aenl_diagnose_quant_p[q]);

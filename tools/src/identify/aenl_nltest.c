@@ -21,6 +21,7 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_rng.h"
+#include "aenl_tools/aenl_sort.h"
 #include "aenl_tools/aenl_stats.h"
 #include "aenl_nlt_internal.h"
 
@@ -242,13 +243,6 @@ static void profile_pairs(const resid_t *r, const double *knots, size_t nk, cons
     free(tab);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a;
-    const double y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* The symmetric knot set: the coarse quantiles of u and their negatives, sorted, duplicates
  * (closer than 1e-9 of the range) merged; knots[i] = -knots[nk-1-i]. */
 static size_t symmetric_knots(const double *q, size_t nq, double *knots)
@@ -263,7 +257,7 @@ static size_t symmetric_knots(const double *q, size_t nq, double *knots)
     {
         knots[n++] = fabs(q[i]);
     }
-    qsort(knots, n, sizeof(double), cmp_double);
+    aenl_sort_doubles(knots, n);
     size_t m = 0;
     for (size_t i = 0; i < n; ++i)
     {
@@ -675,7 +669,7 @@ static aenl_status_t coarse_grid(const run_t *rn, double *q, double *knots, size
         return AENL_E_DIM;
     }
     memcpy(sorted, rn->lin, n * sizeof(double));
-    qsort(sorted, n, sizeof(double), cmp_double);
+    aenl_sort_doubles(sorted, n);
     /* Evenly over the range of motion (its 0.5 % and 99.5 % quantiles): a switching point may be
      * anywhere the motion goes, and a free decay spends most of its samples near rest. */
     const double q_lo = sorted[(size_t)(0.005 * (double)(n - 1u))];
@@ -770,7 +764,7 @@ static size_t fine_grid(const double *knots, size_t nk, const double *centres, c
             fine[nf++] = -v;
         }
     }
-    qsort(fine, nf, sizeof(double), cmp_double);
+    aenl_sort_doubles(fine, nf);
     size_t nfu = 0;
     for (size_t i = 0; i < nf; ++i)
     {

@@ -630,7 +630,7 @@ static aenl_status_t finite_sorted(const double *x, size_t n, double **out, size
         }
         return AENL_E_ARG;
     }
-    qsort(v, m, sizeof *v, aenl_cmp_double);
+    aenl_sort_doubles(v, m);
     if (!(v[m - 1] > v[0]))
     {
         double c = v[0];
@@ -721,7 +721,7 @@ static double median_spacing(const double *v, size_t n, aenl_err_t *err, int *oo
     {
         d[i] = v[i + 1] - v[i];
     }
-    qsort(d, n - 1, sizeof *d, aenl_cmp_double);
+    aenl_sort_doubles(d, n - 1);
     med = d[(n - 1) / 2];
     free(d);
     return med;

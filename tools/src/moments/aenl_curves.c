@@ -360,7 +360,7 @@ static aenl_status_t signal_range(const double *x, size_t n, const aenl_curves_o
             sorted[j++] = x[i];
         }
     }
-    qsort(sorted, n_fin, sizeof(double), aenl_cmp_double);
+    aenl_sort_doubles(sorted, n_fin);
     rg->n_fin = n_fin;
     rg->lo_all = sorted[0];
     rg->hi_all = sorted[n_fin - 1u];
