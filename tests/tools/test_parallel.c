@@ -2,9 +2,9 @@
 /**
  * @file test_parallel.c
  * @brief aenl_parallel_for: every index exactly once at any thread count, a loop inside a task
- *        on that task's thread, the thread-count setting; and the diagnosis, whose simulations it
- *        and the record-alone test run at once, giving the same answer on one thread and on
- *        several.
+ *        on that task's thread, the thread-count setting; aenl_parallel_try's first failure; and
+ * the diagnosis, whose simulations it and the record-alone test run at once, giving the same answer
+ * on one thread and on several.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -134,6 +134,59 @@ static void test_nested_loop_stays_on_its_thread(void)
     }
 }
 
+/* Tasks 2 and 5 of 10 fail, each with its own cause; task i records that it ran. */
+typedef struct
+{
+    int ran[10];
+} fails_t;
+
+static aenl_status_t failing(void *ctx, size_t i, aenl_err_t *err)
+{
+    fails_t *f = (fails_t *)ctx;
+    f->ran[i] = 1;
+    if (i == 2u || i == 5u)
+    {
+        aenl_err_set(err, "task %zu failed", i);
+        return i == 2u ? AENL_E_NUMERIC : AENL_E_DIM;
+    }
+    return AENL_OK;
+}
+
+static aenl_status_t fine(void *ctx, size_t i, aenl_err_t *err)
+{
+    (void)err;
+    ((fails_t *)ctx)->ran[i] = 1;
+    return AENL_OK;
+}
+
+/* The first failure in index order is the outcome, with its cause, on any thread count; every
+ * task before it ran. */
+static void test_try_reports_first_failure(void)
+{
+    static const unsigned jobs[] = {1u, 4u};
+    for (size_t a = 0; a < 2u; ++a)
+    {
+        aenl_set_jobs(jobs[a]);
+        fails_t f;
+        memset(&f, 0, sizeof(f));
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        TEST_ASSERT_EQUAL_INT(AENL_E_NUMERIC, aenl_parallel_try(10, failing, &f, &err));
+        TEST_ASSERT_EQUAL_STRING("task 2 failed", err.msg);
+        TEST_ASSERT_EQUAL_INT(1, f.ran[0]);
+        TEST_ASSERT_EQUAL_INT(1, f.ran[1]);
+        TEST_ASSERT_EQUAL_INT(1, f.ran[2]);
+        memset(&f, 0, sizeof(f));
+        aenl_err_clear(&err);
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_parallel_try(10, fine, &f, &err));
+        TEST_ASSERT_EQUAL_STRING("", err.msg);
+        for (size_t i = 0; i < 10u; ++i)
+        {
+            TEST_ASSERT_EQUAL_INT(1, f.ran[i]);
+        }
+    }
+}
+
 static void test_jobs_setting(void)
 {
     const long online = sysconf(_SC_NPROCESSORS_ONLN);
@@ -246,6 +299,7 @@ int main(void)
     RUN_TEST(test_every_index_once);
     RUN_TEST(test_work_is_shared);
     RUN_TEST(test_nested_loop_stays_on_its_thread);
+    RUN_TEST(test_try_reports_first_failure);
     RUN_TEST(test_jobs_setting);
     RUN_TEST(test_diagnosis_same_on_any_thread_count);
     RUN_TEST(test_nltest_same_on_any_thread_count);

@@ -113,30 +113,31 @@ typedef struct args
 
 static void usage(void)
 {
-    printf("usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
-           "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
-           "                           [--unknown-gusts] [--method moments|test] [--jobs N]\n\n"
-           "The identification evaluation suite: N cases (default 240: every stratum\n"
-           "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
-           "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
-           "the suite's designs with naive fixed-step RK4 (%d steps a sample, no event location,\n"
-           "hysteresis without sticking) and --dryden drives the turbulence records with the\n"
-           "Dryden gust spectrum: records from another simulator. --write DIR saves every\n"
-           "case's INI (rerun with `aenl simulate`, plus --rk4 dt/%d for --rk4), the CSV of\n"
-           "every miss and results.tsv; --verbose prints one line per case. --regime R (decay,\n"
-           "lco, turbulence) runs only those cases, --from K only the cases K..N-1, --rows N each\n"
-           "record's first N rows (>= 512).\n"
-           "--model adds the model-based test of `identify --model` (a diagnosis against the\n"
-           "case's model with its law made linear, under the case's conditions: its initial\n"
-           "state, turbulence or kick train); the record alone's verdicts on the same cases are\n"
-           "printed beside. It takes seconds to minutes a case. The test is given the case's\n"
-           "turbulence seed, as for gusts that were measured or a record simulated from the INI;\n"
-           "--unknown-gusts gives it another, as for gusts nobody measured (a real record).\n"
-           "--method test identifies each record with `identify --method test` (the likelihood-\n"
-           "based test on the record alone) instead; its undetermined verdicts are the 'undet'\n"
-           "column, and its cost per value (samples x channels) is printed, on the threads it ran\n"
-           "on (--jobs N, default one per processor; --jobs 1 for the one-core figure).\n",
-           AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
+    printf(
+        "usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
+        "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
+        "                           [--unknown-gusts] [--method moments|test] [--jobs N]\n\n"
+        "The identification evaluation suite: N cases (default 240: every stratum\n"
+        "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
+        "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
+        "the suite's designs with naive fixed-step RK4 (%d steps a sample, no event location,\n"
+        "hysteresis without sticking) and --dryden drives the turbulence records with the\n"
+        "Dryden gust spectrum: records from another simulator. --write DIR saves every\n"
+        "case's INI (rerun with `aenl simulate`, plus --rk4 dt/%d for --rk4), the CSV of\n"
+        "every miss and results.tsv; --verbose prints one line per case. --regime R (decay,\n"
+        "lco, turbulence) runs only those cases, --from K only the cases K..N-1, --rows N each\n"
+        "record's first N rows (>= 512).\n"
+        "--model adds the model-based test of `identify --model` (a diagnosis against the\n"
+        "case's model with its law made linear, under the case's conditions: its initial\n"
+        "state, turbulence or kick train); the record alone's verdicts on the same cases are\n"
+        "printed beside. It takes seconds to minutes a case. The test is given the case's\n"
+        "turbulence seed, as for gusts that were measured or a record simulated from the INI;\n"
+        "--unknown-gusts gives it another, as for gusts nobody measured (a real record).\n"
+        "--method test identifies each record with `identify --method test` (the likelihood-\n"
+        "based test on the record alone) instead; its undetermined verdicts are the 'undet'\n"
+        "column, and its cost per value (samples x channels) is printed with the thread setting\n"
+        "(--jobs N, 1..64, default one per processor; --jobs 1 for the one-core figure).\n",
+        AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
 static int parse_args(int argc, char **argv, args_t *a)
@@ -1164,10 +1165,9 @@ int aenl_bench_identify(int argc, char **argv)
     if (a.method_test)
     {
         printf("identify --method test: %.3g s per million values (samples x channels), %.3g s "
-               "for a 20 000-sample 3-channel record at that rate (%u thread%s)\n",
+               "for a 20 000-sample 3-channel record at that rate (--jobs %u)\n",
                a.samples > 0 ? t.t_id / (double)a.samples * 1e6 : 0.0,
-               a.samples > 0 ? t.t_id / (double)a.samples * 60000.0 : 0.0, aenl_jobs(),
-               aenl_jobs() == 1u ? "" : "s");
+               a.samples > 0 ? t.t_id / (double)a.samples * 60000.0 : 0.0, aenl_jobs());
         printf("\nwall time %.1f s\n", wall);
         for (unsigned l = 0; l < N_SNR; ++l)
         {

@@ -96,9 +96,10 @@ static void help(void)
            "                misfit, the record's own verdict stands. The record is then held in\n"
            "                memory, and the test runs a few hundred simulations of it (seconds\n"
            "                to minutes)\n"
-           "--jobs N        (either method) threads for the work that can run at once: the\n"
-           "                test's channels and controls, --model's simulations (default: the\n"
-           "                processors online); the answer is the same for any N\n");
+           "--jobs N        (either method) threads, 1..64, for the work that can run at once:\n"
+           "                the test's candidate orders, channels and controls, --model's\n"
+           "                simulations (default: the processors online); the answer is the\n"
+           "                same for any N\n");
 }
 
 /* ---- the record, checked on its way to the pipeline ------------------------------------------ */

@@ -14,7 +14,7 @@
 #include "aenl/aenl_types.h"
 #include "aenl_tools/aenl_io.h"
 
-/** The largest number of threads aenl_parallel_for starts. */
+/** The largest number of threads a parallel loop runs on. */
 #define AENL_MAX_JOBS 64u
 
 /** A task: the work of index i, given the caller's context. */
@@ -36,8 +36,8 @@ unsigned aenl_jobs(void);
  *        caller's among them), and returns when all are done. Tasks are taken in ascending
  *        order. fn must write only what belongs to its i (results are reduced by the caller
  *        afterwards, in index order), so that the outcome does not depend on the threads. A loop
- *        inside a task runs on that task's thread; a thread that cannot be started leaves its
- *        share to the others.
+ *        inside a task of a loop that runs on several threads stays on that task's thread; a
+ *        thread that cannot be started leaves its share to the others.
  */
 void aenl_parallel_for(size_t n, aenl_task_fn fn, void *ctx);
 
@@ -45,10 +45,11 @@ void aenl_parallel_for(size_t n, aenl_task_fn fn, void *ctx);
 typedef aenl_status_t (*aenl_task_try_fn)(void *ctx, size_t i, aenl_err_t *err);
 
 /**
- * @brief As aenl_parallel_for, for tasks that can fail: every task runs, each with its own
- *        error, and the status is that of the first task in index order that failed (its cause
- *        into err), as a loop that stopped there would give; AENL_OK when none did. AENL_E_DIM
- *        when the bookkeeping cannot be allocated (then no task runs).
+ * @brief As aenl_parallel_for, for tasks that can fail, each with its own error: the status is
+ *        that of the first task in index order that failed (its cause into err), as a loop that
+ *        stopped there would give; AENL_OK when none did. Every task before that one runs; a
+ *        task after it may be skipped (its result is not to be read). AENL_E_DIM when the
+ *        bookkeeping cannot be allocated (then no task runs).
  */
 aenl_status_t aenl_parallel_try(size_t n, aenl_task_try_fn fn, void *ctx, aenl_err_t *err);
 

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file aenl_sort.h
- * @brief Host helpers on sorted samples: the qsort comparator of doubles and the interpolated
- *        quantile and an in-place sort of doubles, shared by the bandwidth, curves, diagnose and
- * evaluation-suite modules.
+ * @brief Host helpers on sorted samples: an in-place sort of doubles, the qsort comparator of
+ *        doubles and the interpolated quantile, shared by the bandwidth, curves, diagnose,
+ *        identify and evaluation-suite modules.
  */
 #ifndef AENL_TOOLS_SORT_H
 #define AENL_TOOLS_SORT_H
@@ -14,10 +14,11 @@
 int aenl_cmp_double(const void *a, const void *b);
 
 /**
- * @brief Sorts v[0..n-1] ascending in place (no NaN expected): the order qsort with
- *        aenl_cmp_double gives, several times faster (no comparison through a function pointer;
- *        introsort: quicksort on the median of three, insertion sort for short runs, heapsort
- *        when the partitions degrade, so O(n log n) at worst).
+ * @brief Sorts v[0..n-1] ascending in place (no NaN expected): the values qsort with
+ *        aenl_cmp_double puts in order, equal ones (-0 and +0 among them) in any order; several
+ *        times faster (no comparison through a function pointer; introsort: quicksort on the
+ *        median of three, insertion sort for short runs, heapsort when the partitions degrade,
+ *        so O(n log n) at worst).
  */
 void aenl_sort_doubles(double *v, size_t n);
 

@@ -113,30 +113,52 @@ typedef struct
     void *ctx;
     aenl_status_t *st;
     aenl_err_t *err;
+    pthread_mutex_t mu;
+    size_t first_fail; /* the least index that failed so far (n: none) */
 } try_t;
 
+/* A task after one that failed is skipped: its result would not be read. The least failing
+ * index always runs (only an earlier failure could skip it), so the outcome does not depend on
+ * the threads. */
 static void try_task(void *ctx, size_t i)
 {
-    const try_t *t = (const try_t *)ctx;
+    try_t *t = (try_t *)ctx;
+    (void)pthread_mutex_lock(&t->mu);
+    const int skip = i > t->first_fail;
+    (void)pthread_mutex_unlock(&t->mu);
     aenl_err_clear(&t->err[i]);
+    t->st[i] = AENL_OK;
+    if (skip)
+    {
+        return;
+    }
     t->st[i] = t->fn(t->ctx, i, &t->err[i]);
+    if (t->st[i] != AENL_OK)
+    {
+        (void)pthread_mutex_lock(&t->mu);
+        t->first_fail = i < t->first_fail ? i : t->first_fail;
+        (void)pthread_mutex_unlock(&t->mu);
+    }
 }
 
 aenl_status_t aenl_parallel_try(size_t n, aenl_task_try_fn fn, void *ctx, aenl_err_t *err)
 {
     const size_t n1 = n > 0u ? n : 1u;
-    try_t t = {fn, ctx, (aenl_status_t *)calloc(n1, sizeof(aenl_status_t)),
-               (aenl_err_t *)calloc(n1, sizeof(aenl_err_t))};
+    try_t t;
+    t.fn = fn;
+    t.ctx = ctx;
+    t.st = (aenl_status_t *)calloc(n1, sizeof(aenl_status_t));
+    t.err = (aenl_err_t *)calloc(n1, sizeof(aenl_err_t));
+    t.first_fail = n;
     aenl_status_t out = AENL_OK;
-    if (t.st == NULL || t.err == NULL)
+    if (t.st == NULL || t.err == NULL || pthread_mutex_init(&t.mu, NULL) != 0)
     {
+        free(t.st);
+        free(t.err);
         aenl_err_set(err, "out of memory (tasks)");
-        out = AENL_E_DIM;
+        return AENL_E_DIM;
     }
-    else
-    {
-        aenl_parallel_for(n, try_task, &t);
-    }
+    aenl_parallel_for(n, try_task, &t);
     for (size_t i = 0; i < n && out == AENL_OK; ++i)
     {
         if (t.st[i] != AENL_OK)
@@ -145,6 +167,7 @@ aenl_status_t aenl_parallel_try(size_t n, aenl_task_try_fn fn, void *ctx, aenl_e
             out = t.st[i];
         }
     }
+    (void)pthread_mutex_destroy(&t.mu);
     free(t.st);
     free(t.err);
     return out;

@@ -5,6 +5,8 @@
  *        the power series of P(a, z) below z = a + 1, where it converges fast, and the
  *        continued fraction of Q(a, z) above, evaluated by the modified Lentz method.
  */
+#define _DEFAULT_SOURCE /* lgamma_r */
+
 #include "aenl_tools/aenl_stats.h"
 
 #include <float.h>
@@ -14,10 +16,12 @@
 #define STATS_EPS       1e-15
 #define STATS_TINY      1e-300
 
-/* log of z^a e^-z / Gamma(a): the common factor of both expansions. */
+/* log of z^a e^-z / Gamma(a): the common factor of both expansions. lgamma_r, because lgamma
+ * writes the process-wide signgam and the tests run on several threads at once. */
 static double log_prefactor(double a, double z)
 {
-    return a * log(z) - z - lgamma(a);
+    int sign = 0;
+    return a * log(z) - z - lgamma_r(a, &sign);
 }
 
 /* P(a, z) = z^a e^-z / Gamma(a) * sum_n z^n / (a (a+1) ... (a+n)). */

@@ -369,6 +369,8 @@ static aenl_status_t nominal_rv(ctx_t *x, const aenl_sim_model_t *m, unsigned n_
         aenl_err_set(err, "out of memory (signatures)");
         return AENL_E_DIM;
     }
+    /* The shared settings are changed for a moment: this runs on the calling thread and no batch
+     * of tasks (which read them through their copies of x) runs meanwhile. */
     double saved[N_CH_MAX] = {0};
     for (size_t c = 0; c < x->n_ch; ++c)
     {
@@ -1074,8 +1076,6 @@ static void order_by_best(const spec_t *sp, size_t n, size_t *order)
     }
 }
 
-/* Nelder-Mead on candidate s from its best point with the first steps; fmt: the progress line
- * (effect, DOF, gap). */
 /* One evaluation of the coarse grid: candidate k at th, on its own copy of the context (the
  * simulations it counts are added afterwards, in order). */
 typedef struct

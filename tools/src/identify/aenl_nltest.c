@@ -30,6 +30,7 @@
 #define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
 #define NLT_HOLD        2u /* values of an input per step: at its start and its end */
 #define NLT_STAGE1_LAWS 4  /* u^2, u^3, d, d u */
+#define NLT_N_ORDERS    3  /* candidate model orders: 4 and 6 states a channel, and 12 */
 
 /* every input's two values fit among the EM fit's inputs */
 typedef char nlt_inputs_fit[(NLT_HOLD * AENL_NLT_MAX_INPUT <= AENL_EM_MAX_U) ? 1 : -1];
@@ -1262,8 +1263,8 @@ static size_t values_needed(size_t nx)
  * (at most 12 in all), as far as the record is long enough for them; ascending. */
 static size_t state_candidates(const aenl_nlt_opts_t *opts, size_t n, size_t m, size_t *cand)
 {
-    size_t want[3] = {4u * m, 6u * m, NLT_MAX_X};
-    size_t nw = 3;
+    size_t want[NLT_N_ORDERS] = {4u * m, 6u * m, NLT_MAX_X};
+    size_t nw = NLT_N_ORDERS;
     if (opts->n_states != 0)
     {
         want[0] = opts->n_states;
@@ -1340,9 +1341,9 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
                                       size_t n_cand, size_t iters, const double *in, size_t n_in,
                                       aenl_em_result_t *best, aenl_err_t *err)
 {
-    aenl_em_result_t em[3];
-    aenl_status_t sts[3];
-    aenl_err_t errs[3];
+    aenl_em_result_t em[NLT_N_ORDERS];
+    aenl_status_t sts[NLT_N_ORDERS];
+    aenl_err_t errs[NLT_N_ORDERS];
     memset(em, 0, sizeof(em));
     order_job_t job = {ys, in, n, m, n_in, iters, cand, em, sts, errs};
     aenl_parallel_for(n_cand, order_task, &job);
@@ -1487,14 +1488,19 @@ typedef struct
     int *ok;
 } control_job_t;
 
-static void control_task(void *ctx, size_t i)
+static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
 {
     const control_job_t *c = (const control_job_t *)ctx;
     const size_t b = c->first + i;
     c->ok[b] = 0;
     double *buf = (double *)malloc(c->n * c->n_ch * sizeof(double));
     aenl_nlt_result_t *rc = (aenl_nlt_result_t *)malloc(sizeof(*rc));
-    if (buf != NULL && rc != NULL)
+    const aenl_status_t st = buf != NULL && rc != NULL ? AENL_OK : AENL_E_DIM;
+    if (st != AENL_OK)
+    {
+        aenl_err_set(err, "out of memory");
+    }
+    else
     {
         double *y[AENL_NLT_MAX_CH];
         for (size_t j = 0; j < c->n_ch; ++j)
@@ -1515,6 +1521,7 @@ static void control_task(void *ctx, size_t i)
     }
     free(buf);
     free(rc);
+    return st;
 }
 
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
@@ -1550,14 +1557,15 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     }
     /* in batches of as many as run at once, so that progress is reported as they finish */
     const size_t batch = aenl_jobs();
-    for (size_t b0 = 0; b0 < opts->n_controls; b0 += batch)
+    aenl_status_t st = AENL_OK;
+    for (size_t b0 = 0; b0 < opts->n_controls && st == AENL_OK; b0 += batch)
     {
         job.first = b0;
         const size_t nb = opts->n_controls - b0 < batch ? opts->n_controls - b0 : batch;
-        aenl_parallel_for(nb, control_task, &job);
+        st = aenl_parallel_try(nb, control_task, &job, err);
         aenl_progress_report(opts->progress, b0 + nb, opts->n_controls);
     }
-    for (size_t b = 0; b < opts->n_controls; ++b)
+    for (size_t b = 0; b < opts->n_controls && st == AENL_OK; ++b)
     {
         if (!job.ok[b])
         {
@@ -1577,7 +1585,7 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
         res->ch[j].control_p =
             (1.0 + (double)res->ch[j].control_exceed) / (1.0 + (double)res->n_controls);
     }
-    return AENL_OK;
+    return st;
 }
 
 /* The error of a record too short for every candidate order: the samples the smallest needs. */
@@ -1791,20 +1799,23 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
     return st;
 }
 
-/* The channels' tests at once: each channel's stages on a copy of the run with its own series;
- * a channel writes only its result, its block of the losses and its row of the comparison. */
+/* The channels' tests at once: each channel's stages on a copy of the run (proto, not written
+ * while they run) with its own series; a channel writes only its result, its block of the
+ * losses and its slots here, which go into the run afterwards. */
 typedef struct
 {
-    run_t *rn;
+    const run_t *proto;
     aenl_nlt_result_t *res;
     int stats_only;
     double pmin[AENL_NLT_MAX_CH];
+    double crit[AENL_NLT_MAX_CH][AENL_NLT_N_LAWS];
+    int compared[AENL_NLT_MAX_CH];
 } chan_job_t;
 
 static aenl_status_t channel_task(void *ctx, size_t j, aenl_err_t *err)
 {
     chan_job_t *c = (chan_job_t *)ctx;
-    run_t r = *c->rn;
+    run_t r = *c->proto;
     c->pmin[j] = 1.0;
     aenl_status_t st = AENL_E_DIM;
     if (alloc_series(&r) != 0)
@@ -1815,8 +1826,8 @@ static aenl_status_t channel_task(void *ctx, size_t j, aenl_err_t *err)
     {
         channel_series(&r, j);
         st = test_channel(&r, j, c->stats_only, c->res, &c->pmin[j], err);
-        memcpy(c->rn->crit[j], r.crit[j], sizeof(r.crit[j]));
-        c->rn->compared[j] = r.compared[j];
+        memcpy(c->crit[j], r.crit[j], sizeof(r.crit[j]));
+        c->compared[j] = r.compared[j];
     }
     free_series(&r);
     return st;
@@ -1827,16 +1838,23 @@ static aenl_status_t channel_task(void *ctx, size_t j, aenl_err_t *err)
 static aenl_status_t test_channels(run_t *rn, int stats_only, aenl_nlt_result_t *res, double *pmin,
                                    aenl_err_t *err)
 {
-    chan_job_t c;
-    memset(&c, 0, sizeof(c));
-    c.rn = rn;
-    c.res = res;
-    c.stats_only = stats_only;
-    const aenl_status_t st = aenl_parallel_try(rn->nz, channel_task, &c, err);
+    chan_job_t *c = (chan_job_t *)calloc(1, sizeof(*c));
+    if (c == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    c->proto = rn;
+    c->res = res;
+    c->stats_only = stats_only;
+    const aenl_status_t st = aenl_parallel_try(rn->nz, channel_task, c, err);
     for (size_t j = 0; j < rn->nz && st == AENL_OK; ++j)
     {
-        *pmin = fmin(*pmin, c.pmin[j]);
+        *pmin = fmin(*pmin, c->pmin[j]);
+        memcpy(rn->crit[j], c->crit[j], sizeof(c->crit[j]));
+        rn->compared[j] = c->compared[j];
     }
+    free(c);
     return st;
 }
 
@@ -2085,7 +2103,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
         return st;
     }
     memset(res, 0, sizeof(*res));
-    size_t cand[3];
+    size_t cand[NLT_N_ORDERS];
     const size_t n_cand = state_candidates(opts, n, n_ch, cand);
     if (n_cand == 0)
     {
