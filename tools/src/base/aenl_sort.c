@@ -73,68 +73,92 @@ static void heapsort_doubles(double *v, size_t n)
 
 #define SORT_SHORT 16u
 
-static void introsort(double *v, size_t n, unsigned depth)
+/* One partition of v[0..n-1] (n > SORT_SHORT) around the median of v[0], v[n/2], v[n-1]
+ * (Hoare): returns the length of the left part, v[0..left-1] <= pivot <= v[left..n-1], both
+ * non-empty (the median of three leaves an element at or above the pivot in front of the
+ * last place, and one at or below it behind the first). */
+static size_t partition(double *v, size_t n)
 {
-    while (n > SORT_SHORT)
+    const double a = v[0], b = v[n / 2u], c = v[n - 1u];
+    const double pivot = a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));
+    size_t i = 0, j = n - 1u;
+    for (;;)
     {
-        if (depth == 0u)
+        while (v[i] < pivot)
         {
-            heapsort_doubles(v, n);
-            return;
-        }
-        --depth;
-        /* median of three to v[0], then Hoare partition around it */
-        const size_t mid = n / 2u;
-        double a = v[0], b = v[mid], c = v[n - 1u];
-        const double pivot = a < b ? (b < c ? b : (a < c ? c : a)) : (a < c ? a : (b < c ? c : b));
-        size_t i = 0, j = n - 1u;
-        for (;;)
-        {
-            while (v[i] < pivot)
-            {
-                ++i;
-            }
-            while (v[j] > pivot)
-            {
-                --j;
-            }
-            if (i >= j)
-            {
-                break;
-            }
-            const double t = v[i];
-            v[i] = v[j];
-            v[j] = t;
             ++i;
+        }
+        while (v[j] > pivot)
+        {
             --j;
         }
-        /* v[0..j] <= pivot <= v[j+1..n-1]; recurse on the smaller side, loop on the larger */
-        const size_t left = j + 1u;
-        if (left < n - left)
+        if (i >= j)
         {
-            introsort(v, left, depth);
-            v += left;
-            n -= left;
+            return j + 1u;
         }
-        else
-        {
-            introsort(v + left, n - left, depth);
-            n = left;
-        }
+        const double t = v[i];
+        v[i] = v[j];
+        v[j] = t;
+        ++i;
+        --j;
     }
-    insertion(v, n);
 }
 
 void aenl_sort_doubles(double *v, size_t n)
 {
+    /* Pending parts, the larger side of each partition: the smaller side is taken next, so
+     * there are never more than log2(n) of them. */
+    struct
+    {
+        double *v;
+        size_t n;
+        unsigned depth;
+    } stack[8u * sizeof(size_t)];
+    size_t top = 0;
     unsigned depth = 0;
     for (size_t k = n; k > 1u; k >>= 1u)
     {
         depth += 2u;
     }
-    if (n > 1u)
+    for (;;)
     {
-        introsort(v, n, depth);
+        while (n > SORT_SHORT && depth > 0u)
+        {
+            --depth;
+            const size_t left = partition(v, n);
+            if (left < n - left)
+            {
+                stack[top].v = v + left;
+                stack[top].n = n - left;
+                stack[top].depth = depth;
+                n = left;
+            }
+            else
+            {
+                stack[top].v = v;
+                stack[top].n = left;
+                stack[top].depth = depth;
+                v += left;
+                n -= left;
+            }
+            ++top;
+        }
+        if (n > SORT_SHORT)
+        {
+            heapsort_doubles(v, n); /* the partitions degraded */
+        }
+        else
+        {
+            insertion(v, n);
+        }
+        if (top == 0u)
+        {
+            return;
+        }
+        --top;
+        v = stack[top].v;
+        n = stack[top].n;
+        depth = stack[top].depth;
     }
 }
 
