@@ -2,7 +2,8 @@
 /**
  * @file bench_simulate.c
  * @brief `aenl bench simulate`: wall time of the event-located integrator on 100 s of the 3-DOF
- *        flap-freeplay case at 1 kHz output, against a naive fixed-step RK4 of equal accuracy.
+ *        flap-freeplay case at 1 kHz output, against a naive fixed-step RK4 of equal accuracy;
+ *        and independent runs on one thread against the threads a diagnosis uses.
  */
 
 #include <math.h>
@@ -11,6 +12,7 @@
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_clock.h"
+#include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_sim.h"
 
 static const char *const k_cmd = "bench simulate";
@@ -27,6 +29,65 @@ static void bench_case(aenl_sim_model_t *m, aenl_sim_run_t *r)
     aenl_sim_run_default(r, AENL_SIM_SECTION3DOF);
     r->duration = 100.0;
     r->dt = 1e-3;
+}
+
+/* Independent runs of the case (what a diagnosis's batches are): run i simulated and freed. */
+typedef struct
+{
+    const aenl_sim_model_t *m;
+    const aenl_sim_run_t *run;
+    int failed[AENL_MAX_JOBS * 2u];
+} runs_t;
+
+static void one_run(void *ctx, size_t i)
+{
+    runs_t *r = (runs_t *)ctx;
+    aenl_sim_result_t res;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    r->failed[i] = aenl_sim_simulate(r->m, r->run, &res, &err) != AENL_OK;
+    if (!r->failed[i])
+    {
+        aenl_sim_result_free(&res);
+    }
+}
+
+/* Wall time of n runs on the current thread setting; -1 when one failed. */
+static double runs_wall(runs_t *r, size_t n)
+{
+    memset(r->failed, 0, sizeof(r->failed));
+    const double t0 = aenl_now_s();
+    aenl_parallel_for(n, one_run, r);
+    const double wall = aenl_now_s() - t0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (r->failed[i])
+        {
+            return -1.0;
+        }
+    }
+    return wall;
+}
+
+/* The same independent runs on one thread and on the default threads, in this run. */
+static int bench_threads(const aenl_sim_model_t *m, const aenl_sim_run_t *run)
+{
+    const unsigned jobs = aenl_jobs();
+    const size_t n = 2u * (size_t)jobs;
+    runs_t r = {m, run, {0}};
+    aenl_set_jobs(1);
+    const double one = runs_wall(&r, n);
+    aenl_set_jobs(jobs);
+    const double many = runs_wall(&r, n);
+    if (one < 0.0 || many < 0.0)
+    {
+        aenl_cli_error(k_cmd, "a run of the threads' comparison failed");
+        return AENL_EXIT_FAIL;
+    }
+    printf("  %zu independent runs of the case (a diagnosis's batches): %.3f s on one thread, "
+           "%.3f s on %u (ratio %.2f)\n",
+           n, one, many, jobs, many / one);
+    return AENL_EXIT_OK;
 }
 
 /* max over channels of max|y − ref| / max|ref| */
@@ -149,7 +210,7 @@ int aenl_bench_simulate(int argc, char **argv)
         if (!(order > 0.1))
         {
             printf("  RK4 does not converge towards the event solution here; no ratio.\n");
-            return AENL_EXIT_OK;
+            return bench_threads(&m, &run);
         }
         h_need = h_prev * pow(e_ev / e_prev, 1.0 / order);
     }
@@ -181,5 +242,5 @@ int aenl_bench_simulate(int argc, char **argv)
                timed ? "measured" : "measured cost per step x steps");
         printf("  ratio RK4 / event-located: %.3g\n", rk_wall / best);
     }
-    return AENL_EXIT_OK;
+    return bench_threads(&m, &run);
 }
