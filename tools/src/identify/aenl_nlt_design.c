@@ -87,15 +87,21 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
 
 /* G (nc x nc) += Rt Rt' over m rows, Rt (nc lines of ld >= m) holding one column of the rows per
  * line; the upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper
- * triangle).
+ * triangle), except the 4 x 4 tiles wholly inside the first `known` columns, which are skipped.
  * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
  * outer product to G, which streams the whole of G through the cache for every row. */
-static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t ld, size_t m)
+static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t ld, size_t m,
+                      size_t known)
 {
     for (size_t i0 = 0; i0 < nc; i0 += 4u)
     {
+        /* tiles inside the first `known` columns' block are left out (copied in later) */
         for (size_t j0 = i0; j0 < nc; j0 += 4u)
         {
+            if (j0 + 4u <= known)
+            {
+                continue;
+            }
             if (j0 + 4u <= nc) /* then i0 + 4 <= nc too */
             {
                 const double *x0 = Rt + i0 * ld;
@@ -196,7 +202,8 @@ static void accumulate_rows(void *ctx, const double *R, const double *e)
     }
     if (a->rows == a->m_blk)
     {
-        syrk_rows(a->d->G, nc, a->Rt, a->m_blk, a->rows);
+        syrk_rows(a->d->G, nc, a->Rt, a->m_blk, a->rows,
+                  a->d->G_known != NULL ? a->d->n_known : 0u);
         a->rows = 0;
     }
 }
@@ -231,9 +238,16 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
     }
     if (st == AENL_OK && a.rows > 0)
     {
-        syrk_rows(d->G, nc, a.Rt, a.m_blk, a.rows); /* the last, partial block */
+        syrk_rows(d->G, nc, a.Rt, a.m_blk, a.rows, d->G_known != NULL ? d->n_known : 0u);
     }
     free(a.Rt);
+    for (size_t i = 0; st == AENL_OK && d->G_known != NULL && i < d->n_known; ++i)
+    {
+        for (size_t j = i; j < d->n_known; ++j)
+        {
+            d->G[i * nc + j] = d->G_known[i * d->n_known + j];
+        }
+    }
     for (size_t i = 0; st == AENL_OK && i < nc; ++i)
     {
         for (size_t j = 0; j < i; ++j)

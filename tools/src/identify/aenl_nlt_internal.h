@@ -48,6 +48,11 @@ typedef struct
     size_t ncols;
     double *G; /* ncols x ncols */
     double *r; /* ncols */
+    /* The cross-products of the first n_known columns when they are known already (n_known x
+     * n_known, NULL: none): the nuisance's, the same in every design of a run, are accumulated
+     * once and copied in instead of summed again. */
+    const double *G_known;
+    size_t n_known;
 } design_t;
 
 /* Columns of the directed series, residualised on the nuisance columns 0..nn-1: Gt (ns x ns),

@@ -372,6 +372,7 @@ typedef struct
     double *loss;
     double crit[AENL_NLT_MAX_CH][AENL_NLT_N_LAWS];
     int compared[AENL_NLT_MAX_CH]; /* 1: channel j's laws were fitted */
+    double *G_nn; /* the nuisance's cross-products, the same in every design (n_nuis nx square) */
 } run_t;
 
 /* The direction of motion of u: +1 rising, -1 falling, 0 at rest. */
@@ -472,7 +473,7 @@ static aenl_status_t stage1_regress(const run_t *rn, s1_fit_t *f, aenl_err_t *er
     {
         full[i] = 1;
     }
-    design_t d = {ns, g, full, NULL, 0, NULL, NULL};
+    design_t d = {ns, g, full, NULL, 0, NULL, NULL, rn->G_nn, f->n_nuis * nx};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st != AENL_OK)
     {
@@ -714,7 +715,15 @@ static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const 
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
-    design_t d = {n_nuis + S2_FIXED + 2u * nk, ser.g, ser.full, dir, 0, NULL, NULL};
+    design_t d = {n_nuis + S2_FIXED + 2u * nk,
+                  ser.g,
+                  ser.full,
+                  dir,
+                  0,
+                  NULL,
+                  NULL,
+                  rn->G_nn,
+                  n_nuis * rn->nx};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st == AENL_OK)
     {
@@ -995,7 +1004,7 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
         nuis[n_nuis + i] = buf + i * n;
         full[n_nuis + i] = 0;
     }
-    design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL};
+    design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL, rn->G_nn, nn};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     double red[AENL_NLT_N_LAWS + 1] = {0}; /* each fit's reduction, the nuisance alone's last */
     for (size_t l = 0; l <= AENL_NLT_N_LAWS && st == AENL_OK; ++l)
@@ -1799,6 +1808,48 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
     return st;
 }
 
+/* The cross-products of the nuisance columns (an offset, every filtered state and every input,
+ * each full) into rn->G_nn: they are the same in the regressions of every channel and stage. */
+static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
+{
+    double *one = (double *)malloc(rn->n * sizeof(double));
+    if (one == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t t = 0; t < rn->n; ++t)
+    {
+        one[t] = 1.0;
+    }
+    const double *g[NLT_NUIS_MAX];
+    int full[NLT_NUIS_MAX];
+    size_t ns = 0;
+    g[ns++] = one;
+    for (size_t i = 0; i < rn->nx; ++i)
+    {
+        g[ns++] = rn->kf->xs + i * rn->n;
+    }
+    for (size_t p = 0; p < rn->n_in; ++p)
+    {
+        g[ns++] = rn->in_col[p];
+    }
+    for (size_t i = 0; i < ns; ++i)
+    {
+        full[i] = 1;
+    }
+    design_t d = {ns, g, full, NULL, 0, NULL, NULL, NULL, 0};
+    const aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
+    if (st == AENL_OK)
+    {
+        rn->G_nn = d.G;
+        d.G = NULL;
+    }
+    nlt_design_free(&d);
+    free(one);
+    return st;
+}
+
 /* The channels' tests at once: each channel's stages on a copy of the run (proto, not written
  * while they run) with its own series; a channel writes only its result, its block of the
  * losses and its slots here, which go into the run afterwards. */
@@ -2155,6 +2206,10 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     double pmin = 1.0;
     if (st == AENL_OK)
     {
+        st = nuisance_products(&rn, err);
+    }
+    if (st == AENL_OK)
+    {
         st = test_channels(&rn, stats_only, res, &pmin, err);
     }
     if (st == AENL_OK)
@@ -2165,6 +2220,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
         st = verdict_comparison(&rn, res, err);
     }
     free(rn.loss);
+    free(rn.G_nn);
     nlt_kf_free(&kf);
     return hand_over(st, keep, &em, in, in_col);
 }
