@@ -445,25 +445,31 @@ static aenl_status_t robust_score(const design_t *d, const kf_t *kf, size_t nn, 
     return st;
 }
 
+/* The nuisance series of every regression, full: an offset and a perturbation of A along every
+ * filtered state (the first-order change of the fitted linear model, so that its estimation error
+ * is not taken for a law), and of B along every input. Returns their count. */
+static size_t nuisance_series(const run_t *rn, const double **nuis)
+{
+    nuis[0] = rn->one;
+    for (size_t i = 0; i < rn->nx; ++i)
+    {
+        nuis[1u + i] = rn->kf->xs + i * rn->n;
+    }
+    for (size_t p = 0; p < rn->n_in; ++p)
+    {
+        nuis[1u + rn->nx + p] = rn->in_col[p];
+    }
+    return 1u + rn->nx + rn->n_in;
+}
+
 /* Stage 1's regression: the law series of stage1_series, full, after the nuisance. */
 static aenl_status_t stage1_regress(const run_t *rn, s1_fit_t *f, aenl_err_t *err)
 {
     const size_t n = rn->n;
     const size_t nx = rn->nx;
-    /* Nuisance: an offset and a perturbation of A along every filtered state (the first-order
-     * change of the fitted linear model, so its estimation error is not taken for a law). */
     const double *g[NLT_NUIS_MAX + NLT_STAGE1_LAWS];
     int full[NLT_NUIS_MAX + NLT_STAGE1_LAWS];
-    size_t ns = 0;
-    g[ns++] = rn->one;
-    for (size_t i = 0; i < nx; ++i)
-    {
-        g[ns++] = rn->kf->xs + i * n;
-    }
-    for (size_t p = 0; p < rn->n_in; ++p) /* and B perturbed along every input */
-    {
-        g[ns++] = rn->in_col[p];
-    }
+    size_t ns = nuisance_series(rn, g);
     f->n_nuis = ns;
     for (size_t l = 0; l < NLT_STAGE1_LAWS; ++l)
     {
@@ -683,22 +689,6 @@ static aenl_status_t coarse_grid(const run_t *rn, double *q, double *knots, size
     free(sorted);
     *nk = symmetric_knots(q, NLT_N_QUANT, knots);
     return AENL_OK;
-}
-
-/* Stage 2's nuisance series into nuis, the same as the test's: an offset, A perturbed along
- * every filtered state and B along every input. Returns their number. */
-static size_t stage2_nuisance(const run_t *rn, const double **nuis)
-{
-    nuis[0] = rn->one;
-    for (size_t i = 0; i < rn->nx; ++i)
-    {
-        nuis[1u + i] = rn->kf->xs + i * rn->n;
-    }
-    for (size_t p = 0; p < rn->n_in; ++p)
-    {
-        nuis[1u + rn->nx + p] = rn->in_col[p];
-    }
-    return 1u + rn->nx + rn->n_in;
 }
 
 /* Stage 2's series over the knot set knots (nk knots) along dir, residualised on the nuisance
@@ -974,7 +964,7 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
     const size_t n = rn->n;
     const size_t nx = rn->nx;
     const double *nuis[NLT_NUIS_MAX + V_LAWCOLS];
-    const size_t n_nuis = stage2_nuisance(rn, nuis);
+    const size_t n_nuis = nuisance_series(rn, nuis);
     const size_t nn = n_nuis * nx;
     const size_t nc = nn + V_LAWCOLS;
     int full[NLT_NUIS_MAX + V_LAWCOLS];
@@ -1183,7 +1173,7 @@ static aenl_status_t stage2(run_t *rn, size_t j, const double *dir, double s2,
         qidx[i] = knot_index(knots, nk, q[i]);
     }
     const double *nuis[NLT_NUIS_MAX];
-    const size_t n_nuis = stage2_nuisance(rn, nuis);
+    const size_t n_nuis = nuisance_series(rn, nuis);
     resid_t r = {0, NULL, NULL};
     st = stage2_residuals(rn, dir, nuis, n_nuis, knots, nk, &r, err);
     if (st != AENL_OK)
@@ -1822,18 +1812,11 @@ static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
     {
         one[t] = 1.0;
     }
+    run_t r = *rn;
+    r.one = one;
     const double *g[NLT_NUIS_MAX];
     int full[NLT_NUIS_MAX];
-    size_t ns = 0;
-    g[ns++] = one;
-    for (size_t i = 0; i < rn->nx; ++i)
-    {
-        g[ns++] = rn->kf->xs + i * rn->n;
-    }
-    for (size_t p = 0; p < rn->n_in; ++p)
-    {
-        g[ns++] = rn->in_col[p];
-    }
+    const size_t ns = nuisance_series(&r, g);
     for (size_t i = 0; i < ns; ++i)
     {
         full[i] = 1;
