@@ -422,6 +422,51 @@ static void test_skf_one_mode_equals_plain_kf_and_riccati(void)
     }
 }
 
+/* A sensor a million times more precise than the prior (P0 = 1, R ~ 1e-6 of it): the update
+ * cancels almost all of P. The product form of the Joseph update, symmetrised, keeps P positive
+ * semi-definite to rounding in float32; the same update expanded as P - M'K' - K (M - S K'), or
+ * symmetrised before its last stage, reads minors two orders of magnitude below that bound. Every
+ * filtered covariance must stay symmetric with non-negative diagonal and 2 x 2 principal minors
+ * (to rounding), every step succeed. */
+static void test_skf_precise_sensor_keeps_covariance_psd(void)
+{
+    model_fill(&g_m, 1);
+    for (int r = 0; r < NZ; ++r)
+    {
+        for (int c = 0; c < NZ; ++c)
+        {
+            g_m.R[r][c] = (aenl_real_t)(1e-6 * k_R[r][c]);
+        }
+    }
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_init(&g_f, &g_m));
+    g_lcg = 11u;
+    aenl_real_t x[NX], P[NX * NX];
+    for (int k = 0; k < 2000; ++k)
+    {
+        const aenl_real_t z[NZ] = {(aenl_real_t)(0.3 * lcg_normal()),
+                                   (aenl_real_t)(0.3 * lcg_normal())};
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_step(&g_f, z, NULL));
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_skf_estimate(&g_f, x, P));
+        double pmax = 0.0;
+        for (int i = 0; i < NX * NX; ++i)
+        {
+            pmax = fabs((double)P[i]) > pmax ? fabs((double)P[i]) : pmax;
+        }
+        const double tol = 1e3 * (double)AENL_REAL_EPS * pmax;
+        for (int i = 0; i < NX; ++i)
+        {
+            TEST_ASSERT_TRUE((double)P[i * NX + i] >= -tol);
+            for (int j = 0; j < NX; ++j)
+            {
+                TEST_ASSERT_EQUAL_FLOAT(P[i * NX + j], P[j * NX + i]);
+                const double minor = (double)P[i * NX + i] * (double)P[j * NX + j] -
+                                     (double)P[i * NX + j] * (double)P[j * NX + i];
+                TEST_ASSERT_TRUE(minor >= -10.0 * tol * tol);
+            }
+        }
+    }
+}
+
 /* Simulate the 3-mode model itself (mode from the true state) and run the filter on it. */
 static double run_nis(int n_steps, int with_missing, double *mode_agree)
 {
@@ -814,5 +859,6 @@ int main(void)
     RUN_TEST(test_skf_threshold_band_depends_on_direction);
     RUN_TEST(test_skf_imm_one_mode_equals_threshold_filter_and_picks_true_mode);
     RUN_TEST(test_skf_reset_returns_to_x0);
+    RUN_TEST(test_skf_precise_sensor_keeps_covariance_psd);
     return UNITY_END();
 }
