@@ -3,7 +3,7 @@
  * @file bench_fit.c
  * @brief `aenl bench fit`: one switching-Kalman-filter step (8 states, 2 outputs, 3 modes) in ns,
  *        its state size and its Cortex-M4F code size; EM on 20 000 samples x 50 iterations and how
- *        the time grows with samples and states; the identification must-show on the
+ *        the time grows with samples and states; the identification check on the
  *        turbulence-excited airfoil with pitch freeplay (true vs identified sub-model frequencies
  *        and damping next to their Cramer-Rao floor, LCO amplitude of the identified model).
  *        Figures are printed, never asserted.
@@ -290,30 +290,30 @@ static void skf_m4f(void)
     printf("    code (aenl_skf.c + aenl_linalg.c, .text) = %lu B\n", text);
 }
 
-/* ---- the identification must-show: turbulence-excited airfoil with pitch freeplay ---------- */
+/* ---- the identification check: turbulence-excited airfoil with pitch freeplay ------------- */
 
-#define MS_STATES 7    /* the minimal order: 4 structural + 2 aerodynamic lag + 1 gust state */
-#define MS_ITER   2000 /* SQUAREM iterations at most; stops when the log-likelihood levels off */
-#define MS_TOL    1e-9 /* relative log-likelihood gain per iteration that counts as levelled */
-#define MS_PI     3.14159265358979323846
-#define MS_INI    "examples/fit_airfoil_turbulence.ini" /* under aenl's shared files */
-#define MS_MAX_Q  16 /* compared quantities per record (2 outer modes x 2 pairs x f, zeta) */
+#define IC_STATES 7    /* the minimal order: 4 structural + 2 aerodynamic lag + 1 gust state */
+#define IC_ITER   2000 /* SQUAREM iterations at most; stops when the log-likelihood levels off */
+#define IC_TOL    1e-9 /* relative log-likelihood gain per iteration that counts as levelled */
+#define IC_PI     3.14159265358979323846
+#define IC_INI    "examples/fit_airfoil_turbulence.ini" /* under aenl's shared files */
+#define IC_MAX_Q  16 /* compared quantities per record (2 outer modes x 2 pairs x f, zeta) */
 
 /* The compared quantities of one record: relative error and Cramer-Rao floor of each. */
 typedef struct
 {
     size_t n;
-    size_t mode[MS_MAX_Q];
-    const char *what[MS_MAX_Q]; /* "f" or "zeta" */
-    double err[MS_MAX_Q];       /* identified / true - 1; NaN: no identified pair */
-    double crb[MS_MAX_Q];       /* relative Cramer-Rao floor from this mode's transitions */
-    double f_true[MS_MAX_Q];    /* the true pair's frequency (cycles per tau) */
-} ms_errs_t;
+    size_t mode[IC_MAX_Q];
+    const char *what[IC_MAX_Q]; /* "f" or "zeta" */
+    double err[IC_MAX_Q];       /* identified / true - 1; NaN: no identified pair */
+    double crb[IC_MAX_Q];       /* relative Cramer-Rao floor from this mode's transitions */
+    double f_true[IC_MAX_Q];    /* the true pair's frequency (cycles per tau) */
+} ic_errs_t;
 
-static void ms_errs_add(ms_errs_t *e, size_t mode, double f_true, double err, double crb,
+static void ic_errs_add(ic_errs_t *e, size_t mode, double f_true, double err, double crb,
                         const char *what)
 {
-    if (e != NULL && e->n < MS_MAX_Q)
+    if (e != NULL && e->n < IC_MAX_Q)
     {
         e->mode[e->n] = mode;
         e->what[e->n] = what;
@@ -346,7 +346,7 @@ static void amplitude(const double *a, size_t k0, size_t n, size_t stride, doubl
  * pair (the gap: zero pitch stiffness) the positive real eigenvalues (divergence) are compared.
  * Returns the number of compared quantities within 2 % (*n_cmp: compared). */
 static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit, size_t s,
-                        double slope, int *n_cmp, ms_errs_t *out, int verbose)
+                        double slope, int *n_cmp, ic_errs_t *out, int verbose)
 {
     const aenl_em_model_t *em = &fit->model;
     const double u = sm->airfoil.ustar, sl[AENL_SIM_N_DOF] = {slope, 1.0, 1.0};
@@ -378,7 +378,7 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
             continue;
         }
         shown = 1;
-        const double ft = tm[i].frequency / (2.0 * MS_PI * u); /* omega/omega_alpha -> per tau */
+        const double ft = tm[i].frequency / (2.0 * IC_PI * u); /* omega/omega_alpha -> per tau */
         double cf = NAN;
         double cz = NAN;
         (void)aenl_em_mode_floor(ft, tm[i].damping, em->dt, n_tr, &cf, &cz);
@@ -392,8 +392,8 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
         }
         const double df = (best == no) ? (double)NAN : e[best].frequency / ft - 1.0;
         const double dz = (best == no) ? (double)NAN : e[best].damping / tm[i].damping - 1.0;
-        ms_errs_add(out, s, ft, df, cf, "f");
-        ms_errs_add(out, s, ft, dz, cz, "zeta");
+        ic_errs_add(out, s, ft, df, cf, "f");
+        ic_errs_add(out, s, ft, dz, cz, "zeta");
         *n_cmp += 2;
         if (best == no)
         {
@@ -438,7 +438,7 @@ static int compare_mode(const aenl_sim_model_t *sm, const aenl_em_result_t *fit,
     return n_ok;
 }
 
-/* Simulate the must-show record of (sm, run), alpha and xi interleaved into *y (caller frees),
+/* Simulate the reference record of (sm, run), alpha and xi interleaved into *y (caller frees),
  * and identify it (fit: caller frees). */
 static aenl_status_t fit_record(const aenl_sim_model_t *sm, const aenl_sim_run_t *run, double **y,
                                 size_t *n, aenl_em_result_t *fit, aenl_err_t *err)
@@ -467,12 +467,12 @@ static aenl_status_t fit_record(const aenl_sim_model_t *sm, const aenl_sim_run_t
     const aenl_sim_law_t *law = &sm->law[AENL_SIM_DOF_PITCH];
     aenl_em_opts_t o;
     aenl_em_opts_default(&o);
-    o.n_states = MS_STATES;
+    o.n_states = IC_STATES;
     o.n_thresholds = 2;
     o.thresholds[0] = law->x_f;
     o.thresholds[1] = law->x_f + law->delta;
-    o.max_iter = MS_ITER;
-    o.tol = MS_TOL;
+    o.max_iter = IC_ITER;
+    o.tol = IC_TOL;
     o.dt = run->dt;
     st = aenl_em_fit(*y, *n, 2, &o, fit, err);
     if (st != AENL_OK)
@@ -485,7 +485,7 @@ static aenl_status_t fit_record(const aenl_sim_model_t *sm, const aenl_sim_run_t
 
 /* The two outer modes and the inner one of a fit against the true sub-models. */
 static int compare_fit(const aenl_sim_model_t *sm, const aenl_em_result_t *fit, int *n_cmp,
-                       ms_errs_t *out, int verbose)
+                       ic_errs_t *out, int verbose)
 {
     const double inner = sm->law[AENL_SIM_DOF_PITCH].inner_stiffness;
     int n_ok = compare_mode(sm, fit, 0, 1.0, n_cmp, out, verbose);
@@ -494,8 +494,8 @@ static int compare_fit(const aenl_sim_model_t *sm, const aenl_em_result_t *fit, 
     return n_ok;
 }
 
-/* The must-show on the INI's record; its compared quantities also go to *rec0. */
-static void must_show(ms_errs_t *rec0)
+/* The identification check on the INI's record; its compared quantities also go to *rec0. */
+static void identification_check(ic_errs_t *rec0)
 {
     aenl_sim_model_t sm;
     aenl_sim_run_t run;
@@ -507,11 +507,11 @@ static void must_show(ms_errs_t *rec0)
     double *y = NULL;
     size_t n = 0;
     char ini[4200];
-    if (aenl_share_path(MS_INI, ini, sizeof(ini), &err) != AENL_OK ||
+    if (aenl_share_path(IC_INI, ini, sizeof(ini), &err) != AENL_OK ||
         aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK ||
         fit_record(&sm, &run, &y, &n, &fit, &err) != AENL_OK)
     {
-        printf("  must-show: %s\n", err.msg);
+        printf("  identification check: %s\n", err.msg);
         return;
     }
     double *ys = malloc(sizeof(double) * 2 * 6000);
@@ -524,11 +524,12 @@ static void must_show(ms_errs_t *rec0)
     const double gain = (fit.n_iter > 10)
                             ? (fit.loglik[fit.n_iter - 1] - fit.loglik[fit.n_iter - 11]) / 10.0
                             : (double)NAN;
-    printf("  must-show (fit_airfoil_turbulence.ini: U* %.2f, turbulence %.4f, SNR %g, %zu "
-           "samples, alpha and xi; %d states, %zu SQUAREM iterations (log-likelihood %.3f, last "
-           "gain %.1e per iteration), %.1f s):\n",
-           sm.airfoil.ustar, run.turb_intensity, run.snr, n, MS_STATES, fit.n_iter,
-           fit.loglik_final, gain, aenl_now_s() - t0);
+    printf(
+        "  identification check (fit_airfoil_turbulence.ini: U* %.2f, turbulence %.4f, SNR %g, %zu "
+        "samples, alpha and xi; %d states, %zu SQUAREM iterations (log-likelihood %.3f, last "
+        "gain %.1e per iteration), %.1f s):\n",
+        sm.airfoil.ustar, run.turb_intensity, run.snr, n, IC_STATES, fit.n_iter, fit.loglik_final,
+        gain, aenl_now_s() - t0);
     printf("    true/identified frequency (cycles per tau) and damping of the true sub-models'"
            " oscillatory pairs (goal: within 2 %%);\n    CRB floor: 1-sigma relative error of"
            " the best unbiased estimate of that pair alone from this mode's transitions\n");
@@ -542,7 +543,7 @@ static void must_show(ms_errs_t *rec0)
     run.turb_intensity = 0.0;
     run.snr = 0.0;
     run.duration = 2999.5;
-    sm.x0[AENL_SIM_DOF_PITCH] = MS_PI / 180.0;
+    sm.x0[AENL_SIM_DOF_PITCH] = IC_PI / 180.0;
     static aenl_skf_model_t km;
     static aenl_skf_t kf;
     if (aenl_sim_simulate(&sm, &run, &lco, &err) == AENL_OK &&
@@ -557,7 +558,7 @@ static void must_show(ms_errs_t *rec0)
         aenl_real_t xe[AENL_SKF_MAX_X], pe[AENL_SKF_MAX_X * AENL_SKF_MAX_X];
         (void)aenl_skf_estimate(&kf, xe, pe);
         double x[AENL_EM_MAX_X] = {0.0};
-        for (size_t i = 0; i < MS_STATES; ++i)
+        for (size_t i = 0; i < IC_STATES; ++i)
         {
             x[i] = xe[i];
         }
@@ -569,8 +570,8 @@ static void must_show(ms_errs_t *rec0)
             printf("    LCO without turbulence at U* %.2f (half peak-to-peak of alpha, centre): "
                    "simulator %.4f deg (%.4f), identified model %.4f deg (%.4f): %+.1f %% "
                    "(goal 5 %%)\n",
-                   sm.airfoil.ustar, a_true * 180.0 / MS_PI, c_true * 180.0 / MS_PI,
-                   a_id * 180.0 / MS_PI, c_id * 180.0 / MS_PI, 100.0 * (a_id / a_true - 1.0));
+                   sm.airfoil.ustar, a_true * 180.0 / IC_PI, c_true * 180.0 / IC_PI,
+                   a_id * 180.0 / IC_PI, c_id * 180.0 / IC_PI, 100.0 * (a_id / a_true - 1.0));
         }
         else
         {
@@ -587,27 +588,27 @@ static void must_show(ms_errs_t *rec0)
     free(ys);
 }
 
-/* The must-show over n_rec records that differ only in their turbulence and noise seeds (the
- * first is the INI's, taken from rec0 when the must-show compared it): the spread of each
+/* The identification check over n_rec records that differ only in their turbulence and noise
+ * seeds (the first is the INI's, taken from rec0 when the check compared it): the spread of each
  * identified quantity, next to its Cramer-Rao floor. The errors of one record say little when the
  * floor is near the goal; their distribution says how often the goal is met and whether the
  * estimate is biased. */
-static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
+static void monte_carlo(size_t n_rec, const ic_errs_t *rec0)
 {
     aenl_sim_model_t sm;
     aenl_sim_run_t run;
     aenl_err_t err;
     aenl_err_clear(&err);
     char ini[4200];
-    if (aenl_share_path(MS_INI, ini, sizeof(ini), &err) != AENL_OK ||
+    if (aenl_share_path(IC_INI, ini, sizeof(ini), &err) != AENL_OK ||
         aenl_sim_load_ini(ini, &sm, &run, &err) != AENL_OK)
     {
         printf("  Monte Carlo: %s\n", err.msg);
         return;
     }
     const uint64_t turb0 = run.turb_seed, noise0 = run.noise_seed;
-    double *e = calloc(n_rec * MS_MAX_Q, sizeof(double));
-    ms_errs_t first;
+    double *e = calloc(n_rec * IC_MAX_Q, sizeof(double));
+    ic_errs_t first;
     memset(&first, 0, sizeof(first));
     if (e == NULL)
     {
@@ -621,9 +622,9 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
     {
         run.turb_seed = turb0 + r;
         run.noise_seed = noise0 + r;
-        ms_errs_t q;
+        ic_errs_t q;
         int n_ok = 0, n_cmp = 0;
-        if (r == 0 && rec0->n > 0) /* fitted and compared by the must-show */
+        if (r == 0 && rec0->n > 0) /* fitted and compared by the check */
         {
             q = *rec0;
             for (size_t i = 0; i < q.n; ++i)
@@ -631,7 +632,8 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
                 n_ok += fabs(q.err[i]) <= 0.02;
             }
             n_cmp = (int)q.n;
-            printf("    record 0 (seeds %llu, %llu; the must-show above): within 2 %% %d of %d:",
+            printf("    record 0 (seeds %llu, %llu; the identification check above): within 2 %% "
+                   "%d of %d:",
                    (unsigned long long)run.turb_seed, (unsigned long long)run.noise_seed, n_ok,
                    n_cmp);
         }
@@ -662,7 +664,7 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
         }
         for (size_t i = 0; i < n_q && i < q.n; ++i)
         {
-            e[n_done * MS_MAX_Q + i] = q.err[i];
+            e[n_done * IC_MAX_Q + i] = q.err[i];
             printf(" %+.1f", 100.0 * q.err[i]);
         }
         printf("\n");
@@ -678,7 +680,7 @@ static void monte_carlo(size_t n_rec, const ms_errs_t *rec0)
         size_t m = 0, ok = 0, ok_floor = 0;
         for (size_t r = 0; r < n_done; ++r)
         {
-            const double v = e[r * MS_MAX_Q + i];
+            const double v = e[r * IC_MAX_Q + i];
             if (isfinite(v))
             {
                 sum += v;
@@ -709,8 +711,9 @@ int aenl_bench_fit(int argc, char **argv)
         if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)
         {
             printf("usage: aenl bench fit [--records N]\n"
-                   "  --records N  also identify N records of the must-show (seeds +0 .. +N-1;\n"
-                   "               about 45 s each) and print the spread of every error\n");
+                   "  --records N  also identify N records like the identification check's\n"
+                   "               (its seeds +0 .. +N-1; about 45 s each) and print the spread\n"
+                   "               of every error\n");
             return AENL_EXIT_OK;
         }
         char *end = NULL;
@@ -775,9 +778,9 @@ int aenl_bench_fit(int argc, char **argv)
     printf(
         "\n  (time ~ N n_x^3: the E-step's n_x x n_x products and the Cholesky solve per step)\n");
     free(y);
-    ms_errs_t rec0;
+    ic_errs_t rec0;
     memset(&rec0, 0, sizeof(rec0));
-    must_show(&rec0);
+    identification_check(&rec0);
     if (n_rec > 0)
     {
         monte_carlo(n_rec, &rec0);
