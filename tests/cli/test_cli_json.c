@@ -10,6 +10,7 @@
 #include "aenl_cli_test.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdlib.h>
 
 #include "aenl_schema_check.h"
@@ -40,10 +41,10 @@ static cJSON *load_schema(const char *name)
 }
 
 /* The command's stdout is one JSON document that satisfies the named schema (and holds the text
- * must, unless NULL). The outputs'
+ * must, unless NULL); the document, for the caller to look into and delete. The outputs'
  * memory safety is checked elsewhere (valgrind of every subcommand), so the sanitizer build,
  * where the runs take minutes, leaves this contract to the strict build. */
-static void check_output(const char *schema, const char *const *args, const char *must)
+static cJSON *check_output(const char *schema, const char *const *args, const char *must)
 {
 #ifdef AENL_TEST_SANITIZED
     (void)schema;
@@ -63,8 +64,8 @@ static void check_output(const char *schema, const char *const *args, const char
     (void)snprintf(msg, sizeof(msg), "%s: %s at %s", schema, f.why, f.where);
     TEST_ASSERT_TRUE_MESSAGE(ok, msg);
     cJSON_Delete(s);
-    cJSON_Delete(doc);
     TEST_ASSERT_TRUE_MESSAGE(must == NULL || strstr(r.out, must) != NULL, r.out);
+    return doc;
 }
 
 static const char *simulated(const char *ini, const char *csv)
@@ -80,13 +81,83 @@ static void test_json_identify_and_flutter(void)
 {
     const char *rec = simulated(EXAMPLES "paper_hysteresis_pitch.ini", "j_hyst.csv");
     const char *id[] = {"identify", rec, "--method", "moments", "--json", NULL};
-    check_output("identify", id, NULL);
+    cJSON_Delete(check_output("identify", id, NULL));
     const char *fl[] = {"flutter", EXAMPLES "paper_polynomial_pitch.ini", "--json", NULL};
-    check_output("flutter", fl, NULL);
+    cJSON_Delete(check_output("flutter", fl, NULL));
     const char *fl3[] = {
         "flutter", EXAMPLES "section3dof_multisine.ini", "--json", "--sweep", "--points", "3",
         NULL};
-    check_output("flutter", fl3, NULL);
+    cJSON_Delete(check_output("flutter", fl3, NULL));
+}
+
+/* The CSV AENL_TEST_TMP_DIR/csv without its first column, as AENL_TEST_TMP_DIR/name. */
+static const char *without_first_column(const char *csv, const char *name)
+{
+    static char in[1 << 20], out[1 << 20];
+    char path[600];
+    (void)snprintf(path, sizeof(path), "%s/%s", AENL_TEST_TMP_DIR, csv);
+    const size_t n = cli_slurp(path, in, sizeof(in));
+    TEST_ASSERT_TRUE_MESSAGE(n > 0 && n < sizeof(in) - 1u, path);
+    size_t k = 0;
+    for (const char *l = in; *l != '\0';)
+    {
+        const char *comma = strchr(l, ',');
+        const char *nl = strchr(l, '\n');
+        const char *from = comma != NULL && (nl == NULL || comma < nl) ? comma + 1 : l;
+        const size_t len = nl != NULL ? (size_t)(nl - from) + 1u : strlen(from);
+        memcpy(out + k, from, len);
+        k += len;
+        l = from + len;
+    }
+    out[k] = '\0';
+    return cli_file(name, out);
+}
+
+/* A test's JSON holds the record's step (dt; null when want_dt is NaN) and its notes (one of
+ * them containing note, unless NULL), and each channel's period in samples and in the time
+ * column's unit. */
+static void check_step_and_notes(const cJSON *doc, double want_dt, const char *note)
+{
+    const cJSON *dt = cJSON_GetObjectItemCaseSensitive(doc, "dt");
+    const cJSON *notes = cJSON_GetObjectItemCaseSensitive(doc, "notes");
+    TEST_ASSERT_NOT_NULL_MESSAGE(dt, "dt");
+    TEST_ASSERT_TRUE_MESSAGE(cJSON_IsArray(notes), "notes");
+    if (isnan(want_dt))
+    {
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNull(dt), "dt without a time column");
+    }
+    else
+    {
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsNumber(dt), "dt");
+        TEST_ASSERT_DOUBLE_WITHIN(1e-9 * want_dt, want_dt, dt->valuedouble);
+    }
+    int found = note == NULL;
+    const cJSON *x = NULL;
+    cJSON_ArrayForEach(x, notes)
+    {
+        TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(x), "a note");
+        found |= note != NULL && strstr(x->valuestring, note) != NULL;
+    }
+    TEST_ASSERT_TRUE_MESSAGE(found, note != NULL ? note : "notes");
+    const cJSON *c = NULL;
+    cJSON_ArrayForEach(c, cJSON_GetObjectItemCaseSensitive(doc, "channels"))
+    {
+        const cJSON *spp = cJSON_GetObjectItemCaseSensitive(c, "samples_per_period");
+        const cJSON *ps = cJSON_GetObjectItemCaseSensitive(c, "period_samples");
+        const cJSON *pt = cJSON_GetObjectItemCaseSensitive(c, "period_s");
+        TEST_ASSERT_TRUE(cJSON_IsNumber(spp) && cJSON_IsNumber(ps));
+        TEST_ASSERT_EQUAL_DOUBLE(spp->valuedouble, ps->valuedouble);
+        if (isnan(want_dt))
+        {
+            TEST_ASSERT_TRUE(cJSON_IsNull(pt));
+        }
+        else
+        {
+            TEST_ASSERT_TRUE(cJSON_IsNumber(pt));
+            TEST_ASSERT_DOUBLE_WITHIN(1e-9 * pt->valuedouble, spp->valuedouble * want_dt,
+                                      pt->valuedouble);
+        }
+    }
 }
 
 static void test_json_identify_test_with_input_and_controls(void)
@@ -100,10 +171,17 @@ static void test_json_identify_test_with_input_and_controls(void)
     const char *rec = simulated(ini, "j_ms.csv");
     /* the test is identify's default method */
     const char *plain[] = {"identify", rec, "--json", NULL};
-    check_output("identify-test", plain, NULL);
+    cJSON *doc = check_output("identify-test", plain, NULL);
+    check_step_and_notes(doc, 0.002, NULL);
+    cJSON_Delete(doc);
+    /* the same record without its time column: no step, and the note that says so */
+    const char *plain_nt[] = {"identify", without_first_column(rec, "j_ms_nt.csv"), "--json", NULL};
+    doc = check_output("identify-test", plain_nt, NULL);
+    check_step_and_notes(doc, (double)NAN, "has no time column");
+    cJSON_Delete(doc);
     const char *full[] = {"identify", rec,      "--method",   "test", "--input",
                           "f_pitch",  "--json", "--controls", "1",    NULL};
-    check_output("identify-test", full, NULL);
+    cJSON_Delete(check_output("identify-test", full, NULL));
     /* the same section without measurement noise: its channels are dithered, and say so */
     const char *ini0 = cli_file("j_ms0.ini", "[model]\ntype = section3dof\nvelocity = 12\n\n"
                                              "[excitation]\ntype = multisine\ndof = pitch\n"
@@ -111,22 +189,22 @@ static void test_json_identify_test_with_input_and_controls(void)
                                              "seed = 3\n\n[run]\nduration = 4\ndt = 0.002\n");
     const char *rec0 = simulated(ini0, "j_ms0.csv");
     const char *clean[] = {"identify", rec0, "--input", "f_pitch", "--json", NULL};
-    check_output("identify-test", clean, "\"dithered\"");
+    cJSON_Delete(check_output("identify-test", clean, "\"dithered\""));
 }
 
 static void test_json_fit_and_diagnose(void)
 {
     const char *rec = simulated(EXAMPLES "paper_polynomial_pitch.ini", "j_poly.csv");
     const char *fit[] = {"fit", rec, "--thresholds", "alpha:0.0", "--iter", "5", "--json", NULL};
-    check_output("fit", fit, NULL);
+    cJSON_Delete(check_output("fit", fit, NULL));
     const char *boot[] = {"fit",         rec, "--thresholds", "alpha:0.0", "--iter", "5",
                           "--bootstrap", "2", "--json",       NULL};
-    check_output("fit", boot, NULL);
+    cJSON_Delete(check_output("fit", boot, NULL));
     const char *meas = simulated(EXAMPLES "diagnose_truth_airfoil2dof.ini", "j_dg.csv");
     const char *dg[] = {
         "diagnose", "--measured",  meas, "--model",    EXAMPLES "diagnose_base_airfoil2dof.ini",
         "--json",   "--max-evals", "20", "--no-plots", NULL};
-    check_output("diagnose", dg, NULL);
+    cJSON_Delete(check_output("diagnose", dg, NULL));
 }
 
 /* The check fails where it should: each mutation of a valid document, and an unknown keyword. */

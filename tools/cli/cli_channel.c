@@ -37,16 +37,23 @@ void aenl_cli_set_notes(int on)
     g_notes = on;
 }
 
+void aenl_cli_no_time_text(const char *path, char *buf, size_t n)
+{
+    (void)snprintf(buf, n,
+                   "%s has no time column (t, time, tau or timestamp, or the one --time names): "
+                   "every column is a channel, and lags count samples",
+                   path);
+}
+
 void aenl_cli_note_no_time(const char *cmd, const char *path)
 {
     if (!g_notes)
     {
         return;
     }
-    fprintf(stderr,
-            "aenl %s: note: %s has no time column (t, time, tau or timestamp, or the one --time "
-            "names): every column is a channel, and lags count samples\n",
-            cmd, path);
+    char line[4096 + 256];
+    aenl_cli_no_time_text(path, line, sizeof(line));
+    fprintf(stderr, "aenl %s: note: %s\n", cmd, line);
 }
 
 /* The column names of t, comma-separated, into buf (cut when too long). */

@@ -51,7 +51,7 @@ static void help(void)
            "the candidate laws are listed with their p-values; switching points come with 95 %%\n"
            "profile-likelihood intervals (not calibrated: they are often too narrow). The\n"
            "record is held in memory. See docs/identify-test.md\n\n"
-           "--json          one JSON object (aenl-identify-test/4; docs/identify-test.md)\n"
+           "--json          one JSON object (aenl-identify-test/5; docs/identify-test.md)\n"
            "--plot DIR      per channel, DIR/<file>_<channel>_timeseries.png (the record, the\n"
            "                switching points marked) and, for a channel that rejects,\n"
            "                DIR/<file>_<channel>_law.png: the force each law adds as fitted,\n"

@@ -226,7 +226,9 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
  *        model.inputs [names] when the model took known inputs, model.dithered [names] when some
  *        channels were dithered, and controls (their number) with
  *        each channel's control_exceed and control_p when linear controls were run. names: the
- *        channels; input_names: the inputs (NULL when there are none).
+ *        channels; input_names: the inputs (NULL when there are none). `aenl identify --json`
+ *        prints this document with what the command knows of the record added: dt, each
+ *        channel's period_samples and period_s, and notes (schema aenl-identify-test/5).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
