@@ -3,12 +3,19 @@
 # Install gate: `cmake --install` a build (stripped) into a temporary prefix, then build and run a
 # consumer through find_package(aenl) and through pkg-config. With "tools": the prefix is then
 # moved and the installed aenl run from there; it must find its own files beside itself
-# (BIN/../share/aenl) and name no path of the source or build tree.
+# (BIN/../share/aenl) and name no path of the source or build tree. `aenl demo` (about two
+# minutes) runs there too, in a folder of its own and with an environment that names neither
+# tree; where strace works, no file access of it or of its children may name one.
+# The source tree stays where it is: the build folder is often inside it, and ctest runs other
+# tests from there at the same time.
 # Usage: check_install.sh BUILD_DIR SOURCE_DIR [tools]
 set -euo pipefail
 build=$(cd "$1" && pwd)
 src=$(cd "$2" && pwd)
 work=$(mktemp -d)
+case "$work/" in # the runs below must be outside both trees
+  "$src"/* | "$build"/*) rmdir "$work" && work=$(mktemp -d -p /tmp) ;;
+esac
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" --strip >/dev/null
 cmake -S "$src/tests/install_consumer" -B "$work/b" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
@@ -35,7 +42,9 @@ for tree in "$src" "$build"; do
     exit 1
   fi
 done
-run() { (cd "$work" && env -u AENL_SHARE_DIR -u AENL_PLOT_DIR "$bin" "$@"); }
+# PATH without the trees (gnuplot and man are looked up there); nothing else is passed on.
+clean_path=$(tr ':' '\n' <<<"$PATH" | grep -v -F -e "$src" -e "$build" | paste -s -d ':' -)
+run() { (cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "$bin" "$@"); }
 run --version
 run simulate "$share/examples/paper_polynomial_pitch.ini" -o rec.csv
 test -s "$work/rec.csv"
@@ -53,3 +62,33 @@ if command -v man >/dev/null; then
   man -l "$work/moved/share/man/man1/aenl.1" 2>/dev/null | grep -q "find the structural nonlinearity"
 fi
 echo "install: the moved tree runs (examples, plot scripts, completion, man page)"
+
+# The demo: every worked example end to end from the installed files alone.
+trace=()
+if command -v strace >/dev/null && strace -f -o /dev/null true 2>/dev/null; then
+  trace=(strace -f -q -e trace=file -o "$work/demo.trace")
+  strace --seccomp-bpf -f -o /dev/null true 2>/dev/null && trace+=(--seccomp-bpf)
+fi
+(cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "${trace[@]}" \
+  "$bin" demo --out "$work/demo" >"$work/demo.log" 2>&1) || {
+  echo "the installed aenl demo failed:" >&2
+  cat "$work/demo.log" >&2
+  exit 1
+}
+grep -F -x -q "demo done: $work/demo" "$work/demo.log"
+for f in paper_polynomial_pitch paper_hysteresis_pitch paper_flap_freeplay two_freeplays; do
+  test -s "$work/demo/$f.csv"
+done
+if command -v gnuplot >/dev/null; then
+  ls "$work"/demo/*_identify/*.png >/dev/null
+fi
+if ((${#trace[@]})); then
+  for tree in "$src" "$build"; do
+    if grep -F -q -e "\"$tree/" -e "\"$tree\"" "$work/demo.trace"; then
+      echo "the installed aenl demo reached into $tree:" >&2
+      grep -F -e "\"$tree/" -e "\"$tree\"" "$work/demo.trace" | head -n 20 >&2
+      exit 1
+    fi
+  done
+fi
+echo "install: the installed demo runs without the source and build trees"
