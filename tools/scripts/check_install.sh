@@ -35,17 +35,20 @@ echo "install: find_package(aenl) and pkg-config consumers ok"
 mv "$work/prefix" "$work/moved"
 bin="$work/moved/bin/aenl"
 share="$work/moved/share/aenl"
-for tree in "$src" "$build"; do
-  if strings -a "$bin" | grep -F -q "$tree"; then
-    echo "the installed aenl names $tree:" >&2
-    strings -a "$bin" | grep -F "$tree" >&2
-    exit 1
-  fi
+for exe in "$work"/moved/bin/*; do # aenl and the helpers its benches run
+  for tree in "$src" "$build"; do
+    if strings -a "$exe" | grep -F -q "$tree"; then
+      echo "the installed $(basename "$exe") names $tree:" >&2
+      strings -a "$exe" | grep -F "$tree" >&2
+      exit 1
+    fi
+  done
 done
 # PATH without the trees (gnuplot and man are looked up there); nothing else is passed on.
 clean_path=$(tr ':' '\n' <<<"$PATH" | grep -v -F -e "$src" -e "$build" | paste -s -d ':' -)
 run() { (cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "$bin" "$@"); }
 run --version
+run bench stream 100000 --plain >/dev/null
 run simulate "$share/examples/paper_polynomial_pitch.ini" -o rec.csv
 test -s "$work/rec.csv"
 if command -v gnuplot >/dev/null; then
@@ -61,7 +64,7 @@ PATH="$work/moved/bin:$PATH" bash -c '
 if command -v man >/dev/null; then
   man -l "$work/moved/share/man/man1/aenl.1" 2>/dev/null | grep -q "find the structural nonlinearity"
 fi
-echo "install: the moved tree runs (examples, plot scripts, completion, man page)"
+echo "install: the moved tree runs (examples, plot scripts, stream bench, completion, man page)"
 
 # The demo: every worked example end to end from the installed files alone.
 trace=()
