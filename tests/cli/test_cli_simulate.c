@@ -6,6 +6,8 @@
  *        airfoil (U* 6.2851) and of Conner's section (23.897 m/s) through --json, and bad INIs:
  *        exit 2, one message naming file:line and key, nothing on stdout, no file.
  */
+#define _DEFAULT_SOURCE /* mknod, makedev */
+
 #include "aenl_cli_test.h"
 
 #include <cjson/cJSON.h>
@@ -13,6 +15,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include "unity.h"
 
@@ -105,16 +108,12 @@ static void test_cli_simulate_writes_the_force_column(void)
 
 /* Output targets that are not regular files are written, never replaced: "-" and /dev/stdout
  * give the CSV on standard output, /dev/stderr on standard error (through the process's own
- * stream, so an appending redirection keeps appending), /dev/null stays the device it is. */
+ * stream, so an appending redirection keeps appending). */
 static void test_cli_simulate_writes_to_stdout_and_devices(void)
 {
     const char *dash[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "-", NULL};
     const char *named[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "/dev/stdout",
                            NULL};
-    const char *null_dev[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", "/dev/null",
-                              NULL};
-    struct stat before;
-    struct stat after;
     cli_result_t r;
     cli_run(&r, dash);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -128,13 +127,44 @@ static void test_cli_simulate_writes_to_stdout_and_devices(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_size_t(0, r.n_out);
     TEST_ASSERT_EQUAL_INT(0, strncmp(r.err, "t,alpha,xi\n0,0.017453292519943", 30));
-    TEST_ASSERT_EQUAL_INT(0, stat("/dev/null", &before));
-    cli_run(&r, null_dev);
+}
+
+/* A character device given to -o stays the device it is. As root a private twin of /dev/null
+ * (1, 3) is made here, so a regression cannot replace the system's; where root may not make one
+ * (or not open it: a nodev mount), the check is skipped rather than run on /dev/null itself.
+ * Without root /dev/null is used, which a regression could not replace (its folder is not
+ * writable). */
+static void test_cli_simulate_device_written_not_replaced(void)
+{
+    const char *dev = "/dev/null";
+    char own[600];
+    (void)snprintf(own, sizeof(own), "%s/null_twin", AENL_TEST_TMP_DIR);
+    if (geteuid() == 0)
+    {
+        (void)remove(own);
+        const int fd = mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0 ? open(own, O_WRONLY) : -1;
+        if (fd < 0)
+        {
+            (void)remove(own);
+            TEST_IGNORE_MESSAGE("no private device node here (mknod or its open refused)");
+        }
+        (void)close(fd);
+        dev = own;
+    }
+    const char *args[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", dev, NULL};
+    struct stat before;
+    struct stat after;
+    cli_result_t r;
+    TEST_ASSERT_EQUAL_INT(0, stat(dev, &before));
+    TEST_ASSERT_TRUE(S_ISCHR(before.st_mode));
+    cli_run(&r, args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_EQUAL_size_t(0, r.n_out);
-    TEST_ASSERT_EQUAL_INT(0, lstat("/dev/null", &after));
-    TEST_ASSERT_TRUE_MESSAGE(S_ISCHR(after.st_mode), "/dev/null was replaced");
+    TEST_ASSERT_EQUAL_INT(0, lstat(dev, &after));
+    TEST_ASSERT_TRUE_MESSAGE(S_ISCHR(after.st_mode), "the device was replaced");
     TEST_ASSERT_EQUAL_UINT64((uint64_t)before.st_ino, (uint64_t)after.st_ino);
+    TEST_ASSERT_TRUE_MESSAGE(cli_no_file_like(".null_twin.tmp"), "a temporary was left");
+    (void)remove(own);
 }
 
 /* `aenl --version`: one line "aenl MAJOR.MINOR.PATCH" on stdout, exit 0. */
@@ -340,6 +370,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_cli_simulate_writes_the_csv_contract);
     RUN_TEST(test_cli_simulate_writes_to_stdout_and_devices);
+    RUN_TEST(test_cli_simulate_device_written_not_replaced);
     RUN_TEST(test_cli_simulate_writes_the_force_column);
     RUN_TEST(test_cli_version);
     RUN_TEST(test_cli_option_conventions);
