@@ -417,6 +417,28 @@ static void test_csv_error_not_a_number(void)
                       "nan1.csv:4:2 (alpha): not a number 'x1'");
 }
 
+/* A row of units under the header is named as such, whether its units are bare words or in
+ * brackets or parentheses; a bracketed cell further down is only not a number. */
+static void test_csv_error_unit_row(void)
+{
+    static const char *const rows[] = {"s,rad,m", "[s],[rad],[-]", "(s),(rad),(m)", "[ s ],[],[]"};
+    for (size_t i = 0; i < sizeof(rows) / sizeof(rows[0]); ++i)
+    {
+        char text[128];
+        char want[128];
+        const char *cell_end = strchr(rows[i], ',');
+        (void)snprintf(text, sizeof(text), "t,alpha,xi\n%s\n0,1,2\n", rows[i]);
+        (void)snprintf(want, sizeof(want),
+                       "units.csv:2:1 (t): not a number '%.*s' (a row of units?",
+                       (int)(cell_end - rows[i]), rows[i]);
+        expect_read_error("units.csv", text, strlen(text), AENL_E_ARG, want);
+    }
+    const char *later = "t,alpha\n0,1\n[s],2\n";
+    expect_read_error("units.csv", later, strlen(later), AENL_E_ARG,
+                      "units.csv:3:1 (t): not a number '[s]'");
+    TEST_ASSERT_NULL_MESSAGE(strstr(g_err.msg, "row of units"), g_err.msg);
+}
+
 static void test_csv_error_trailing_garbage(void)
 {
     const char *s = "t,alpha\n1,1.5x\n";
@@ -928,6 +950,7 @@ int main(void)
     RUN_TEST(test_csv_skips_comments_and_blank_lines_counting_them);
     RUN_TEST(test_csv_long_lines);
     RUN_TEST(test_csv_error_not_a_number);
+    RUN_TEST(test_csv_error_unit_row);
     RUN_TEST(test_csv_error_trailing_garbage);
     RUN_TEST(test_csv_error_inf);
     RUN_TEST(test_csv_error_ragged_rows);

@@ -407,6 +407,16 @@ const char *aenl_csv_path(const aenl_csv_t *csv)
     return (csv != NULL) ? csv->path : NULL;
 }
 
+/* 1 for a cell that reads like a unit: a word ("s", "rad"), or anything in brackets or
+ * parentheses ("[s]", "(m/s)", "[-]"). */
+static int looks_like_unit(const char *cell)
+{
+    const size_t n = strlen(cell);
+    return isalpha((unsigned char)cell[0]) ||
+           (n >= 2u &&
+            ((cell[0] == '[' && cell[n - 1u] == ']') || (cell[0] == '(' && cell[n - 1u] == ')')));
+}
+
 /* One cell → value (NaN for a missing cell). `cell` is already trimmed. */
 static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cell, double *value,
                                 aenl_err_t *err)
@@ -422,8 +432,8 @@ static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cel
     v = strtod(cell, &end);
     if (end == cell || *end != '\0' || isnan(v))
     {
-        /* a word where the first data row starts is most often a row of units */
-        const int unit_row = csv->data_rows == 0 && c == 0 && isalpha((unsigned char)cell[0]);
+        /* a unit where the first data row starts is most often a row of units */
+        const int unit_row = csv->data_rows == 0 && c == 0 && looks_like_unit(cell);
         const int comma = csv->sep != ',' && strchr(cell, ',') != NULL;
         aenl_err_set(err, "%s:%lu:%lu (%s): not a number '%.60s'%s", csv->path, csv->line_no,
                      (unsigned long)(c + 1), csv->names[c], cell,
