@@ -5,14 +5,10 @@
  *        likelihood-based test of aenl_nltest, and its figures (argv has been parsed by
  *        cmd_identify.c).
  */
-#define _POSIX_C_SOURCE 200809L /* open_memstream */
-
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <cjson/cJSON.h>
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_em.h"
@@ -328,11 +324,6 @@ static int figures(const aenl_table_t *t, const char *path, const char *dir,
 
 /* ---- JSON ------------------------------------------------------------------------------------ */
 
-/* The command's JSON is aenl_nlt_print_json's document (aenl-identify-test/4) with what only the
- * command knows: the record's step, from its time column, each channel's period in that unit,
- * and the notes the table prints. */
-#define JSON_SCHEMA "aenl-identify-test/5"
-
 /* The record's sample step in its time column's unit; NaN without a time column (*has_time 0)
  * or with one row. The record has passed aenl_cli_check_record, so its steps are equal. */
 static double record_step(const aenl_table_t *t, int *has_time)
@@ -351,136 +342,22 @@ static double record_step(const aenl_table_t *t, int *has_time)
     return (double)NAN;
 }
 
-static cJSON *num_or_null(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
-}
-
-/* item under key into obj right after the member `after` (at the end without one); 0, or -1
- * when item is NULL (memory ran out). The members after `after` move behind it, which keeps
- * their order. */
-static int insert_after(cJSON *obj, const char *after, const char *key, cJSON *item)
-{
-    if (item == NULL)
-    {
-        return -1;
-    }
-    cJSON_AddItemToObject(obj, key, item);
-    const cJSON *a = cJSON_GetObjectItemCaseSensitive(obj, after);
-    while (a != NULL && a->next != item)
-    {
-        cJSON_AddItemToArray(obj, cJSON_DetachItemViaPointer(obj, a->next));
-    }
-    return 0;
-}
-
-/* The line after the one at l, or NULL at the end of the text. */
-static const char *next_line(const char *l)
-{
-    const char *nl = strchr(l, '\n');
-    return nl != NULL && nl[1] != '\0' ? nl + 1 : NULL;
-}
-
-/* The table's lines "note: ..." after its verdict, without that prefix, into notes (first the
- * no-time-column note, which the table's run prints on stderr); 0, or -1 when memory runs out.
- * They are read from the table itself, so that the JSON says what the table says in the same
- * words. */
-static int table_notes(cJSON *notes, const aenl_nlt_result_t *res, const char *const *names,
-                       const char *const *in_names, const char *path, int no_time)
-{
-    int bad = 0;
-    if (no_time)
-    {
-        char line[4096 + 256];
-        aenl_cli_no_time_text(path, line, sizeof(line));
-        cJSON *x = cJSON_CreateString(line);
-        bad |= x == NULL || !cJSON_AddItemToArray(notes, x);
-    }
-    char *text = NULL;
-    size_t len = 0;
-    FILE *m = open_memstream(&text, &len);
-    if (m == NULL)
-    {
-        return -1;
-    }
-    aenl_nlt_print_table(m, res, names, in_names, path);
-    if (fclose(m) != 0 || text == NULL)
-    {
-        free(text);
-        return -1;
-    }
-    /* The verdict's line is the last that starts with "verdict: ": the channels' rows, one of
-     * which a channel's name could start so, come before it. */
-    const char *from = NULL;
-    for (const char *l = text; l != NULL; l = next_line(l))
-    {
-        from = strncmp(l, "verdict: ", 9) == 0 ? l : from;
-    }
-    for (const char *l = from; l != NULL && !bad; l = next_line(l))
-    {
-        if (strncmp(l, "note: ", 6) != 0)
-        {
-            continue;
-        }
-        const char *end = strchr(l, '\n');
-        const size_t n = end != NULL ? (size_t)(end - l) - 6u : strlen(l) - 6u;
-        char *line = malloc(n + 1u);
-        cJSON *x = NULL;
-        if (line != NULL)
-        {
-            memcpy(line, l + 6, n);
-            line[n] = '\0';
-            x = cJSON_CreateString(line);
-            free(line);
-        }
-        bad |= x == NULL || !cJSON_AddItemToArray(notes, x);
-    }
-    free(text);
-    return bad ? -1 : 0;
-}
-
-/* The run's JSON on stdout, written only when whole; 0, or -1 when memory runs out. */
+/* The run's JSON on stdout, with the record's step and, without a time column, the note the
+ * table's run prints on stderr; 0, or -1 when memory runs out (nothing written). */
 static int print_json(const aenl_table_t *t, const aenl_nlt_result_t *res, const char *const *names,
                       const char *const *in_names, const char *path)
 {
-    char *text = NULL;
-    size_t len = 0;
-    FILE *m = open_memstream(&text, &len);
-    aenl_status_t st = m != NULL ? aenl_nlt_print_json(m, res, names, in_names, path) : AENL_E_DIM;
-    if (m != NULL && fclose(m) != 0)
-    {
-        st = AENL_E_DIM;
-    }
-    cJSON *doc = st == AENL_OK && text != NULL ? cJSON_Parse(text) : NULL;
-    free(text);
-    if (doc == NULL)
-    {
-        return -1;
-    }
     int has_time = 0;
     const double dt = record_step(t, &has_time);
-    int bad = !cJSON_ReplaceItemInObject(doc, "schema", cJSON_CreateString(JSON_SCHEMA));
-    bad |= insert_after(doc, "level", "dt", num_or_null(dt));
-    cJSON *c = NULL;
-    cJSON_ArrayForEach(c, cJSON_GetObjectItemCaseSensitive(doc, "channels"))
+    char note[4096 + 256];
+    if (!has_time)
     {
-        const cJSON *spp = cJSON_GetObjectItemCaseSensitive(c, "samples_per_period");
-        const double per = cJSON_IsNumber(spp) ? spp->valuedouble : (double)NAN;
-        bad |= insert_after(c, "samples_per_period", "period_samples", num_or_null(per));
-        bad |= insert_after(c, "period_samples", "period_s", num_or_null(per * dt));
+        aenl_cli_no_time_text(path, note, sizeof(note));
     }
-    cJSON *notes = cJSON_CreateArray();
-    bad |= notes == NULL || table_notes(notes, res, names, in_names, path, !has_time) != 0;
-    bad |= insert_after(doc, "channels", "notes", notes);
-    char *out = bad ? NULL : cJSON_Print(doc);
-    cJSON_Delete(doc);
-    if (out == NULL)
-    {
-        return -1;
-    }
-    printf("%s\n", out);
-    cJSON_free(out);
-    return 0;
+    return aenl_nlt_print_json(stdout, res, names, in_names, path, dt, has_time ? NULL : note) ==
+                   AENL_OK
+               ? 0
+               : -1;
 }
 
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,

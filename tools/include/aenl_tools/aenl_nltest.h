@@ -216,23 +216,25 @@ double aenl_nlt_law_force(const aenl_nlt_channel_t *c, aenl_nlt_law_t law, doubl
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
 
 /**
- * @brief The result as one JSON object on `out` (schema aenl-identify-test/4): file,
- *        aenl_version, method "test", level, model {states, samples, loglik, impulses}, verdict
- *        {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
+ * @brief The result as one JSON object on `out` (schema aenl-identify-test/5): file,
+ *        aenl_version, method "test", level, dt, model {states, samples, loglik, impulses},
+ *        verdict {class, channel, switch_points, switch_point_lo, switch_point_hi, confidence,
  *        class_confidence, channel_confidence, candidates [{class, channel, p_value}]},
  *        channels [{name, class, statistic, dof, p_value, nonlinear, law_p_values {polynomial,
- *        freeplay, hysteresis}, confidence, samples_per_period (null when infinite), hardening,
- *        switch_points, switch_point_lo, switch_point_hi}],
+ *        freeplay, hysteresis}, confidence, samples_per_period and period_samples (the same;
+ *        null when infinite), period_s, hardening, switch_points, switch_point_lo,
+ *        switch_point_hi}], notes [the notes the table prints, lead_note first],
  *        model.inputs [names] when the model took known inputs, model.dithered [names] when some
  *        channels were dithered, and controls (their number) with
  *        each channel's control_exceed and control_p when linear controls were run. names: the
- *        channels; input_names: the inputs (NULL when there are none). `aenl identify --json`
- *        prints this document with what the command knows of the record added: dt, each
- *        channel's period_samples and period_s, and notes (schema aenl-identify-test/5).
+ *        channels; input_names: the inputs (NULL when there are none); dt: the record's sample
+ *        step in its time column's unit, NaN (null in the JSON, and every period_s null) when
+ *        it has none; lead_note: a note of the caller's (NULL: none).
  * @return AENL_OK, or AENL_E_DIM when memory runs out (nothing is written then).
  */
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                                  const char *const *input_names, const char *path);
+                                  const char *const *input_names, const char *path, double dt,
+                                  const char *lead_note);
 
 /** The result as a table on `out` (what the JSON holds, for a reader). */
 void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,

@@ -57,7 +57,8 @@ static int add_points(cJSON *o, const aenl_nlt_channel_t *c, int undetermined)
     return bad;
 }
 
-static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t n_controls)
+static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t n_controls,
+                           double dt)
 {
     cJSON *o = cJSON_CreateObject();
     if (o == NULL)
@@ -82,6 +83,8 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t
     bad |= add(o, "confidence", num(c->nonlinear ? c->confidence : (double)NAN));
     const int poly = c->nonlinear && !c->undetermined && c->cls == AENL_CLASS_POLYNOMIAL;
     bad |= add(o, "samples_per_period", num(c->samples_per_period));
+    bad |= add(o, "period_samples", num(c->samples_per_period));
+    bad |= add(o, "period_s", num(c->samples_per_period * dt));
     bad |= add(o, "hardening",
                poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
     bad |= add_points(o, c, c->undetermined);
@@ -96,6 +99,60 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t
         return NULL;
     }
     return o;
+}
+
+/* The note on a channel sampled too coarsely for the laws' shape into buf (the table prints
+ * it, the JSON lists it); 0 when the channel needs none. */
+static int coarse_note(const aenl_nlt_channel_t *c, const char *name, char *buf, size_t n)
+{
+    if (!(c->samples_per_period < AENL_NLT_MIN_SAMPLES_PER_PERIOD))
+    {
+        return 0;
+    }
+    (void)snprintf(buf, n,
+                   "%s moves with %.1f samples per period (fewer than %g): the direction of "
+                   "motion lags it by %.0f degrees and a cycle is seen at few positions, so the "
+                   "law's shape and switching points are resolved coarsely; sample faster where "
+                   "you can",
+                   name, c->samples_per_period, AENL_NLT_MIN_SAMPLES_PER_PERIOD,
+                   180.0 / c->samples_per_period);
+    return 1;
+}
+
+/* The notes: the caller's first, then every line the table prints as a note. */
+static cJSON *json_notes(const aenl_nlt_result_t *r, const char *const *names,
+                         const char *lead_note)
+{
+    cJSON *a = cJSON_CreateArray();
+    int bad = a == NULL;
+    if (!bad && lead_note != NULL)
+    {
+        cJSON *x = cJSON_CreateString(lead_note);
+        bad |= x == NULL;
+        if (x != NULL)
+        {
+            cJSON_AddItemToArray(a, x);
+        }
+    }
+    for (size_t j = 0; j < r->n_channels && !bad; ++j)
+    {
+        char line[1024]; /* the same words in both outputs, a very long name cut alike */
+        if (coarse_note(&r->ch[j], names[j], line, sizeof(line)))
+        {
+            cJSON *x = cJSON_CreateString(line);
+            bad |= x == NULL;
+            if (x != NULL)
+            {
+                cJSON_AddItemToArray(a, x);
+            }
+        }
+    }
+    if (bad)
+    {
+        cJSON_Delete(a);
+        return NULL;
+    }
+    return a;
 }
 
 static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
@@ -171,7 +228,8 @@ static cJSON *name_array(const char *const *names, size_t n, const int *sel)
 }
 
 aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
-                                  const char *const *input_names, const char *path)
+                                  const char *const *input_names, const char *path, double dt,
+                                  const char *lead_note)
 {
     cJSON *root = cJSON_CreateObject();
     cJSON *model = cJSON_CreateObject();
@@ -179,11 +237,12 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/4"));
+        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/5"));
         bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
         bad |= add(root, "file", cJSON_CreateString(path));
         bad |= add(root, "method", cJSON_CreateString("test"));
         bad |= add(root, "level", num(r->level));
+        bad |= add(root, "dt", num(dt));
         bad |= add(model, "states", cJSON_CreateNumber((double)r->n_states));
         bad |= add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
         bad |= add(model, "loglik", num(r->loglik));
@@ -210,7 +269,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         bad |= add(root, "verdict", json_verdict(r, names));
         for (size_t j = 0; j < r->n_channels && !bad; ++j)
         {
-            cJSON *c = json_channel(&r->ch[j], names[j], r->n_controls);
+            cJSON *c = json_channel(&r->ch[j], names[j], r->n_controls, dt);
             bad |= c == NULL;
             if (c != NULL)
             {
@@ -219,6 +278,7 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         }
         bad |= add(root, "channels", chs);
         chs = NULL;
+        bad |= add(root, "notes", json_notes(r, names, lead_note));
     }
     char *text = bad ? NULL : cJSON_Print(root);
     cJSON_Delete(root);
@@ -335,15 +395,10 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
     (void)fprintf(out, "\n");
     for (size_t j = 0; j < r->n_channels; ++j)
     {
-        if (r->ch[j].samples_per_period < AENL_NLT_MIN_SAMPLES_PER_PERIOD)
+        char line[1024]; /* the same words in both outputs, a very long name cut alike */
+        if (coarse_note(&r->ch[j], names[j], line, sizeof(line)))
         {
-            (void)fprintf(out,
-                          "note: %s moves with %.1f samples per period (fewer than %g): the "
-                          "direction of motion lags it by %.0f degrees and a cycle is seen at "
-                          "few positions, so the law's shape and switching points are resolved "
-                          "coarsely; sample faster where you can\n",
-                          names[j], r->ch[j].samples_per_period, AENL_NLT_MIN_SAMPLES_PER_PERIOD,
-                          180.0 / r->ch[j].samples_per_period);
+            (void)fprintf(out, "note: %s\n", line);
         }
     }
 }
