@@ -19,23 +19,16 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include "aenl/aenl_classifier.h"
 #include "aenl/aenl_moments.h"
+#include "aenl_tools/aenl_clock.h"
 
 #define N_REC 40000u
 
 static aenl_moments_t g_m;
 static aenl_classifier_t g_c;
 static double g_rec[N_REC];
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint64_t g_rng = 7u;
 
@@ -118,12 +111,12 @@ int main(void)
     double best = 1e30;
     for (int round = 0; round < 5; ++round)
     {
-        const double t0 = now_s();
+        const double t0 = aenl_now_s();
         for (int r = 0; r < 50; ++r)
         {
             (void)aenl_classifier_update(&g_c, &g_m);
         }
-        const double t = (now_s() - t0) / 50.0;
+        const double t = (aenl_now_s() - t0) / 50.0;
         best = t < best ? t : best;
     }
     const aenl_classifier_result_t *res = aenl_classifier_result(&g_c);

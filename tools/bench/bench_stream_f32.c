@@ -24,9 +24,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "aenl/aenl_moments.h"
+#include "aenl_tools/aenl_clock.h"
 #include "aenl_bench_cfg.h"
 
 #define N_CHECKED 9u
@@ -34,13 +34,6 @@
 
 static aenl_moments_t g_m;
 static double g_sw[3][2][N_CHECKED], g_s1[3][2][N_CHECKED], g_s2[3][2][N_CHECKED];
-
-static double now_s(void)
-{
-    struct timespec ts;
-    (void)clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static uint64_t g_rng = 2024u;
 
@@ -86,7 +79,7 @@ int main(int argc, char **argv)
     const double h = (double)c.bandwidth;
     float hist[64] = {0.0f};
     double y1 = 0.0, y2 = 0.0, t_core = 0.0;
-    const double t0 = now_s();
+    const double t0 = aenl_now_s();
     printf("aenl stream bench: float32 core (AENL_MOMENTS_COMPENSATED=%d), %.3g samples, AR(2) + "
            "%.0f, 64 nodes, lags 1,10,30, split\n",
            AENL_MOMENTS_COMPENSATED, (double)n_samples, OFFSET);
@@ -128,7 +121,7 @@ int main(int argc, char **argv)
             }
         }
     }
-    const double wall = now_s() - t0;
+    const double wall = aenl_now_s() - t0;
     /* The core alone, on a fresh estimator, for the ns/sample figure: 160 x 2^16 samples. */
     static aenl_moments_t m2;
     static float buf[1u << 16];
@@ -143,12 +136,12 @@ int main(int argc, char **argv)
             y1 = y;
             buf[i] = (float)(OFFSET + y);
         }
-        const double ta = now_s();
+        const double ta = aenl_now_s();
         for (size_t i = 0; i < sizeof(buf) / sizeof(buf[0]); ++i)
         {
             (void)aenl_moments_push(&m2, buf[i]);
         }
-        t_core += now_s() - ta;
+        t_core += aenl_now_s() - ta;
     }
     t_core /= 160.0 * 65536.0;
     double e_mean = 0.0, e_var = 0.0, e_w = 0.0;
