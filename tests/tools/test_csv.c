@@ -688,8 +688,9 @@ static void write_through(const char *path, const char *text)
 }
 
 /* A character device is written, never replaced. As root a private twin of /dev/null (1, 3) is
- * made here, so a regression cannot replace the system's; without root /dev/null itself is
- * used, which a regression could not replace either (its folder is not writable). */
+ * made here, so a regression cannot replace the system's; where root cannot make one (no
+ * mknod capability) the case is skipped rather than run on the system's. Without root
+ * /dev/null itself is used, which a regression could not replace (its folder is not writable). */
 static void test_outfile_device_written_not_replaced(void)
 {
     struct stat before;
@@ -698,8 +699,12 @@ static void test_outfile_device_written_not_replaced(void)
     char own[1024];
     (void)snprintf(own, sizeof own, "%s", tmp_path("null_twin"));
     (void)remove(own);
-    if (geteuid() == 0 && mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0)
+    if (geteuid() == 0)
     {
+        if (mknod(own, S_IFCHR | 0666, makedev(1, 3)) != 0)
+        {
+            TEST_IGNORE_MESSAGE("root without the mknod capability: no private device to write");
+        }
         dev = own;
     }
     TEST_ASSERT_EQUAL_INT(0, stat(dev, &before));
