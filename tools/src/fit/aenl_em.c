@@ -14,6 +14,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_dense.h"
 #include "aenl_tools/aenl_rng.h"
 
 #include <lapacke.h>
@@ -24,106 +25,6 @@
 #include <string.h>
 
 #define LOG_2PI 1.8378770664093453
-
-/* ---- small dense helpers (row-major, contiguous) --------------------------------------------- */
-
-static void mm(double *c, const double *a, const double *b, size_t n, size_t k, size_t m)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        double *ci = c + i * m;
-        for (size_t j = 0; j < m; ++j)
-        {
-            ci[j] = 0.0;
-        }
-        for (size_t r = 0; r < k; ++r)
-        {
-            const double air = a[i * k + r];
-            const double *br = b + r * m;
-            for (size_t j = 0; j < m; ++j)
-            {
-                ci[j] += air * br[j];
-            }
-        }
-    }
-}
-
-static void symm(double *a, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = 0; j < i; ++j)
-        {
-            const double v = 0.5 * (a[i * n + j] + a[j * n + i]);
-            a[i * n + j] = v;
-            a[j * n + i] = v;
-        }
-    }
-}
-
-/* In-place lower Cholesky (the upper triangle is left as it was); 0 on success. inv (may be
- * NULL; n entries) receives the reciprocals of the diagonal, so that the solves multiply. */
-static int chol_inv(double *a, size_t n, double *inv)
-{
-    for (size_t j = 0; j < n; ++j)
-    {
-        double d = a[j * n + j];
-        for (size_t r = 0; r < j; ++r)
-        {
-            d -= a[j * n + r] * a[j * n + r];
-        }
-        if (!(d > 0.0) || !isfinite(d))
-        {
-            return -1;
-        }
-        const double l = sqrt(d), il = 1.0 / l;
-        a[j * n + j] = l;
-        if (inv != NULL)
-        {
-            inv[j] = il;
-        }
-        for (size_t i = j + 1; i < n; ++i)
-        {
-            double s = a[i * n + j];
-            for (size_t r = 0; r < j; ++r)
-            {
-                s -= a[i * n + r] * a[j * n + r];
-            }
-            a[i * n + j] = s * il;
-        }
-    }
-    return 0;
-}
-
-static int chol(double *a, size_t n)
-{
-    return chol_inv(a, n, NULL);
-}
-
-/* Factor a copy of a symmetric matrix, adding a growing diagonal jitter if needed. */
-static int chol_jitter(double *l, const double *a, size_t n, double *inv)
-{
-    double tr = 0.0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        tr += fabs(a[i * n + i]);
-    }
-    double jit = 0.0;
-    for (int attempt = 0; attempt < 8; ++attempt)
-    {
-        memcpy(l, a, n * n * sizeof(double));
-        for (size_t i = 0; i < n; ++i)
-        {
-            l[i * n + i] += jit;
-        }
-        if (chol_inv(l, n, inv) == 0)
-        {
-            return 0;
-        }
-        jit = (attempt == 0) ? 1e-14 * (tr / (double)n + 1e-300) : jit * 100.0;
-    }
-    return -1;
-}
 
 /* ---- model ------------------------------------------------------------------------------------
  */
@@ -261,248 +162,6 @@ static size_t mode_of(const double *thr, size_t n_modes, double u)
         }
     }
     return s;
-}
-
-/* ---- small-matrix kernels for the E-step ------------------------------------------------------
- * Row-major, contiguous. The products keep a 2 x 4 block of the result in registers (8
- * independent accumulators), which is what makes the 8-state E-step fast without -O3 or
- * intrinsics; the `_sym` variants compute only the blocks on or below the diagonal and copy
- * the lower triangle into the upper one (the result is symmetric in exact arithmetic).
- */
-
-static void mirror_lower(double *S, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = i + 1; j < n; ++j)
-        {
-            S[i * n + j] = S[j * n + i];
-        }
-    }
-}
-
-/* C (n x m) = A (n x k) B (k x m); sym: n == m and only the lower triangle is computed. */
-static void mul_nn(double *c, const double *a, const double *b, size_t n, size_t k, size_t m,
-                   int sym)
-{
-    size_t i = 0;
-    for (; i + 2 <= n; i += 2)
-    {
-        const double *a0 = a + i * k, *a1 = a0 + k;
-        const size_t jend = sym ? (i + 2 < m ? i + 2 : m) : m;
-        size_t j = 0;
-        for (; j + 4 <= jend || (j < jend && j + 4 <= m); j += 4)
-        {
-            double c00 = 0.0, c01 = 0.0, c02 = 0.0, c03 = 0.0;
-            double c10 = 0.0, c11 = 0.0, c12 = 0.0, c13 = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                const double *br = b + r * m + j;
-                const double x0 = a0[r], x1 = a1[r];
-                c00 += x0 * br[0];
-                c01 += x0 * br[1];
-                c02 += x0 * br[2];
-                c03 += x0 * br[3];
-                c10 += x1 * br[0];
-                c11 += x1 * br[1];
-                c12 += x1 * br[2];
-                c13 += x1 * br[3];
-            }
-            double *c0 = c + i * m + j, *c1 = c0 + m;
-            c0[0] = c00;
-            c0[1] = c01;
-            c0[2] = c02;
-            c0[3] = c03;
-            c1[0] = c10;
-            c1[1] = c11;
-            c1[2] = c12;
-            c1[3] = c13;
-        }
-        for (; j < jend; ++j)
-        {
-            double s0 = 0.0, s1 = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                s0 += a0[r] * b[r * m + j];
-                s1 += a1[r] * b[r * m + j];
-            }
-            c[i * m + j] = s0;
-            c[(i + 1) * m + j] = s1;
-        }
-    }
-    for (; i < n; ++i)
-    {
-        const size_t jend = sym ? i + 1 : m;
-        for (size_t j = 0; j < jend; ++j)
-        {
-            double s = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                s += a[i * k + r] * b[r * m + j];
-            }
-            c[i * m + j] = s;
-        }
-    }
-    if (sym)
-    {
-        mirror_lower(c, n);
-    }
-}
-
-/* C (n x m) = A' B with A (k x n), B (k x m); sym: n == m, lower triangle computed and mirrored.
- * Both operands are read along contiguous rows. */
-static void mul_tn(double *c, const double *a, const double *b, size_t n, size_t k, size_t m,
-                   int sym)
-{
-    size_t i = 0;
-    for (; i + 2 <= n; i += 2)
-    {
-        const size_t jend = sym ? (i + 2 < m ? i + 2 : m) : m;
-        size_t j = 0;
-        for (; j + 4 <= jend || (j < jend && j + 4 <= m); j += 4)
-        {
-            double c00 = 0.0, c01 = 0.0, c02 = 0.0, c03 = 0.0;
-            double c10 = 0.0, c11 = 0.0, c12 = 0.0, c13 = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                const double *br = b + r * m + j;
-                const double x0 = a[r * n + i], x1 = a[r * n + i + 1];
-                c00 += x0 * br[0];
-                c01 += x0 * br[1];
-                c02 += x0 * br[2];
-                c03 += x0 * br[3];
-                c10 += x1 * br[0];
-                c11 += x1 * br[1];
-                c12 += x1 * br[2];
-                c13 += x1 * br[3];
-            }
-            double *c0 = c + i * m + j, *c1 = c0 + m;
-            c0[0] = c00;
-            c0[1] = c01;
-            c0[2] = c02;
-            c0[3] = c03;
-            c1[0] = c10;
-            c1[1] = c11;
-            c1[2] = c12;
-            c1[3] = c13;
-        }
-        for (; j < jend; ++j)
-        {
-            double s0 = 0.0, s1 = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                s0 += a[r * n + i] * b[r * m + j];
-                s1 += a[r * n + i + 1] * b[r * m + j];
-            }
-            c[i * m + j] = s0;
-            c[(i + 1) * m + j] = s1;
-        }
-    }
-    for (; i < n; ++i)
-    {
-        const size_t jend = sym ? i + 1 : m;
-        for (size_t j = 0; j < jend; ++j)
-        {
-            double s = 0.0;
-            for (size_t r = 0; r < k; ++r)
-            {
-                s += a[r * n + i] * b[r * m + j];
-            }
-            c[i * m + j] = s;
-        }
-    }
-    if (sym)
-    {
-        mirror_lower(c, n);
-    }
-}
-
-/* Solve (L L') X = B in place for B n x m (L lower, from chol_inv; inv = 1/diag). Eight (then
- * four, then one) columns of B at a time stay in registers through the forward and backward
- * substitutions: the substitutions are latency-bound chains, and independent columns fill them. */
-static void chol_solve_rows(const double *l, const double *inv, size_t n, double *b, size_t m)
-{
-    size_t j = 0;
-    for (; j + 8 <= m; j += 8)
-    {
-        for (size_t pass = 0; pass < 2; ++pass)
-        {
-            for (size_t t = 0; t < n; ++t)
-            {
-                const size_t i = pass ? n - 1 - t : t;
-                double *bi = b + i * m + j;
-                double c0 = bi[0], c1 = bi[1], c2 = bi[2], c3 = bi[3];
-                double c4 = bi[4], c5 = bi[5], c6 = bi[6], c7 = bi[7];
-                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
-                for (size_t r = r0; r < r1; ++r)
-                {
-                    const double lr = pass ? l[r * n + i] : l[i * n + r];
-                    const double *br = b + r * m + j;
-                    c0 -= lr * br[0];
-                    c1 -= lr * br[1];
-                    c2 -= lr * br[2];
-                    c3 -= lr * br[3];
-                    c4 -= lr * br[4];
-                    c5 -= lr * br[5];
-                    c6 -= lr * br[6];
-                    c7 -= lr * br[7];
-                }
-                const double d = inv[i];
-                bi[0] = c0 * d;
-                bi[1] = c1 * d;
-                bi[2] = c2 * d;
-                bi[3] = c3 * d;
-                bi[4] = c4 * d;
-                bi[5] = c5 * d;
-                bi[6] = c6 * d;
-                bi[7] = c7 * d;
-            }
-        }
-    }
-    for (; j + 4 <= m; j += 4)
-    {
-        for (size_t pass = 0; pass < 2; ++pass)
-        {
-            for (size_t t = 0; t < n; ++t)
-            {
-                const size_t i = pass ? n - 1 - t : t;
-                double *bi = b + i * m + j;
-                double c0 = bi[0], c1 = bi[1], c2 = bi[2], c3 = bi[3];
-                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
-                for (size_t r = r0; r < r1; ++r)
-                {
-                    const double lr = pass ? l[r * n + i] : l[i * n + r];
-                    const double *br = b + r * m + j;
-                    c0 -= lr * br[0];
-                    c1 -= lr * br[1];
-                    c2 -= lr * br[2];
-                    c3 -= lr * br[3];
-                }
-                const double d = inv[i];
-                bi[0] = c0 * d;
-                bi[1] = c1 * d;
-                bi[2] = c2 * d;
-                bi[3] = c3 * d;
-            }
-        }
-    }
-    for (; j < m; ++j)
-    {
-        for (size_t pass = 0; pass < 2; ++pass)
-        {
-            for (size_t t = 0; t < n; ++t)
-            {
-                const size_t i = pass ? n - 1 - t : t;
-                double c = b[i * m + j];
-                const size_t r0 = pass ? i + 1 : 0, r1 = pass ? n : i;
-                for (size_t r = r0; r < r1; ++r)
-                {
-                    c -= (pass ? l[r * n + i] : l[i * n + r]) * b[r * m + j];
-                }
-                b[i * m + j] = c * inv[i];
-            }
-        }
-    }
 }
 
 /* ||a - b|| / ||a|| in the Frobenius norm (0 when both are zero); branch-free, four partial
@@ -747,16 +406,16 @@ static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q)
     }
     else
     {
-        mul_nn(PCt, Pp, w->Ct, nx, nx, nz, 0); /* P C' (nx x nz) */
-        mul_nn(S, m->C, PCt, nz, nx, nz, 1);   /* C P C' */
+        aenl_dense_mul(PCt, Pp, w->Ct, nx, nx, nz); /* P C' (nx x nz) */
+        aenl_dense_mul_sym(S, m->C, PCt, nz, nx);   /* C P C' */
     }
     for (size_t i = 0; i < nz * nz; ++i)
     {
         S[i] += m->R[i];
     }
-    symm(S, nz);
+    aenl_dense_symmetrise(S, nz);
     memcpy(L, S, nz * nz * sizeof(double));
-    if (chol(L, nz) != 0)
+    if (aenl_dense_chol(L, nz, NULL) != 0)
     {
         return AENL_E_NOT_PD;
     }
@@ -778,7 +437,7 @@ static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q)
     {
         w->tmp[11 * nn + i] = 1.0 / L[i * nz + i];
     }
-    chol_solve_rows(L, w->tmp + 11 * nn, nz, Kt, nx);
+    aenl_dense_chol_solve(L, w->tmp + 11 * nn, nz, Kt, nx);
     for (size_t i = 0; i < nx; ++i)
     {
         for (size_t r = 0; r < nz; ++r)
@@ -787,7 +446,7 @@ static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q)
         }
     }
     /* Pf = Pp - P C' K' */
-    mul_nn(Pf, PCt, Kt, nx, nz, nx, 1);
+    aenl_dense_mul_sym(Pf, PCt, Kt, nx, nz);
     for (size_t i = 0; i < nn; ++i)
     {
         Pf[i] = Pp[i] - Pf[i];
@@ -804,8 +463,8 @@ static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, si
     const double *A = m->A + s * nn, *Q = m->Q + s * nn, *Pfp = w->Pf + (p & 1u) * nn;
     double *T = w->tmp, *L = T + nn;
     double *Jt = w->JP + q * w->slot_len, *Pfg = Jt + nn, *G = L + nn;
-    mul_nn(T, A, Pfp, nx, nx, nx, 0);             /* T = A Pf_{k-1} */
-    mul_nn(Pp, T, w->At + s * nn, nx, nx, nx, 1); /* A Pf A' */
+    aenl_dense_mul(T, A, Pfp, nx, nx, nx);             /* T = A Pf_{k-1} */
+    aenl_dense_mul_sym(Pp, T, w->At + s * nn, nx, nx); /* A Pf A' */
     for (size_t i = 0; i < nn; ++i)
     {
         Pp[i] += Q[i];
@@ -813,16 +472,16 @@ static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, si
     /* J' = Pp^-1 T */
     memcpy(L, Pp, nn * sizeof(double));
     double *inv = w->tmp + 11 * nn;
-    if (chol_inv(L, nx, inv) != 0 && chol_jitter(L, Pp, nx, inv) != 0)
+    if (aenl_dense_chol(L, nx, inv) != 0 && aenl_dense_chol_jitter(L, Pp, nx, inv) != 0)
     {
         return AENL_E_NOT_PD;
     }
     double *X = w->tmp + 4 * nn; /* solved in cache, then stored once */
     memcpy(X, T, nn * sizeof(double));
-    chol_solve_rows(L, inv, nx, X, nx);
+    aenl_dense_chol_solve(L, inv, nx, X, nx);
     memcpy(Jt, X, nn * sizeof(double));
     /* Pfg = Pf - J Pp J' = Pf - J T (J Pp = Pf A' = T'), packed lower triangle */
-    mul_tn(G, X, T, nx, nx, nx, 1);
+    aenl_dense_mul_tn_sym(G, X, T, nx, nx);
     for (size_t i = 0, idx = 0; i < nx; ++i)
     {
         for (size_t j = 0; j <= i; ++j)
@@ -987,15 +646,11 @@ static double kf_update_mean(ws_t *w, const aenl_em_model_t *m, size_t k, const 
         }
         e[r] = acc;
     }
+    memcpy(u, e, nz * sizeof(double));
+    aenl_dense_lower_solve(L, u, nz);
     double qf = 0.0;
     for (size_t i = 0; i < nz; ++i)
     {
-        double acc = e[i];
-        for (size_t r = 0; r < i; ++r)
-        {
-            acc -= L[i * nz + r] * u[r];
-        }
-        u[i] = acc / L[i * nz + i];
         qf += u[i] * u[i];
     }
     for (size_t i = 0; i < nx; ++i)
@@ -1159,10 +814,10 @@ static void spread_buckets(ws_t *w)
     }
     for (size_t s = 0; s < nm; ++s)
     {
-        mirror_lower(w->S11 + s * nn, nx);
-        mirror_lower(w->S00 + s * nn, nx);
+        aenl_dense_mirror_lower(w->S11 + s * nn, nx);
+        aenl_dense_mirror_lower(w->S00 + s * nn, nx);
     }
-    mirror_lower(w->Sxx, nx);
+    aenl_dense_mirror_lower(w->Sxx, nx);
 }
 
 /* RTS smoother: xf becomes x_{k|n}; accumulates the sufficient statistics. The covariance
@@ -1209,8 +864,8 @@ static aenl_status_t rts_backward(ws_t *w)
         {
             steady = 0;
             Psk = Ps;
-            mul_nn(Pc, Ps1, Jt, nx, nx, nx, 0); /* Pc = Ps_{k+1} J' */
-            mul_tn(Ps, Jt, Pc, nx, nx, nx, 1);  /* J Ps_{k+1} J' */
+            aenl_dense_mul(Pc, Ps1, Jt, nx, nx, nx);   /* Pc = Ps_{k+1} J' */
+            aenl_dense_mul_tn_sym(Ps, Jt, Pc, nx, nx); /* J Ps_{k+1} J' */
             const double *Pfg = Jt + nn;
             for (size_t i = 0, idx = 0; i < nx; ++i)
             {
@@ -1306,13 +961,6 @@ static aenl_status_t e_step(ws_t *w, const aenl_em_model_t *m, double *ll, int s
 /* ---- M-step -----------------------------------------------------------------------------------
  */
 
-/* Solve G X = B (G n x n SPD, B n x m, row-major) with LAPACKE dposv; G, B overwritten. */
-static int posv(double *G, double *B, size_t n, size_t m)
-{
-    return LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, (lapack_int)m, G, (lapack_int)n, B,
-                         (lapack_int)m);
-}
-
 /* The M-step's buffers for one mode's transition, over the regressors of x_{k+1}: (x_k, u_k, 1),
  * the constant last (index nc), na in all. */
 typedef struct
@@ -1373,7 +1021,7 @@ static aenl_status_t solve_transition(const ws_t *w, aenl_em_model_t *m, size_t 
             X[i * nx + j] = bf->H[j * na + i];
         }
     }
-    if (posv(bf->Gc, X, na, nx) != 0)
+    if (aenl_dense_posv(bf->Gc, X, na, nx) != 0)
     {
         return AENL_E_NOT_PD;
     }
@@ -1407,7 +1055,7 @@ static aenl_status_t solve_A_given_b(const ws_t *w, aenl_em_model_t *m, size_t s
             X[i * nx + j] = S10[j * nx + i] - b[j] * s0[i];
         }
     }
-    if (posv(Gc, X, nx, nx) != 0)
+    if (aenl_dense_posv(Gc, X, nx, nx) != 0)
     {
         return AENL_E_NOT_PD;
     }
@@ -1458,7 +1106,7 @@ static void solve_Q(const ws_t *w, aenl_em_model_t *m, size_t s, double c, mstep
         }
         W[i * na + nc] = b[i];
     }
-    mm(T, W, bf->G, nx, na, na); /* W G */
+    aenl_dense_mul(T, W, bf->G, nx, na, na); /* W G */
     for (size_t i = 0; i < nx; ++i)
     {
         for (size_t j = 0; j < nx; ++j)
@@ -1473,7 +1121,7 @@ static void solve_Q(const ws_t *w, aenl_em_model_t *m, size_t s, double c, mstep
             Q[i * nx + j] = (S11[i * nx + j] - wh - hw + wgw) / c;
         }
     }
-    symm(Q, nx);
+    aenl_dense_symmetrise(Q, nx);
     for (size_t i = 0; i < nx; ++i)
     {
         if (Q[i * nx + i] < 0.0)
@@ -1540,7 +1188,7 @@ static aenl_status_t solve_C(const ws_t *w, aenl_em_model_t *m)
             Ct[i * nz + r] = w->Syx[r * nx + i];
         }
     }
-    const int info = posv(Sc, Ct, nx, nz);
+    const int info = aenl_dense_posv(Sc, Ct, nx, nz);
     if (info == 0)
     {
         for (size_t r = 0; r < nz; ++r)
@@ -1579,7 +1227,7 @@ static void solve_R(const ws_t *w, aenl_em_model_t *m)
             m->R[r * nz + c2] = v / w->ny;
         }
     }
-    symm(m->R, nz);
+    aenl_dense_symmetrise(m->R, nz);
 }
 
 static aenl_status_t m_step(ws_t *w, aenl_em_model_t *m, unsigned freeze)
@@ -1660,7 +1308,7 @@ static aenl_status_t mode_regression(double *G, const double *H, size_t na, size
     int info;
     if (symmetric)
     {
-        info = posv(G, X, na, nout);
+        info = aenl_dense_posv(G, X, na, nout);
     }
     else
     {
@@ -2104,7 +1752,7 @@ static int ssi_state_map(const double *lam, size_t nz, size_t nx, size_t rows, d
             }
         }
     }
-    if (posv(H, Ct, L, nx) != 0)
+    if (aenl_dense_posv(H, Ct, L, nx) != 0)
     {
         goto done;
     }
@@ -2255,7 +1903,7 @@ static void ssi_mode_noise(const ssi_t *si, aenl_em_model_t *m, size_t s, double
     {
         Qs[i] = res[i] / cnt;
     }
-    symm(Qs, nx);
+    aenl_dense_symmetrise(Qs, nx);
     for (size_t i = 0; i < nx; ++i)
     {
         trq += Qs[i * nx + i];
@@ -2291,7 +1939,7 @@ static void ssi_output_noise_and_start(const ssi_t *si, aenl_em_model_t *m, doub
     {
         m->R[i] = 0.5 * res[i] / (ne > 0.0 ? ne : 1.0);
     }
-    symm(m->R, nz);
+    aenl_dense_symmetrise(m->R, nz);
     memset(m->P0, 0, nn * sizeof(double));
     for (size_t i = 0; i < nx; ++i)
     {
@@ -2525,10 +2173,10 @@ static void squarem_point(aenl_em_model_t *out, const aenl_em_model_t *t0,
             po[k][i] = p0[k][i] - 2.0 * a * r + a * a * v;
         }
     }
-    symm(out->R, out->n_z);
+    aenl_dense_symmetrise(out->R, out->n_z);
     for (size_t s = 0; s < out->n_modes; ++s)
     {
-        symm(out->Q + s * out->n_x * out->n_x, out->n_x);
+        aenl_dense_symmetrise(out->Q + s * out->n_x * out->n_x, out->n_x);
     }
 }
 
@@ -2538,7 +2186,7 @@ static int covariances_valid(const aenl_em_model_t *m, double *scratch)
 {
     const size_t nx = m->n_x, nz = m->n_z, nn = nx * nx;
     memcpy(scratch, m->R, nz * nz * sizeof(double));
-    if (chol(scratch, nz) != 0)
+    if (aenl_dense_chol(scratch, nz, NULL) != 0)
     {
         return 0;
     }
@@ -2555,7 +2203,7 @@ static int covariances_valid(const aenl_em_model_t *m, double *scratch)
         {
             scratch[i * nx + i] += 1e-12 * tr + 1e-300;
         }
-        if (chol(scratch, nx) != 0)
+        if (aenl_dense_chol(scratch, nx, NULL) != 0)
         {
             return 0;
         }
