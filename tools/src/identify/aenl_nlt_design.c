@@ -5,12 +5,12 @@
  *        to a force, their cross-products, least-squares fits, the robust score and the
  *        residualised columns of stage 2.
  */
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "aenl_nlt_internal.h"
+#include "aenl_tools/aenl_dense.h"
 
 /* ---- regressions on the innovations' sensitivities ------------------------------------------- */
 
@@ -20,7 +20,7 @@ static void design_step(const design_t *d, const double *F, size_t t, size_t nx,
 {
     const size_t nc = d->ncols;
     double *out = *Dn;
-    nlt_mat_mul(F, *D, out, nx, nx, nc);
+    aenl_dense_mul(out, F, *D, nx, nx, nc);
     size_t c = 0;
     for (size_t s = 0; s < d->n_series; ++s)
     {
@@ -74,7 +74,7 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
         const double *F = k->F + k->slot[t] * nx * nx;
         if (k->used[t])
         {
-            nlt_mat_mul(k->WC + k->slot[t] * nz * nx, D, R, nz, nx, nc);
+            aenl_dense_mul(R, k->WC + k->slot[t] * nz * nx, D, nz, nx, nc);
             visit(ctx, R, k->eps + t * nz);
         }
         design_step(d, F, t, nx, &D, &Dn);
@@ -304,7 +304,7 @@ double nlt_fit_subset(const design_t *d, const size_t *idx, size_t m, double *be
     {
         scaled_normal(d, idx, m, A, sc, b);
         memcpy(x, b, m * sizeof(double));
-        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, 1, A, (lapack_int)m, x, 1) == 0)
+        if (aenl_dense_posv(A, x, m, 1) == 0)
         {
             red = 0.0;
             for (size_t i = 0; i < m; ++i)
@@ -470,8 +470,7 @@ aenl_status_t nlt_partial_coefficients(const design_t *d, size_t nn, double *Pi,
                 Pi[i * nl + l] = d->G[i * nc + nn + l] * sc[i];
             }
         }
-        if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, (lapack_int)nl, A, (lapack_int)nn,
-                          Pi, (lapack_int)nl) != 0)
+        if (aenl_dense_posv(A, Pi, nn, nl) != 0)
         {
             st = AENL_E_NUMERIC;
             aenl_err_set(err, "the nuisance regression is singular");
@@ -518,7 +517,7 @@ double nlt_quad_inverse(const double *A, const double *x, size_t n)
         if (b != NULL)
         {
             memcpy(b, v, n * sizeof(double));
-            if (LAPACKE_dposv(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, 1, M, (lapack_int)n, b, 1) == 0)
+            if (aenl_dense_posv(M, b, n, 1) == 0)
             {
                 q = 0.0;
                 for (size_t i = 0; i < n; ++i)
@@ -562,7 +561,7 @@ aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_e
     }
     scaled_normal(d, nidx, nn, L, sc, NULL);
     aenl_status_t st = AENL_OK;
-    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nn, L, (lapack_int)nn) != 0)
+    if (aenl_dense_potrf(L, nn) != 0)
     {
         aenl_err_set(err, "nuisance regression singular");
         st = AENL_E_NUMERIC;
@@ -575,7 +574,7 @@ aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_e
             {
                 w[i] = d->G[i * nc + nn + s] * sc[i];
             }
-            nlt_lower_solve(L, w, nn);
+            aenl_dense_lower_solve(L, w, nn);
             for (size_t i = 0; i < nn; ++i)
             {
                 W[i * ns + s] = w[i];
@@ -585,7 +584,7 @@ aenl_status_t nlt_residualise(const design_t *d, size_t nn, resid_t *out, aenl_e
         {
             w[i] = d->r[i] * sc[i];
         }
-        nlt_lower_solve(L, w, nn);
+        aenl_dense_lower_solve(L, w, nn);
         for (size_t a = 0; a < ns; ++a)
         {
             double ra = d->r[nn + a];
@@ -667,7 +666,7 @@ aenl_status_t nlt_design_losses(const design_t *d, const kf_t *k, const double *
         {
             const double *WC = k->WC + k->slot[t] * nz * nx;
             const double *e = k->eps + t * nz;
-            nlt_mat_mul(WC, D, R, nz, nx, n_fit);
+            aenl_dense_mul(R, WC, D, nz, nx, n_fit);
             for (size_t f = 0; f < n_fit; ++f)
             {
                 double v = 0.0;
@@ -680,7 +679,7 @@ aenl_status_t nlt_design_losses(const design_t *d, const kf_t *k, const double *
             }
             ti++;
         }
-        nlt_mat_mul(F, D, Dn, nx, nx, n_fit);
+        aenl_dense_mul(Dn, F, D, nx, nx, n_fit);
         for (size_t s = 0; s < d->n_series; ++s)
         {
             const double gt = d->g[s][t];

@@ -5,50 +5,13 @@
  *        matrix and the transition of the innovations' sensitivity at every step (shared once
  *        the filter is steady), and the restarts at impulses.
  */
-#include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "aenl_nlt_internal.h"
+#include "aenl_tools/aenl_dense.h"
 #include "aenl_tools/aenl_stats.h"
-
-/* ---- small dense helpers (row-major) --------------------------------------------------------- */
-
-/* c (n x m) = a (n x k) b (k x m). */
-void nlt_mat_mul(const double *restrict a, const double *restrict b, double *restrict c, size_t n,
-                 size_t k, size_t m)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = 0; j < m; ++j)
-        {
-            c[i * m + j] = 0.0;
-        }
-        for (size_t l = 0; l < k; ++l)
-        {
-            const double ail = a[i * k + l];
-            for (size_t j = 0; j < m; ++j)
-            {
-                c[i * m + j] += ail * b[l * m + j];
-            }
-        }
-    }
-}
-
-/* Solve L x = b in place for lower-triangular L (n x n). */
-void nlt_lower_solve(const double *l, double *x, size_t n)
-{
-    for (size_t i = 0; i < n; ++i)
-    {
-        double s = x[i];
-        for (size_t k = 0; k < i; ++k)
-        {
-            s -= l[i * n + k] * x[k];
-        }
-        x[i] = s / l[i * n + i];
-    }
-}
 
 /* ---- the filter pass ------------------------------------------------------------------------- */
 
@@ -119,7 +82,7 @@ static int rel_close(const double *a, const double *b, size_t n, double tol)
 static void predict_cov(const aenl_em_model_t *m, const double *P, double *out, size_t nx)
 {
     double T[NLT_MAX_X * NLT_MAX_X] = {0};
-    nlt_mat_mul(m->A, P, T, nx, nx, nx);
+    aenl_dense_mul(T, m->A, P, nx, nx, nx);
     for (size_t i = 0; i < nx; ++i)
     {
         for (size_t j = 0; j < nx; ++j)
@@ -182,7 +145,7 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
             g->L[i * nz + j] = 0.0; /* lower factor only */
         }
     }
-    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nz, g->L, (lapack_int)nz) != 0)
+    if (aenl_dense_potrf(g->L, nz) != 0)
     {
         aenl_err_set(err, "innovation covariance not positive definite");
         return AENL_E_NUMERIC;
@@ -195,7 +158,7 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
         {
             v[j] = PCt[i * nz + j];
         }
-        nlt_lower_solve(g->L, v, nz);
+        aenl_dense_lower_solve(g->L, v, nz);
         for (size_t jj = nz; jj-- > 0;)
         {
             double s = v[jj];
@@ -223,7 +186,7 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
             IKC[i * nx + j] = s;
         }
     }
-    nlt_mat_mul(IKC, P, T1, nx, nx, nx);
+    aenl_dense_mul(T1, IKC, P, nx, nx, nx);
     for (size_t i = 0; i < nx; ++i)
     {
         for (size_t j = 0; j < nx; ++j)
@@ -245,7 +208,7 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
         }
     }
     /* the slot: F = A IKC, WC = L^-1 C */
-    nlt_mat_mul(m->A, IKC, k->F + slot * nx * nx, nx, nx, nx);
+    aenl_dense_mul(k->F + slot * nx * nx, m->A, IKC, nx, nx, nx);
     for (size_t j = 0; j < nx; ++j)
     {
         double v[AENL_NLT_MAX_CH];
@@ -253,7 +216,7 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
         {
             v[i] = m->C[i * nx + j];
         }
-        nlt_lower_solve(g->L, v, nz);
+        aenl_dense_lower_solve(g->L, v, nz);
         for (size_t i = 0; i < nz; ++i)
         {
             k->WC[slot * nz * nx + i * nx + j] = v[i];
@@ -262,13 +225,8 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
     /* P_next = A Pf A' + Q */
     predict_cov(m, T2, T1, nx);
     memcpy(T2, T1, nx * nx * sizeof(double));
-    for (size_t i = 0; i < nx; ++i) /* symmetric by construction; keep it so */
-    {
-        for (size_t j = 0; j < nx; ++j)
-        {
-            P[i * nx + j] = 0.5 * (T2[i * nx + j] + T2[j * nx + i]);
-        }
-    }
+    memcpy(P, T2, nx * nx * sizeof(double)); /* symmetric by construction; keep it so */
+    aenl_dense_symmetrise(P, nx);
     return AENL_OK;
 }
 
@@ -382,7 +340,7 @@ aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
                 }
                 xf[i] = s;
             }
-            nlt_lower_solve(g.L, e, nz);
+            aenl_dense_lower_solve(g.L, e, nz);
             for (size_t j = 0; j < nz; ++j)
             {
                 k->eps[t * nz + j] = e[j];
@@ -497,7 +455,7 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
         {
             double T[NLT_MAX_X * NLT_MAX_X] = {0};
             double G2[NLT_MAX_X * NLT_MAX_X] = {0};
-            nlt_mat_mul(G, F, T, nx, nx, nx); /* G <- W' W + F' G F */
+            aenl_dense_mul(T, G, F, nx, nx, nx); /* G <- W' W + F' G F */
             for (size_t i = 0; i < nx; ++i)
             {
                 for (size_t j = 0; j <= i; ++j)
@@ -518,7 +476,7 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
             steady = same && rel_close(G2, G, nx * nx, NLT_STEADY_TOL);
             memcpy(G, G2, nx * nx * sizeof(double));
             memcpy(L, G, nx * nx * sizeof(double));
-            L_ok = LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)nx, L, (lapack_int)nx) == 0;
+            L_ok = aenl_dense_potrf(L, nx) == 0;
         }
         /* q = r' G^-1 r by the factor (0 when G is not positive definite) */
         double x[NLT_MAX_X];
@@ -526,7 +484,7 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
         double v = 0.0;
         if (L_ok)
         {
-            nlt_lower_solve(L, x, nx);
+            aenl_dense_lower_solve(L, x, nx);
             for (size_t i = 0; i < nx; ++i)
             {
                 v += x[i] * x[i];

@@ -66,11 +66,6 @@ typedef struct
 
 /* ---- aenl_nlt_filter.c (each function's comment is at its definition) ---- */
 
-void nlt_mat_mul(const double *restrict a, const double *restrict b, double *restrict c, size_t n,
-                 size_t k, size_t m);
-
-void nlt_lower_solve(const double *l, double *x, size_t n);
-
 void nlt_kf_free(kf_t *k);
 
 void nlt_kf_clear_run(kf_t *k);

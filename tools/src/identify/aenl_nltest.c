@@ -18,6 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "aenl_tools/aenl_dense.h"
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_parallel.h"
 #include "aenl_tools/aenl_rng.h"
@@ -1399,7 +1400,7 @@ static int chol_psd(const double *S, size_t n, double *L)
             L[i * n + j] = 0.0;
         }
     }
-    return LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)n, L, (lapack_int)n) == 0 ? 0 : -1;
+    return aenl_dense_potrf(L, n);
 }
 
 /* One record of the fitted linear model m (the run's scaled units) into y (n_ch columns of n),

@@ -12,12 +12,11 @@
  * T (2K x q) into the q x q problem (T'MT) g = T'r, its in-sample gain g'T'r over the linear fit.
  */
 #include "aenl_tools/aenl_rfs.h"
+#include "aenl_tools/aenl_dense.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <lapacke.h>
 
 #define RFS_B AENL_RFS_BLOCKS
 /** Kinks are searched where at least this fraction of the samples lies on each side. */
@@ -288,7 +287,7 @@ static int spd_factor(double *a, size_t m, double rel)
     {
         diag[j] = a[j * m + j];
     }
-    if (LAPACKE_dpotrf(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, a, (lapack_int)m) != 0)
+    if (aenl_dense_potrf(a, m) != 0)
     {
         return -1;
     }
@@ -302,13 +301,6 @@ static int spd_factor(double *a, size_t m, double rel)
     return 0;
 }
 
-/* Solve (L L') X = B in place for the nrhs columns of the row-major B (leading dimension ldb). */
-static void spd_solve(const double *l, size_t m, double *b, size_t nrhs, size_t ldb)
-{
-    (void)LAPACKE_dpotrs(LAPACK_ROW_MAJOR, 'L', (lapack_int)m, (lapack_int)nrhs, l, (lapack_int)m,
-                         b, (lapack_int)ldb);
-}
-
 /* Solve the q x q (q <= RFS_MAX_Q) system Q g = h; 0, or -1 when its columns are collinear. */
 static int solve_small(const double *Q, const double *h, size_t q, double *g)
 {
@@ -319,7 +311,7 @@ static int solve_small(const double *Q, const double *h, size_t q, double *g)
         return -1;
     }
     memcpy(g, h, q * sizeof(double));
-    spd_solve(L, q, g, 1, 1);
+    aenl_dense_potrs(L, q, g, 1);
     return 0;
 }
 
@@ -556,7 +548,7 @@ static int project(rfs_work_t *wk, const rfs_gram_t *g, rfs_proj_t *pj)
         memcpy(&pj->W[a * st], &g->ZB[a * k2], k2 * sizeof(double));
         pj->W[a * st + k2] = g->c[a];
     }
-    spd_solve(pj->L, m, pj->W, st, st);
+    aenl_dense_potrs(pj->L, m, pj->W, st);
     double rss = g->yy;
     for (size_t a = 0; a < m; ++a)
     {
@@ -1521,7 +1513,7 @@ static int model_channel(const aenl_rfs_t *r, size_t ch, double *coef)
     }
     if (bad == 0)
     {
-        spd_solve(wk.pj.M, k2, gam, 1, 1);
+        aenl_dense_potrs(wk.pj.M, k2, gam, 1);
         memset(coef, 0, (r->p + k2) * sizeof(double));
         for (size_t a = 0; a < m; ++a)
         {
