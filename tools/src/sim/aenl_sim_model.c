@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "aenl_sim_internal.h"
+#include "aenl_tools/aenl_dense.h"
 
 void aenl_sim_model_default(aenl_sim_model_t *model, aenl_sim_type_t type)
 {
@@ -513,65 +514,29 @@ int aenl_sim_slopes(const aenl_sim_model_t *model, double outer[AENL_SIM_N_DOF],
 
 /* ---- assembly ----------------------------------------------------------------------------- */
 
+/* Minv = M^-1 for the leading n x n block of the fixed-size arrays, through the flat n x n copy
+ * the dense kernel takes; Minv is left as it was when M is singular. */
 static int invert_small(int n, double M[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q],
                         double Minv[AENL_SIM_MAX_Q][AENL_SIM_MAX_Q])
 {
-    double a[AENL_SIM_MAX_Q][2 * AENL_SIM_MAX_Q];
-    int i, j, k;
-    for (i = 0; i < n; ++i)
+    const size_t m = (size_t)n;
+    double a[AENL_SIM_MAX_Q * AENL_SIM_MAX_Q], inv[AENL_SIM_MAX_Q * AENL_SIM_MAX_Q];
+    for (size_t i = 0; i < m; ++i)
     {
-        for (j = 0; j < n; ++j)
+        for (size_t j = 0; j < m; ++j)
         {
-            a[i][j] = M[i][j];
-            a[i][n + j] = (i == j) ? 1.0 : 0.0;
+            a[i * m + j] = M[i][j];
         }
     }
-    for (k = 0; k < n; ++k)
+    if (aenl_dense_invert(a, inv, m) != 0)
     {
-        int p = k;
-        double piv;
-        for (i = k + 1; i < n; ++i)
-        {
-            if (fabs(a[i][k]) > fabs(a[p][k]))
-            {
-                p = i;
-            }
-        }
-        if (!(fabs(a[p][k]) > 0.0))
-        {
-            return -1;
-        }
-        if (p != k)
-        {
-            for (j = 0; j < 2 * n; ++j)
-            {
-                double tmp = a[k][j];
-                a[k][j] = a[p][j];
-                a[p][j] = tmp;
-            }
-        }
-        piv = a[k][k];
-        for (j = 0; j < 2 * n; ++j)
-        {
-            a[k][j] /= piv;
-        }
-        for (i = 0; i < n; ++i)
-        {
-            if (i != k)
-            {
-                double f = a[i][k];
-                for (j = 0; j < 2 * n; ++j)
-                {
-                    a[i][j] -= f * a[k][j];
-                }
-            }
-        }
+        return -1;
     }
-    for (i = 0; i < n; ++i)
+    for (size_t i = 0; i < m; ++i)
     {
-        for (j = 0; j < n; ++j)
+        for (size_t j = 0; j < m; ++j)
         {
-            Minv[i][j] = a[i][n + j];
+            Minv[i][j] = inv[i * m + j];
         }
     }
     return 0;
