@@ -15,6 +15,7 @@
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_em.h"
+#include "aenl_tools/aenl_json.h"
 
 static const char *const k_cmd = "fit";
 
@@ -83,11 +84,6 @@ static cJSON *json_vector(const double *a, size_t n)
         cJSON_AddItemToArray(v, cJSON_CreateNumber(a[i]));
     }
     return v;
-}
-
-static cJSON *num_or_null(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
 }
 
 /* Default C identifier: the header's file stem, non-identifier characters as '_'. */
@@ -433,7 +429,7 @@ static cJSON *boot_array(const double (*q)[AENL_EM_MAX_X / 2], size_t s, size_t 
     cJSON *a = cJSON_CreateArray();
     for (size_t i = 0; i < n; ++i)
     {
-        cJSON_AddItemToArray(a, num_or_null(q[s][i]));
+        cJSON_AddItemToArray(a, aenl_json_num(q[s][i]));
     }
     return a;
 }
@@ -462,8 +458,8 @@ static void print_json(const aenl_em_result_t *r, const aenl_em_boot_t *boot, co
     {
         cJSON *o = cJSON_CreateObject();
         cJSON *iv = cJSON_CreateArray();
-        cJSON_AddItemToArray(iv, num_or_null(s == 0 ? -HUGE_VAL : m->thresholds[s - 1]));
-        cJSON_AddItemToArray(iv, num_or_null(s + 1 == m->n_modes ? HUGE_VAL : m->thresholds[s]));
+        cJSON_AddItemToArray(iv, aenl_json_num(s == 0 ? -HUGE_VAL : m->thresholds[s - 1]));
+        cJSON_AddItemToArray(iv, aenl_json_num(s + 1 == m->n_modes ? HUGE_VAL : m->thresholds[s]));
         cJSON_AddItemToObject(o, "interval", iv);
         cJSON_AddNumberToObject(o, "samples", (double)r->mode_count[s]);
         cJSON_AddItemToObject(o, "A", json_matrix(m->A + s * nx * nx, nx, nx));
@@ -495,8 +491,8 @@ static void print_json(const aenl_em_result_t *r, const aenl_em_boot_t *boot, co
                                              (double)r->mode_count[s], &sf, &sz);
                     cJSON_AddItemToArray(fr, cJSON_CreateNumber(e[i].frequency));
                     cJSON_AddItemToArray(dz, cJSON_CreateNumber(e[i].damping));
-                    cJSON_AddItemToArray(fr_floor, num_or_null(sf));
-                    cJSON_AddItemToArray(dz_floor, num_or_null(sz));
+                    cJSON_AddItemToArray(fr_floor, aenl_json_num(sf));
+                    cJSON_AddItemToArray(dz_floor, aenl_json_num(sz));
                 }
             }
         }

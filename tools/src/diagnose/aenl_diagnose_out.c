@@ -14,6 +14,7 @@
 
 #include "aenl_diagnose_internal.h"
 #include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_json.h"
 
 static const double k_deg = 57.295779513082320876798;
 
@@ -323,11 +324,6 @@ aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const ch
  * ---------------------------------------------------------------------------------------- */
 
 /* A number, or null where it is not finite (a parameter the record does not determine). */
-static cJSON *number_or_null(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
-}
-
 /* Values of the named effect's parameters under the contract's keys: v[k] in the order of
  * aenl_diagnose_n_params; for the polynomial the whole coefficient list poly[0..n_poly). */
 static void add_values(cJSON *o, aenl_diagnose_effect_t effect, const double *v, const double *poly,
@@ -340,7 +336,7 @@ static void add_values(cJSON *o, aenl_diagnose_effect_t effect, const double *v,
         case AENL_DIAGNOSE_HYSTERESIS:
             for (size_t k = 0; k < aenl_diagnose_n_params(effect) && k < AENL_DIAGNOSE_MAX_PAR; ++k)
             {
-                (void)cJSON_AddItemToObject(o, gap_keys[k], number_or_null(v[k]));
+                (void)cJSON_AddItemToObject(o, gap_keys[k], aenl_json_num(v[k]));
             }
             break;
         case AENL_DIAGNOSE_POLYNOMIAL:
@@ -348,12 +344,12 @@ static void add_values(cJSON *o, aenl_diagnose_effect_t effect, const double *v,
             cJSON *a = cJSON_AddArrayToObject(o, "coeffs");
             for (size_t k = 0; a != NULL && k < n_poly; ++k)
             {
-                (void)cJSON_AddItemToArray(a, number_or_null(poly[k]));
+                (void)cJSON_AddItemToArray(a, aenl_json_num(poly[k]));
             }
             break;
         }
         case AENL_DIAGNOSE_PRELOAD:
-            (void)cJSON_AddItemToObject(o, "preload", number_or_null(v[0]));
+            (void)cJSON_AddItemToObject(o, "preload", aenl_json_num(v[0]));
             break;
         case AENL_DIAGNOSE_NONE:
         default:

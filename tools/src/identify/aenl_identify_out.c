@@ -15,13 +15,9 @@
 #include "aenl/aenl_classifier.h"
 #include "aenl_tools/aenl_bandwidth.h"
 #include "aenl_tools/aenl_identify.h"
+#include "aenl_tools/aenl_json.h"
 
 /* ---- JSON (docs/identify.md) ----------------------------------------------------------------- */
-
-static cJSON *num_or_null(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
-}
 
 static cJSON *json_points(const aenl_classifier_result_t *res, int std)
 {
@@ -34,28 +30,13 @@ static cJSON *json_points(const aenl_classifier_result_t *res, int std)
     for (unsigned k = 0; k < n; ++k)
     {
         const double x = (double)(std ? res->switch_std[k] : res->switch_points[k]);
-        if (!cJSON_AddItemToArray(a, num_or_null(x)))
+        if (!cJSON_AddItemToArray(a, aenl_json_num(x)))
         {
             cJSON_Delete(a);
             return NULL;
         }
     }
     return a;
-}
-
-/* Add `item` to `obj` under `key`; 0 on success (item freed on failure). */
-static int add(cJSON *obj, const char *key, cJSON *item)
-{
-    if (item == NULL)
-    {
-        return -1;
-    }
-    if (!cJSON_AddItemToObject(obj, key, item))
-    {
-        cJSON_Delete(item);
-        return -1;
-    }
-    return 0;
 }
 
 /* A polynomial's hardening (true) or softening (false); null for other classes or unknown. */
@@ -86,23 +67,24 @@ static cJSON *json_channel(const aenl_identify_channel_t *ch)
                         : ch->bw_method == AENL_BW_RULE ? "rule"
                                                         : "given";
     const int bad =
-        add(o, "name", cJSON_CreateString(ch->name)) != 0 ||
-        add(o, "class", cJSON_CreateString(aenl_class_name(ch->res.cls))) != 0 ||
-        add(o, "hardening", json_hardening(&ch->res)) != 0 ||
-        add(o, "switch_points", json_points(&ch->res, 0)) != 0 ||
-        add(o, "switch_point_std", json_points(&ch->res, 1)) != 0 ||
-        add(o, "confidence", num_or_null((double)ch->res.confidence)) != 0 ||
-        add(o, "bandwidth", num_or_null(ch->bandwidth)) != 0 ||
-        add(o, "bandwidth_by", cJSON_CreateString(bw_by)) != 0 ||
-        add(o, "period", ch->period > 0.0 ? num_or_null(ch->period) : cJSON_CreateNull()) != 0 ||
-        add(o, "noise", num_or_null(ch->noise_std)) != 0;
+        aenl_json_add(o, "name", cJSON_CreateString(ch->name)) != 0 ||
+        aenl_json_add(o, "class", cJSON_CreateString(aenl_class_name(ch->res.cls))) != 0 ||
+        aenl_json_add(o, "hardening", json_hardening(&ch->res)) != 0 ||
+        aenl_json_add(o, "switch_points", json_points(&ch->res, 0)) != 0 ||
+        aenl_json_add(o, "switch_point_std", json_points(&ch->res, 1)) != 0 ||
+        aenl_json_add(o, "confidence", aenl_json_num((double)ch->res.confidence)) != 0 ||
+        aenl_json_add(o, "bandwidth", aenl_json_num(ch->bandwidth)) != 0 ||
+        aenl_json_add(o, "bandwidth_by", cJSON_CreateString(bw_by)) != 0 ||
+        aenl_json_add(o, "period",
+                      ch->period > 0.0 ? aenl_json_num(ch->period) : cJSON_CreateNull()) != 0 ||
+        aenl_json_add(o, "noise", aenl_json_num(ch->noise_std)) != 0;
     if (bad)
     {
         cJSON_Delete(lags); /* not attached yet */
         cJSON_Delete(o);
         return NULL;
     }
-    if (add(o, "lags", lags) != 0)
+    if (aenl_json_add(o, "lags", lags) != 0)
     {
         cJSON_Delete(o);
         return NULL;
@@ -213,30 +195,33 @@ static cJSON *json_model(const aenl_identify_result_t *r, const char *model)
         return NULL;
     }
     const int second = m->effect2 != AENL_DIAGNOSE_NONE;
-    int bad = add(o, "file", cJSON_CreateString(model));
-    bad |= add(o, "explained", cJSON_CreateBool(m->explained));
-    bad |= add(o, "effect", cJSON_CreateString(aenl_diagnose_effect_name(m->effect)));
-    bad |= add(o, "dof",
-               m->effect != AENL_DIAGNOSE_NONE ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof))
-                                               : cJSON_CreateNull());
-    bad |= add(o, "gap_before", num_or_null(m->gap_before));
-    bad |= add(o, "gap_after", num_or_null(m->gap_after));
-    bad |= add(o, "effect2",
-               second ? cJSON_CreateString(aenl_diagnose_effect_name(m->effect2))
-                      : cJSON_CreateNull());
-    bad |= add(o, "dof2",
-               second ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof2)) : cJSON_CreateNull());
-    bad |= add(o, "gap_after2", second ? num_or_null(m->gap_after2) : cJSON_CreateNull());
-    bad |= add(o, "baseline_summaries_p",
-               m->base_test >= 0 && m->base_sum.n_rep > 0u ? num_or_null(m->base_sum.p)
-                                                           : cJSON_CreateNull());
-    bad |= add(o, "diagnoses", cJSON_CreateNumber((double)m->n_diagnoses));
-    bad |= add(alone, "class", cJSON_CreateString(aenl_class_name(m->data_class)));
-    bad |= add(alone, "channel",
-               m->data_verdict >= 0 ? cJSON_CreateString(r->ch[m->data_verdict].name)
-                                    : cJSON_CreateNull());
-    bad |= add(alone, "confidence", num_or_null(m->data_confidence));
-    bad |= add(o, "record_alone", alone);
+    int bad = aenl_json_add(o, "file", cJSON_CreateString(model));
+    bad |= aenl_json_add(o, "explained", cJSON_CreateBool(m->explained));
+    bad |= aenl_json_add(o, "effect", cJSON_CreateString(aenl_diagnose_effect_name(m->effect)));
+    bad |= aenl_json_add(o, "dof",
+                         m->effect != AENL_DIAGNOSE_NONE
+                             ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof))
+                             : cJSON_CreateNull());
+    bad |= aenl_json_add(o, "gap_before", aenl_json_num(m->gap_before));
+    bad |= aenl_json_add(o, "gap_after", aenl_json_num(m->gap_after));
+    bad |= aenl_json_add(o, "effect2",
+                         second ? cJSON_CreateString(aenl_diagnose_effect_name(m->effect2))
+                                : cJSON_CreateNull());
+    bad |= aenl_json_add(o, "dof2",
+                         second ? cJSON_CreateString(aenl_diagnose_dof_name(m->dof2))
+                                : cJSON_CreateNull());
+    bad |=
+        aenl_json_add(o, "gap_after2", second ? aenl_json_num(m->gap_after2) : cJSON_CreateNull());
+    bad |= aenl_json_add(o, "baseline_summaries_p",
+                         m->base_test >= 0 && m->base_sum.n_rep > 0u ? aenl_json_num(m->base_sum.p)
+                                                                     : cJSON_CreateNull());
+    bad |= aenl_json_add(o, "diagnoses", cJSON_CreateNumber((double)m->n_diagnoses));
+    bad |= aenl_json_add(alone, "class", cJSON_CreateString(aenl_class_name(m->data_class)));
+    bad |= aenl_json_add(alone, "channel",
+                         m->data_verdict >= 0 ? cJSON_CreateString(r->ch[m->data_verdict].name)
+                                              : cJSON_CreateNull());
+    bad |= aenl_json_add(alone, "confidence", aenl_json_num(m->data_confidence));
+    bad |= aenl_json_add(o, "record_alone", alone);
     if (bad)
     {
         cJSON_Delete(o);
@@ -258,17 +243,18 @@ aenl_status_t aenl_identify_print_json(FILE *out, const aenl_identify_result_t *
     {
         static const aenl_classifier_result_t k_none; /* no switching points */
         const aenl_classifier_result_t *res = r->verdict >= 0 ? &r->ch[r->verdict].res : &k_none;
-        bad |= add(verdict, "class", cJSON_CreateString(aenl_class_name(r->verdict_class)));
         bad |=
-            add(verdict, "channel",
-                r->verdict >= 0 ? cJSON_CreateString(r->ch[r->verdict].name) : cJSON_CreateNull());
-        bad |= add(verdict, "hardening", json_hardening(res));
-        bad |= add(verdict, "switch_points", json_points(res, 0));
-        bad |= add(verdict, "confidence", num_or_null(r->verdict_confidence));
-        bad |= add(verdict, "by_model", cJSON_CreateBool(by_model));
+            aenl_json_add(verdict, "class", cJSON_CreateString(aenl_class_name(r->verdict_class)));
+        bad |= aenl_json_add(verdict, "channel",
+                             r->verdict >= 0 ? cJSON_CreateString(r->ch[r->verdict].name)
+                                             : cJSON_CreateNull());
+        bad |= aenl_json_add(verdict, "hardening", json_hardening(res));
+        bad |= aenl_json_add(verdict, "switch_points", json_points(res, 0));
+        bad |= aenl_json_add(verdict, "confidence", aenl_json_num(r->verdict_confidence));
+        bad |= aenl_json_add(verdict, "by_model", cJSON_CreateBool(by_model));
         /* one orbit of a limit cycle: the class is one of three alike */
-        bad |= add(verdict, "guess",
-                   cJSON_CreateBool(r->limit_cycle >= 0 && r->verdict >= 0 && !by_model));
+        bad |= aenl_json_add(verdict, "guess",
+                             cJSON_CreateBool(r->limit_cycle >= 0 && r->verdict >= 0 && !by_model));
     }
     const notes_t nt = {json_note, notes};
     notes_of(r, by_model, &nt);
@@ -284,20 +270,20 @@ aenl_status_t aenl_identify_print_json(FILE *out, const aenl_identify_result_t *
     }
     if (root != NULL)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify/2"));
-        bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
-        bad |= add(root, "file", cJSON_CreateString(path));
-        bad |= add(root, "rows", cJSON_CreateNumber((double)rows));
-        bad |= add(root, "verdict", verdict);
-        bad |= add(root, "channels", chans);
-        bad |= add(root, "impulses", cJSON_CreateNumber((double)r->impulses));
-        bad |= add(root, "limit_cycle",
-                   r->limit_cycle >= 0 ? cJSON_CreateString(r->ch[r->limit_cycle].name)
-                                       : cJSON_CreateNull());
-        bad |=
-            add(root, "model",
-                r->model.applied ? json_model(r, model != NULL ? model : "") : cJSON_CreateNull());
-        bad |= add(root, "notes", notes);
+        bad |= aenl_json_add(root, "schema", cJSON_CreateString("aenl-identify/2"));
+        bad |= aenl_json_add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
+        bad |= aenl_json_add(root, "file", cJSON_CreateString(path));
+        bad |= aenl_json_add(root, "rows", cJSON_CreateNumber((double)rows));
+        bad |= aenl_json_add(root, "verdict", verdict);
+        bad |= aenl_json_add(root, "channels", chans);
+        bad |= aenl_json_add(root, "impulses", cJSON_CreateNumber((double)r->impulses));
+        bad |= aenl_json_add(root, "limit_cycle",
+                             r->limit_cycle >= 0 ? cJSON_CreateString(r->ch[r->limit_cycle].name)
+                                                 : cJSON_CreateNull());
+        bad |= aenl_json_add(root, "model",
+                             r->model.applied ? json_model(r, model != NULL ? model : "")
+                                              : cJSON_CreateNull());
+        bad |= aenl_json_add(root, "notes", notes);
     }
     else
     {

@@ -10,25 +10,11 @@
 #include <cjson/cJSON.h>
 
 #include "aenl_tools/aenl_nltest.h"
+#include "aenl_tools/aenl_json.h"
 
 const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined)
 {
     return undetermined ? "undetermined" : aenl_class_name(cls);
-}
-
-static cJSON *num(double v)
-{
-    return isfinite(v) ? cJSON_CreateNumber(v) : cJSON_CreateNull();
-}
-
-static int add(cJSON *obj, const char *key, cJSON *item)
-{
-    if (item == NULL)
-    {
-        return -1;
-    }
-    cJSON_AddItemToObject(obj, key, item);
-    return 0;
 }
 
 static cJSON *num_array(const double *v, size_t n)
@@ -36,7 +22,7 @@ static cJSON *num_array(const double *v, size_t n)
     cJSON *a = cJSON_CreateArray();
     for (size_t i = 0; a != NULL && i < n; ++i)
     {
-        cJSON *x = num(v[i]);
+        cJSON *x = aenl_json_num(v[i]);
         if (x == NULL)
         {
             cJSON_Delete(a);
@@ -51,9 +37,9 @@ static int add_points(cJSON *o, const aenl_nlt_channel_t *c, int undetermined)
 {
     /* the points of a named law only: an undetermined class has none to stand by */
     const size_t np = c->nonlinear && !undetermined ? c->n_points : 0u;
-    int bad = add(o, "switch_points", num_array(c->points, np));
-    bad |= add(o, "switch_point_lo", num_array(c->point_lo, np));
-    bad |= add(o, "switch_point_hi", num_array(c->point_hi, np));
+    int bad = aenl_json_add(o, "switch_points", num_array(c->points, np));
+    bad |= aenl_json_add(o, "switch_point_lo", num_array(c->point_lo, np));
+    bad |= aenl_json_add(o, "switch_point_hi", num_array(c->point_hi, np));
     return bad;
 }
 
@@ -66,32 +52,35 @@ static cJSON *json_channel(const aenl_nlt_channel_t *c, const char *name, size_t
         return NULL;
     }
     cJSON *w = cJSON_CreateObject();
-    int bad = add(o, "name", cJSON_CreateString(name));
-    bad |= add(o, "class",
-               cJSON_CreateString(aenl_nlt_class_name(c->nonlinear ? c->cls : AENL_CLASS_LINEAR,
-                                                      c->nonlinear && c->undetermined)));
-    bad |= add(o, "statistic", num(c->stat));
-    bad |= add(o, "dof", num(c->dof));
-    bad |= add(o, "p_value", num(c->p));
-    bad |= add(o, "nonlinear", cJSON_CreateBool(c->nonlinear));
+    int bad = aenl_json_add(o, "name", cJSON_CreateString(name));
+    bad |= aenl_json_add(
+        o, "class",
+        cJSON_CreateString(aenl_nlt_class_name(c->nonlinear ? c->cls : AENL_CLASS_LINEAR,
+                                               c->nonlinear && c->undetermined)));
+    bad |= aenl_json_add(o, "statistic", aenl_json_num(c->stat));
+    bad |= aenl_json_add(o, "dof", aenl_json_num(c->dof));
+    bad |= aenl_json_add(o, "p_value", aenl_json_num(c->p));
+    bad |= aenl_json_add(o, "nonlinear", cJSON_CreateBool(c->nonlinear));
     for (size_t l = 0; w != NULL && l < AENL_NLT_N_LAWS; ++l)
     {
-        bad |= add(w, aenl_nlt_law_name((aenl_nlt_law_t)l),
-                   num(c->nonlinear ? c->law_p[l] : (double)NAN));
+        bad |= aenl_json_add(w, aenl_nlt_law_name((aenl_nlt_law_t)l),
+                             aenl_json_num(c->nonlinear ? c->law_p[l] : (double)NAN));
     }
-    bad |= add(o, "law_p_values", w);
-    bad |= add(o, "confidence", num(c->nonlinear ? c->confidence : (double)NAN));
+    bad |= aenl_json_add(o, "law_p_values", w);
+    bad |=
+        aenl_json_add(o, "confidence", aenl_json_num(c->nonlinear ? c->confidence : (double)NAN));
     const int poly = c->nonlinear && !c->undetermined && c->cls == AENL_CLASS_POLYNOMIAL;
-    bad |= add(o, "samples_per_period", num(c->samples_per_period));
-    bad |= add(o, "period_samples", num(c->samples_per_period));
-    bad |= add(o, "period_s", num(c->samples_per_period * dt));
-    bad |= add(o, "hardening",
-               poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0) : cJSON_CreateNull());
+    bad |= aenl_json_add(o, "samples_per_period", aenl_json_num(c->samples_per_period));
+    bad |= aenl_json_add(o, "period_samples", aenl_json_num(c->samples_per_period));
+    bad |= aenl_json_add(o, "period_s", aenl_json_num(c->samples_per_period * dt));
+    bad |= aenl_json_add(o, "hardening",
+                         poly && c->hardening != 0 ? cJSON_CreateBool(c->hardening > 0)
+                                                   : cJSON_CreateNull());
     bad |= add_points(o, c, c->undetermined);
     if (n_controls > 0)
     {
-        bad |= add(o, "control_exceed", cJSON_CreateNumber((double)c->control_exceed));
-        bad |= add(o, "control_p", num(c->control_p));
+        bad |= aenl_json_add(o, "control_exceed", cJSON_CreateNumber((double)c->control_exceed));
+        bad |= aenl_json_add(o, "control_p", aenl_json_num(c->control_p));
     }
     if (bad)
     {
@@ -163,32 +152,33 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
         return NULL;
     }
     const aenl_nlt_channel_t *c = r->verdict >= 0 ? &r->ch[r->verdict] : NULL;
-    int bad =
-        add(v, "class", cJSON_CreateString(aenl_nlt_class_name(r->verdict_class, r->undetermined)));
-    bad |=
-        add(v, "channel", c != NULL ? cJSON_CreateString(names[r->verdict]) : cJSON_CreateNull());
+    int bad = aenl_json_add(
+        v, "class", cJSON_CreateString(aenl_nlt_class_name(r->verdict_class, r->undetermined)));
+    bad |= aenl_json_add(v, "channel",
+                         c != NULL ? cJSON_CreateString(names[r->verdict]) : cJSON_CreateNull());
     if (c != NULL)
     {
         bad |= add_points(v, c, r->undetermined);
     }
     else
     {
-        bad |= add(v, "switch_points", cJSON_CreateArray());
-        bad |= add(v, "switch_point_lo", cJSON_CreateArray());
-        bad |= add(v, "switch_point_hi", cJSON_CreateArray());
+        bad |= aenl_json_add(v, "switch_points", cJSON_CreateArray());
+        bad |= aenl_json_add(v, "switch_point_lo", cJSON_CreateArray());
+        bad |= aenl_json_add(v, "switch_point_hi", cJSON_CreateArray());
     }
-    bad |= add(v, "confidence", num(r->confidence));
-    bad |= add(v, "class_confidence", num(r->class_confidence));
-    bad |=
-        add(v, "channel_confidence", c != NULL ? num(r->channel_confidence) : cJSON_CreateNull());
+    bad |= aenl_json_add(v, "confidence", aenl_json_num(r->confidence));
+    bad |= aenl_json_add(v, "class_confidence", aenl_json_num(r->class_confidence));
+    bad |= aenl_json_add(v, "channel_confidence",
+                         c != NULL ? aenl_json_num(r->channel_confidence) : cJSON_CreateNull());
     cJSON *cand = cJSON_CreateArray();
     for (size_t i = 0; c != NULL && cand != NULL && i < r->n_candidates; ++i)
     {
         const aenl_nlt_candidate_t *cd = &r->candidates[i];
         cJSON *e = cJSON_CreateObject();
-        if (e == NULL || add(e, "class", cJSON_CreateString(aenl_nlt_law_name(cd->law))) != 0 ||
-            add(e, "channel", cJSON_CreateString(names[cd->channel])) != 0 ||
-            add(e, "p_value", num(cd->p)) != 0)
+        if (e == NULL ||
+            aenl_json_add(e, "class", cJSON_CreateString(aenl_nlt_law_name(cd->law))) != 0 ||
+            aenl_json_add(e, "channel", cJSON_CreateString(names[cd->channel])) != 0 ||
+            aenl_json_add(e, "p_value", aenl_json_num(cd->p)) != 0)
         {
             cJSON_Delete(e);
             bad = 1;
@@ -196,7 +186,7 @@ static cJSON *json_verdict(const aenl_nlt_result_t *r, const char *const *names)
         }
         cJSON_AddItemToArray(cand, e);
     }
-    bad |= add(v, "candidates", cand);
+    bad |= aenl_json_add(v, "candidates", cand);
     if (bad)
     {
         cJSON_Delete(v);
@@ -237,19 +227,19 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
     int bad = root == NULL || model == NULL || chs == NULL;
     if (!bad)
     {
-        bad |= add(root, "schema", cJSON_CreateString("aenl-identify-test/5"));
-        bad |= add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
-        bad |= add(root, "file", cJSON_CreateString(path));
-        bad |= add(root, "method", cJSON_CreateString("test"));
-        bad |= add(root, "level", num(r->level));
-        bad |= add(root, "dt", num(dt));
-        bad |= add(model, "states", cJSON_CreateNumber((double)r->n_states));
-        bad |= add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
-        bad |= add(model, "loglik", num(r->loglik));
-        bad |= add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
+        bad |= aenl_json_add(root, "schema", cJSON_CreateString("aenl-identify-test/5"));
+        bad |= aenl_json_add(root, "aenl_version", cJSON_CreateString(AENL_VERSION));
+        bad |= aenl_json_add(root, "file", cJSON_CreateString(path));
+        bad |= aenl_json_add(root, "method", cJSON_CreateString("test"));
+        bad |= aenl_json_add(root, "level", aenl_json_num(r->level));
+        bad |= aenl_json_add(root, "dt", aenl_json_num(dt));
+        bad |= aenl_json_add(model, "states", cJSON_CreateNumber((double)r->n_states));
+        bad |= aenl_json_add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
+        bad |= aenl_json_add(model, "loglik", aenl_json_num(r->loglik));
+        bad |= aenl_json_add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
         if (r->n_inputs > 0 && input_names != NULL)
         {
-            bad |= add(model, "inputs", name_array(input_names, r->n_inputs, NULL));
+            bad |= aenl_json_add(model, "inputs", name_array(input_names, r->n_inputs, NULL));
         }
         if (r->n_dithered > 0)
         {
@@ -258,15 +248,15 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
             {
                 sel[j] = r->ch[j].dithered;
             }
-            bad |= add(model, "dithered", name_array(names, r->n_channels, sel));
+            bad |= aenl_json_add(model, "dithered", name_array(names, r->n_channels, sel));
         }
-        bad |= add(root, "model", model);
+        bad |= aenl_json_add(root, "model", model);
         model = NULL;
         if (r->n_controls > 0)
         {
-            bad |= add(root, "controls", cJSON_CreateNumber((double)r->n_controls));
+            bad |= aenl_json_add(root, "controls", cJSON_CreateNumber((double)r->n_controls));
         }
-        bad |= add(root, "verdict", json_verdict(r, names));
+        bad |= aenl_json_add(root, "verdict", json_verdict(r, names));
         for (size_t j = 0; j < r->n_channels && !bad; ++j)
         {
             cJSON *c = json_channel(&r->ch[j], names[j], r->n_controls, dt);
@@ -276,9 +266,9 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
                 cJSON_AddItemToArray(chs, c);
             }
         }
-        bad |= add(root, "channels", chs);
+        bad |= aenl_json_add(root, "channels", chs);
         chs = NULL;
-        bad |= add(root, "notes", json_notes(r, names, lead_note));
+        bad |= aenl_json_add(root, "notes", json_notes(r, names, lead_note));
     }
     char *text = bad ? NULL : cJSON_Print(root);
     cJSON_Delete(root);
