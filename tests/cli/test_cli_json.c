@@ -137,6 +137,10 @@ static void check_step_and_notes(const cJSON *doc, double want_dt, const char *n
     {
         TEST_ASSERT_TRUE_MESSAGE(cJSON_IsString(x), "a note");
         found |= note != NULL && strstr(x->valuestring, note) != NULL;
+        /* a record with a time column gets no note that it has none */
+        TEST_ASSERT_TRUE_MESSAGE(note != NULL ||
+                                     strstr(x->valuestring, "has no time column") == NULL,
+                                 "a no-time note on a record with a time column");
     }
     TEST_ASSERT_TRUE_MESSAGE(found, note != NULL ? note : "notes");
     const cJSON *c = NULL;

@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include <dirent.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -688,9 +689,10 @@ static void write_through(const char *path, const char *text)
 }
 
 /* A character device is written, never replaced. As root a private twin of /dev/null (1, 3) is
- * made here, so a regression cannot replace the system's; where root cannot make one (no
- * mknod capability) the case is skipped rather than run on the system's. Without root
- * /dev/null itself is used, which a regression could not replace (its folder is not writable). */
+ * made here, so a regression cannot replace the system's; where root cannot make or open one
+ * (no mknod capability, a nodev file system) the case is skipped rather than run on the system's.
+ * Without root /dev/null itself is used, which a regression could not replace (its folder is not
+ * writable). */
 static void test_outfile_device_written_not_replaced(void)
 {
     struct stat before;
@@ -701,10 +703,13 @@ static void test_outfile_device_written_not_replaced(void)
     (void)remove(own);
     if (geteuid() == 0)
     {
-        if (mknod(own, S_IFCHR | 0666, makedev(1, 3)) != 0)
+        const int fd = mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0 ? open(own, O_WRONLY) : -1;
+        if (fd < 0)
         {
-            TEST_IGNORE_MESSAGE("root without the mknod capability: no private device to write");
+            (void)remove(own);
+            TEST_IGNORE_MESSAGE("no private device node here (mknod or its open refused)");
         }
+        (void)close(fd);
         dev = own;
     }
     TEST_ASSERT_EQUAL_INT(0, stat(dev, &before));

@@ -323,7 +323,6 @@ aenl_status_t aenl_diagnose_write_data(const aenl_diagnose_result_t *r, const ch
 /* ---- JSON
  * ---------------------------------------------------------------------------------------- */
 
-/* A number, or null where it is not finite (a parameter the record does not determine). */
 /* Values of the named effect's parameters under the contract's keys: v[k] in the order of
  * aenl_diagnose_n_params; for the polynomial the whole coefficient list poly[0..n_poly). */
 static void add_values(cJSON *o, aenl_diagnose_effect_t effect, const double *v, const double *poly,
