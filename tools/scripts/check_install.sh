@@ -45,8 +45,11 @@ for exe in "$work"/moved/bin/*; do # aenl and the helpers its benches run
   done
 done
 # PATH without the trees (gnuplot and man are looked up there); nothing else is passed on.
-clean_path=$(tr ':' '\n' <<<"$PATH" | grep -v -F -e "$src" -e "$build" | paste -s -d ':' -)
-run() { (cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "$bin" "$@"); }
+clean_path=$(tr ':' '\n' <<<"$PATH" | { grep -v -F -e "$src" -e "$build" || true; } | paste -s -d ':' -)
+# LD_LIBRARY_PATH stays when set: an install may link libraries from outside the system's folders
+keep_env=()
+[[ -n ${LD_LIBRARY_PATH:-} ]] && keep_env+=(LD_LIBRARY_PATH="$LD_LIBRARY_PATH")
+run() { (cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "${keep_env[@]}" "$bin" "$@"); }
 run --version
 run bench stream 100000 --plain >/dev/null
 run simulate "$share/examples/paper_polynomial_pitch.ini" -o rec.csv
@@ -72,18 +75,23 @@ if command -v strace >/dev/null && strace -f -o /dev/null true 2>/dev/null; then
   trace=(strace -f -q -e trace=file -o "$work/demo.trace")
   strace --seccomp-bpf -f -o /dev/null true 2>/dev/null && trace+=(--seccomp-bpf)
 fi
-(cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "${trace[@]}" \
+(cd "$work" && env -i PATH="$clean_path" HOME="$work" LC_ALL=C "${keep_env[@]}" "${trace[@]}" \
   "$bin" demo --out "$work/demo" >"$work/demo.log" 2>&1) || {
   echo "the installed aenl demo failed:" >&2
   cat "$work/demo.log" >&2
   exit 1
 }
-grep -F -x -q "demo done: $work/demo" "$work/demo.log"
+demo_fail() {
+  echo "the installed aenl demo $1:" >&2
+  cat "$work/demo.log" >&2
+  exit 1
+}
+grep -F -x -q "demo done: $work/demo" "$work/demo.log" || demo_fail "did not report its end"
 for f in paper_polynomial_pitch paper_hysteresis_pitch paper_flap_freeplay two_freeplays; do
-  test -s "$work/demo/$f.csv"
+  test -s "$work/demo/$f.csv" || demo_fail "wrote no $f.csv"
 done
 if command -v gnuplot >/dev/null; then
-  ls "$work"/demo/*_identify/*.png >/dev/null
+  ls "$work"/demo/*_identify/*.png >/dev/null 2>&1 || demo_fail "drew no identify figure"
 fi
 if ((${#trace[@]})); then
   for tree in "$src" "$build"; do
