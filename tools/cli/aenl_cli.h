@@ -115,28 +115,7 @@ void aenl_cli_figs_free(aenl_cli_figs_t *o);
 aenl_status_t aenl_cli_figs_add(aenl_cli_figs_t *o, const char *path, aenl_err_t *err);
 /** mkdir -p dir, remembering the folders made. */
 aenl_status_t aenl_cli_figs_mkdir(aenl_cli_figs_t *o, const char *dir, aenl_err_t *err);
-/** A temporary data file for gnuplot (/tmp/aenl_identify_XXXXXX) opened for writing; NULL and
- *  err set when it cannot be made. */
-FILE *aenl_cli_tmp_open(char path[64], aenl_err_t *err);
-/** Close a temporary data file; AENL_E_IO when a write failed. */
-aenl_status_t aenl_cli_tmp_close(FILE *f, const char *path, aenl_err_t *err);
-/** One row of a time-series figure's data: bin k (detail 0: its time and the bin's lo and hi,
- *  lo > hi for an empty bin) or sample k shown at full rate (detail 1: its time in t, value in
- *  lo). */
-typedef void (*aenl_cli_ts_row_fn)(const void *ctx, int detail, size_t k, double *t, double *lo,
-                                   double *hi);
-/** The time-series figure's two temporary data files: env (t,lo,hi over n_bins bins) and det
- *  (t,x over n_det samples), from row(). On failure neither file is left and err is set. */
-aenl_status_t aenl_cli_ts_files(aenl_cli_ts_row_fn row, const void *ctx, size_t n_bins,
-                                size_t n_det, char env[64], char det[64], aenl_err_t *err);
-/** v as gnuplot reads it ("nan" when not finite), then sep. */
-void aenl_cli_put_num(FILE *f, double v, const char *sep);
-/** A name as a file-name piece: letters, digits, '-', '_' and '.' kept, others '_'. */
-void aenl_cli_file_piece(const char *s, char *out, size_t n);
-/** A title or label gnuplot can take (no quote, no newline), in place. */
-void aenl_cli_plot_text(char *s);
-/** The data file's name without folder and extension, as a file-name piece. */
-void aenl_cli_data_stem(const char *path, char *out, size_t n);
+/* The figures' data files and names are the library's (aenl_plot.h). */
 
 int aenl_cmd_moments(int argc, char **argv);
 int aenl_cmd_simulate(int argc, char **argv);

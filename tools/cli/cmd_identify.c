@@ -562,7 +562,7 @@ static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t
                               aenl_err_t *err)
 {
     char piece[128], png[4096 + 256];
-    aenl_cli_file_piece(ch->name, piece, sizeof(piece));
+    aenl_plot_file_piece(ch->name, piece, sizeof(piece));
     (void)snprintf(png, sizeof(png), "%s/%s_%s_%s.png", fc->dir, fc->stem, piece, kind);
     char script[32];
     (void)snprintf(script, sizeof(script), "identify_%s", kind);
@@ -597,7 +597,7 @@ static void fig_title(const fig_ctx_t *fc, const aenl_identify_channel_t *ch, co
     const char *base = strrchr(fc->path, '/') ? strrchr(fc->path, '/') + 1 : fc->path;
     (void)snprintf(buf, n, "%s: %s, %s (confidence %.2f) - %s", base, ch->name,
                    aenl_identify_class_label(&ch->res), (double)ch->res.confidence, what);
-    aenl_cli_plot_text(buf);
+    aenl_plot_text(buf);
 }
 
 /* (2) conditional mean and variance for the display lags: CSV lag,x,mean,var (all pairs). */
@@ -605,7 +605,7 @@ static aenl_status_t plot_moments(const fig_ctx_t *fc, const aenl_identify_chann
                                   aenl_err_t *err)
 {
     char tmp[64];
-    FILE *f = aenl_cli_tmp_open(tmp, err);
+    FILE *f = aenl_plot_tmp_open(tmp, err);
     if (f == NULL)
     {
         return AENL_E_IO;
@@ -619,22 +619,22 @@ static aenl_status_t plot_moments(const fig_ctx_t *fc, const aenl_identify_chann
         {
             const size_t k = (size_t)l * ch->n_grid + g; /* direction 0: all pairs */
             fprintf(f, "%u,", (unsigned)ch->display_lags[l]);
-            aenl_cli_put_num(f, ch->x[g], ",");
-            aenl_cli_put_num(f, ch->mean[k], ",");
-            aenl_cli_put_num(f, ch->var[k], "\n");
+            aenl_plot_put_num(f, ch->x[g], ",");
+            aenl_plot_put_num(f, ch->mean[k], ",");
+            aenl_plot_put_num(f, ch->var[k], "\n");
         }
         const int w = snprintf(lags + len, sizeof(lags) - len, "%s%u", l ? " " : "",
                                (unsigned)ch->display_lags[l]);
         len += (w > 0 && (size_t)w < sizeof(lags) - len) ? (size_t)w : 0u;
     }
-    aenl_status_t st = aenl_cli_tmp_close(f, tmp, err);
+    aenl_status_t st = aenl_plot_tmp_close(f, tmp, err);
     if (st == AENL_OK)
     {
         char title[600], marks[256], xlabel[300];
         fig_title(fc, ch, "conditional mean and variance", title, sizeof(title));
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
-        aenl_cli_plot_text(xlabel);
+        aenl_plot_text(xlabel);
         const aenl_plot_var_t vars[] = {
             {"in", tmp}, {"lags", lags}, {"marks", marks}, {"title", title}, {"xlabel", xlabel}};
         st = run_plot(fc, ch, "moments", vars, sizeof(vars) / sizeof(vars[0]), err);
@@ -648,7 +648,7 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
                                     aenl_err_t *err)
 {
     char tmp[64];
-    FILE *f = aenl_cli_tmp_open(tmp, err);
+    FILE *f = aenl_plot_tmp_open(tmp, err);
     if (f == NULL)
     {
         return AENL_E_IO;
@@ -660,20 +660,20 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
         {
             const size_t k = (size_t)d * ch->n_grid + g;
             fprintf(f, "%u,", d);
-            aenl_cli_put_num(f, ch->position[k], ",");
+            aenl_plot_put_num(f, ch->position[k], ",");
             /* per sample squared, or per the time column's unit squared */
             const double a = fc->dt > 0.0 ? ch->accel[k] / (fc->dt * fc->dt) : ch->accel[k];
-            aenl_cli_put_num(f, a, "\n");
+            aenl_plot_put_num(f, a, "\n");
         }
     }
-    aenl_status_t st = aenl_cli_tmp_close(f, tmp, err);
+    aenl_status_t st = aenl_plot_tmp_close(f, tmp, err);
     if (st == AENL_OK)
     {
         char title[600], marks[256], xlabel[300];
         fig_title(fc, ch, "restoring force", title, sizeof(title));
         marks_label(&ch->res, marks, sizeof(marks));
         (void)snprintf(xlabel, sizeof(xlabel), "%s", ch->name);
-        aenl_cli_plot_text(xlabel);
+        aenl_plot_text(xlabel);
         char ylabel[400];
         if (fc->dt > 0.0)
         {
@@ -684,7 +684,7 @@ static aenl_status_t plot_restoring(const fig_ctx_t *fc, const aenl_identify_cha
         {
             (void)snprintf(ylabel, sizeof(ylabel), "acceleration a(p), %s per sample^2", ch->name);
         }
-        aenl_cli_plot_text(ylabel);
+        aenl_plot_text(ylabel);
         const aenl_plot_var_t vars[] = {{"in", tmp},
                                         {"marks", marks},
                                         {"title", title},
@@ -819,7 +819,7 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
 {
     char env[64], det[64];
     const ts_rows_t rows = {v, c};
-    aenl_status_t st = aenl_cli_ts_files(ts_row, &rows, v->n_bins, v->n_det, env, det, err);
+    aenl_status_t st = aenl_plot_ts_files(ts_row, &rows, v->n_bins, v->n_det, env, det, err);
     if (st != AENL_OK)
     {
         return st;
@@ -828,10 +828,10 @@ static aenl_status_t plot_timeseries(const fig_ctx_t *fc, const ts_view_t *v, si
     fig_title(fc, ch, "record", title, sizeof(title));
     marks_label(&ch->res, marks, sizeof(marks));
     (void)snprintf(ylabel, sizeof(ylabel), "%s", ch->name);
-    aenl_cli_plot_text(ylabel);
+    aenl_plot_text(ylabel);
     (void)snprintf(label, sizeof(label), "%zu", v->per_bin);
     (void)snprintf(tlabel, sizeof(tlabel), "%s", v->t_name != NULL ? v->t_name : "row");
-    aenl_cli_plot_text(tlabel);
+    aenl_plot_text(tlabel);
     const aenl_plot_var_t vars[] = {{"env", env},      {"detail", det},    {"marks", marks},
                                     {"title", title},  {"ylabel", ylabel}, {"per_bin", label},
                                     {"tlabel", tlabel}};
@@ -847,7 +847,7 @@ static aenl_status_t plot_all(const aenl_identify_result_t *r, const aenl_identi
                               aenl_cli_figs_t *outs, aenl_err_t *err)
 {
     char stem[128];
-    aenl_cli_data_stem(path, stem, sizeof(stem));
+    aenl_plot_data_stem(path, stem, sizeof(stem));
     /* the time column's step, for accelerations per its unit squared */
     const aenl_time_steps_t *ts = &chk->steps[0];
     const double dt =

@@ -55,6 +55,7 @@
 
 #include "aenl/aenl_classifier.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_plot.h"
 #include "aenl_tools/aenl_progress.h"
 
 #define AENL_NLT_MAX_CH     8 /**< channels of a record */
@@ -239,5 +240,26 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
 /** The result as a table on `out` (what the JSON holds, for a reader). */
 void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *const *names,
                           const char *const *input_names, const char *path);
+
+/**
+ * @brief The result's figures as PNG files in `dir` (which exists), drawn by gnuplot
+ *        (aenl_plot_run): for each of the nz tested channels, DIR/<stem>_<channel>_timeseries.png
+ *        (the whole record as a min/max envelope, its last samples at full rate, the switching
+ *        points marked) and, for a channel whose laws were fitted, DIR/<stem>_<channel>_law.png
+ *        (each law less its least-squares line over the record, which leaves the part the law
+ *        adds to the linear model's stiffness, the law of the smallest BIC named). <stem> is the
+ *        record's file name without folder and extension.
+ * @param res   the test's result on chan (aenl_nlt_run_columns).
+ * @param rec   the record: its path, sample count and time column (NULL: the sample index).
+ * @param chan  the nz tested channels (rec->n samples each), names their names.
+ * @param done  called with each figure written (done_ctx passed on), so that the caller can list
+ *              it and remove it on a later failure.
+ * @return AENL_OK; else the first failure (gnuplot's, a temporary file's, done's) with err set;
+ *         the figures written before it stay (done has been told of them).
+ */
+aenl_status_t aenl_nlt_plot(const aenl_nlt_result_t *res, const aenl_plot_record_t *rec,
+                            const double *const *chan, const char *const *names, size_t nz,
+                            const char *dir, aenl_plot_done_fn done, void *done_ctx,
+                            aenl_err_t *err);
 
 #endif /* AENL_TOOLS_NLTEST_H */
