@@ -33,6 +33,7 @@
 #include "aenl/aenl.h"
 #include "aenl_tools/aenl_diagnose.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_plot.h"
 #include "aenl_tools/aenl_rfs.h"
 
 /** A record read twice, one row at a time (a CSV file or arrays in memory). */
@@ -250,5 +251,34 @@ aenl_status_t aenl_identify_model_test(aenl_identify_result_t *res, const aenl_t
                                        const aenl_sim_model_t *base, const aenl_sim_run_t *run,
                                        const char *time_column, const aenl_progress_t *progress,
                                        aenl_err_t *err);
+
+/** The record the figures are drawn from, as plain data besides the source that reads it. */
+typedef struct aenl_identify_plot_record
+{
+    const char *path;   /**< the record's file: titles carry its base name, figures its stem */
+    size_t n_rows;      /**< rows of a complete pass of the source */
+    double dt;          /**< the time column's step; 0 without one (accelerations per sample^2) */
+    const char *t_name; /**< the time axis' label (NULL: "row") */
+    double (*row_time)(const void *ctx); /**< time of the row the source read last */
+    const void *time_ctx;                /**< passed to row_time */
+} aenl_identify_plot_record_t;
+
+/**
+ * @brief r's figures as PNG files in `dir` (which exists), drawn by gnuplot (aenl_plot_run); for
+ *        each channel DIR/<stem>_<channel>_timeseries.png (the whole record as a min/max envelope
+ *        over at most 1500 bins, and its last 12 dominant periods, 400 to 4000 rows, at full
+ *        rate), _moments.png (the conditional mean and variance at the display lags) and
+ *        _restoring.png (the restoring-force points, all and by direction), each with the
+ *        switching points marked. <stem> is the record's file name without folder and extension.
+ *        The time series is read again from `src` (one more pass, memory bounded by the bins and
+ *        the rows shown), its time from rec->row_time, so a record of any length can be drawn.
+ * @param done  called with each figure written (done_ctx passed on), so that the caller can list
+ *              it and remove it on a later failure.
+ * @return AENL_OK; else the first failure (the source's, gnuplot's, a temporary file's, done's,
+ *         memory) with err set; the figures written before it stay (done has been told of them).
+ */
+aenl_status_t aenl_identify_plot(const aenl_identify_result_t *r, const aenl_identify_source_t *src,
+                                 const aenl_identify_plot_record_t *rec, const char *dir,
+                                 aenl_plot_done_fn done, void *done_ctx, aenl_err_t *err);
 
 #endif /* AENL_TOOLS_IDENTIFY_H */
