@@ -4,8 +4,8 @@
  * @brief `aenl identify`: its options, and the conditional moments (--method moments,
  *        docs/identify.md) as a thin layer over aenl_identify_run(): the record is streamed
  *        (never loaded whole), checked row by row on the way, and printed by
- *        aenl_identify_print_table or aenl_identify_print_json; --plot has aenl_identify_plot draw
- * the figures of every channel. The default method, the test, is cmd_identify_test.c.
+ *        aenl_identify_print_table or aenl_identify_print_json; --plot's figures are drawn by
+ *        aenl_identify_plot. The default method, the test, is cmd_identify_test.c.
  */
 #define _POSIX_C_SOURCE 200809L
 
