@@ -9,6 +9,7 @@
 #define _DEFAULT_SOURCE /* mknod, makedev */
 
 #include "aenl_cli_test.h"
+#include "aenl_test_device.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -136,21 +137,9 @@ static void test_cli_simulate_writes_to_stdout_and_devices(void)
  * writable). */
 static void test_cli_simulate_device_written_not_replaced(void)
 {
-    const char *dev = "/dev/null";
     char own[600];
     (void)snprintf(own, sizeof(own), "%s/null_twin", AENL_TEST_TMP_DIR);
-    if (geteuid() == 0)
-    {
-        (void)remove(own);
-        const int fd = mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0 ? open(own, O_WRONLY) : -1;
-        if (fd < 0)
-        {
-            (void)remove(own);
-            TEST_IGNORE_MESSAGE("no private device node here (mknod or its open refused)");
-        }
-        (void)close(fd);
-        dev = own;
-    }
+    const char *dev = aenl_test_null_device(own);
     const char *args[] = {"simulate", EXAMPLES "validate_linear_u4.ini", "-o", dev, NULL};
     struct stat before;
     struct stat after;

@@ -21,6 +21,7 @@
 
 #include "unity.h"
 
+#include "aenl_test_device.h"
 #include "aenl_test_rand.h"
 
 #include "aenl_tools/aenl_csv.h"
@@ -697,21 +698,9 @@ static void test_outfile_device_written_not_replaced(void)
 {
     struct stat before;
     struct stat after;
-    const char *dev = "/dev/null";
     char own[1024];
     (void)snprintf(own, sizeof own, "%s", tmp_path("null_twin"));
-    (void)remove(own);
-    if (geteuid() == 0)
-    {
-        const int fd = mknod(own, S_IFCHR | 0666, makedev(1, 3)) == 0 ? open(own, O_WRONLY) : -1;
-        if (fd < 0)
-        {
-            (void)remove(own);
-            TEST_IGNORE_MESSAGE("no private device node here (mknod or its open refused)");
-        }
-        (void)close(fd);
-        dev = own;
-    }
+    const char *dev = aenl_test_null_device(own);
     TEST_ASSERT_EQUAL_INT(0, stat(dev, &before));
     TEST_ASSERT_TRUE(S_ISCHR(before.st_mode));
     write_through(dev, "discarded\n");
