@@ -115,6 +115,26 @@ static double residual(const double *a, const double *x, const double *b, size_t
     return err / (max_abs(a, n * n) * max_abs(x, n * m) * (double)n);
 }
 
+/* The reference product ref (n x m), ref_ij = sum over r = 0..k-1, in that order, of
+ * a[i ai + r ar] b[r br + j bj]: the plain triple loop, with the strides naming A or A' and
+ * B or B'. */
+static void ref_product(double *ref, const double *a, size_t ai, size_t ar, const double *b,
+                        size_t br, size_t bj, size_t n, size_t k, size_t m)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            double acc = 0.0;
+            for (size_t r = 0; r < k; ++r)
+            {
+                acc += a[i * ai + r * ar] * b[r * br + j * bj];
+            }
+            ref[i * m + j] = acc;
+        }
+    }
+}
+
 static void test_products_match_triple_loop(void)
 {
     uint64_t s = 1u;
@@ -129,34 +149,12 @@ static void test_products_match_triple_loop(void)
                 fill_gauss(a, n * k, &s);
                 fill_gauss(b, k * m, &s);
                 aenl_dense_mul(c, a, b, n, k, m);
-                for (size_t i = 0; i < n; ++i)
-                {
-                    for (size_t j = 0; j < m; ++j)
-                    {
-                        double acc = 0.0;
-                        for (size_t r = 0; r < k; ++r)
-                        {
-                            acc += a[i * k + r] * b[r * m + j];
-                        }
-                        ref[i * m + j] = acc;
-                    }
-                }
+                ref_product(ref, a, k, 1u, b, m, 1u, n, k, m);
                 TEST_ASSERT_EQUAL_MEMORY(ref, c, n * m * sizeof(double));
                 /* A' B with A stored k x n */
                 fill_gauss(a, k * n, &s);
                 aenl_dense_mul_tn(c, a, b, n, k, m);
-                for (size_t i = 0; i < n; ++i)
-                {
-                    for (size_t j = 0; j < m; ++j)
-                    {
-                        double acc = 0.0;
-                        for (size_t r = 0; r < k; ++r)
-                        {
-                            acc += a[r * n + i] * b[r * m + j];
-                        }
-                        ref[i * m + j] = acc;
-                    }
-                }
+                ref_product(ref, a, 1u, n, b, m, 1u, n, k, m);
                 TEST_ASSERT_EQUAL_MEMORY(ref, c, n * m * sizeof(double));
             }
         }
@@ -181,18 +179,7 @@ static void test_symmetric_products(void)
                     xt[r * n + i] = x[i * k + r];
                 }
             }
-            for (size_t i = 0; i < n; ++i)
-            {
-                for (size_t j = 0; j < n; ++j)
-                {
-                    double acc = 0.0;
-                    for (size_t r = 0; r < k; ++r)
-                    {
-                        acc += x[i * k + r] * x[j * k + r];
-                    }
-                    ref[i * n + j] = acc;
-                }
-            }
+            ref_product(ref, x, k, 1u, x, 1u, k, n, k, n); /* X X' */
             memset(c, 0, sizeof(c));
             aenl_dense_mul_sym(c, x, xt, n, k); /* X X' */
             TEST_ASSERT_EQUAL_MEMORY(ref, c, n * n * sizeof(double));
