@@ -1018,6 +1018,92 @@ static void test_em_noisy_simulation_has_the_models_covariances(void)
     aenl_em_model_free(&m);
 }
 
+/* A lightly damped oscillator driven by small Gaussian noise and, every 250 samples, a large
+ * state jump (a kick), measured with noise. Fitted with the jumps flagged, EM recovers the
+ * measurement and process noise of the record between the jumps (the truth it was simulated
+ * with); fitted without, the process noise holds the jumps' energy (tens of times the truth's).
+ * Its log-likelihood never decreases either way. */
+static void test_em_jumps_leave_the_noise_estimates_unbiased(void)
+{
+    const double q = 0.01;
+    const double r = 0.05;
+    aenl_em_model_t truth;
+    oscillator(&truth, 0.99, 0.3, q, r);
+    const size_t n = 20000;
+    double *y = (double *)malloc(n * sizeof(double));
+    unsigned char *jump = (unsigned char *)calloc(n, 1);
+    TEST_ASSERT_NOT_NULL(y);
+    TEST_ASSERT_NOT_NULL(jump);
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 21u);
+    double x[2] = {0.0, 0.0};
+    for (size_t k = 0; k < n; ++k)
+    {
+        if (k > 0)
+        {
+            const double x0 = truth.A[0] * x[0] + truth.A[1] * x[1] + q * aenl_rng_gauss(&g);
+            const double x1 = truth.A[2] * x[0] + truth.A[3] * x[1] + q * aenl_rng_gauss(&g);
+            x[0] = x0;
+            x[1] = x1;
+        }
+        if (k > 0 && k % 250u == 0u)
+        {
+            x[0] += aenl_rng_gauss(&g);
+            x[1] += aenl_rng_gauss(&g);
+            jump[k] = 1;
+        }
+        y[k] = x[0] + r * aenl_rng_gauss(&g);
+    }
+    const double P_jump[4] = {1.0, 0.0, 0.0, 1.0};
+    double R_fit[2];
+    double Q_fit[2];
+    for (int with = 0; with < 2; ++with)
+    {
+        aenl_em_model_t m;
+        aenl_err_t err;
+        aenl_err_clear(&err);
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_copy(&m, &truth, &err));
+        m.Q[0] = m.Q[3] = 100.0 * q * q; /* a start away from the truth */
+        m.R[0] = 0.25 * r * r;
+        aenl_em_opts_t o;
+        aenl_em_opts_default(&o);
+        o.max_iter = 400;
+        o.tol = 0.0;
+        o.plain_em = 1;
+        o.jump = with ? jump : NULL;
+        o.P_jump = with ? P_jump : NULL;
+        double ll[401];
+        size_t it = 0;
+        TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_iterate(&m, y, n, &o, ll, &it, &err));
+        for (size_t i = 1; i <= it; ++i)
+        {
+            TEST_ASSERT_TRUE(ll[i] >= ll[i - 1u] - 1e-8 * fabs(ll[i - 1u]));
+        }
+        R_fit[with] = m.R[0];
+        Q_fit[with] = m.Q[0];
+        aenl_em_model_free(&m);
+    }
+    printf("R %.3g / %.3g (truth %.3g), Q00 %.3g / %.3g (truth %.3g), without / with jumps\n",
+           R_fit[0], R_fit[1], r * r, Q_fit[0], Q_fit[1], q * q);
+    TEST_ASSERT_DOUBLE_WITHIN(0.1 * r * r, r * r, R_fit[1]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.3 * q * q, q * q, Q_fit[1]);
+    TEST_ASSERT_TRUE(Q_fit[0] > 3.0 * q * q); /* without: the jumps' energy in the noise */
+    /* jumps without their covariance are refused */
+    aenl_em_model_t m;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_copy(&m, &truth, &err));
+    aenl_em_opts_t o;
+    aenl_em_opts_default(&o);
+    o.jump = jump;
+    size_t it = 0;
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_em_iterate(&m, y, n, &o, NULL, &it, &err));
+    aenl_em_model_free(&m);
+    aenl_em_model_free(&truth);
+    free(jump);
+    free(y);
+}
+
 /* 1.4826 x the median absolute deviation of v (n values, reordered). */
 static double robust_sd(double *v, size_t n)
 {
@@ -1110,6 +1196,7 @@ int main(void)
     RUN_TEST(test_em_core_filter_converges_to_lapacke_dare);
     RUN_TEST(test_em_mode_floor_matches_an_independent_computation);
     RUN_TEST(test_em_noisy_simulation_has_the_models_covariances);
+    RUN_TEST(test_em_jumps_leave_the_noise_estimates_unbiased);
     RUN_TEST(test_em_bootstrap_standard_error_matches_the_spread_over_records);
     return UNITY_END();
 }

@@ -244,7 +244,15 @@ typedef struct
     size_t nu;
     double *S0u, *S1u, *Suu, *su; /* per mode: sum x_k u_k', x_{k+1} u_k', u_k u_k', u_k */
     double *bE, *be;              /* (n_modes+1)^2 * 2 buckets of nn and nx (see add_state_stats) */
+    const unsigned char *jump;    /* jump[k]: transition k-1 -> k is a jump (NULL: none) */
+    const double *Pjump;          /* its added prediction covariance */
 } ws_t;
+
+/* Whether the transition k-1 -> k carries a jump. */
+static int is_jump(const ws_t *w, size_t k)
+{
+    return w->jump != NULL && k > 0 && k < w->n && w->jump[k] != 0;
+}
 
 static void ws_free(ws_t *w)
 {
@@ -457,7 +465,7 @@ static aenl_status_t cov_update(ws_t *w, const aenl_em_model_t *m, size_t q)
 /* Prediction from slot p through mode s into Pp; the smoother quantities of the transition
  * (J', Pfg) go to slot q. */
 static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, size_t p, size_t q,
-                                 double *Pp)
+                                 double *Pp, const double *Pextra)
 {
     const size_t nx = w->nx, nn = nx * nx;
     const double *A = m->A + s * nn, *Q = m->Q + s * nn, *Pfp = w->Pf + (p & 1u) * nn;
@@ -467,7 +475,7 @@ static aenl_status_t cov_predict(ws_t *w, const aenl_em_model_t *m, size_t s, si
     aenl_dense_mul_sym(Pp, T, w->At + s * nn, nx, nx); /* A Pf A' */
     for (size_t i = 0; i < nn; ++i)
     {
-        Pp[i] += Q[i];
+        Pp[i] += Q[i] + (Pextra != NULL ? Pextra[i] : 0.0);
     }
     /* J' = Pp^-1 T */
     memcpy(L, Pp, nn * sizeof(double));
@@ -543,7 +551,8 @@ typedef struct
 static int kf_is_steady(const ws_t *w, size_t k, size_t s, size_t q, double *d_prev)
 {
     const size_t nx = w->nx, nn = nx * nx;
-    if (!(k > 0 && s == w->mode[k - 1] && w->obs[k] && w->obs[k - 1] && w->steady_tol > 0.0))
+    if (!(k > 0 && s == w->mode[k - 1] && w->obs[k] && w->obs[k - 1] && w->steady_tol > 0.0 &&
+          !is_jump(w, k)))
     {
         *d_prev = HUGE_VAL;
         return 0;
@@ -582,7 +591,8 @@ static aenl_status_t kf_new_slot(ws_t *w, const aenl_em_model_t *m, size_t k, si
     }
     else
     {
-        const aenl_status_t st = cov_predict(w, m, s, w->slot[k - 1], q, Pp);
+        const aenl_status_t st =
+            cov_predict(w, m, s, w->slot[k - 1], q, Pp, is_jump(w, k) ? w->Pjump : NULL);
         if (st != AENL_OK)
         {
             return st;
@@ -676,7 +686,7 @@ static aenl_status_t kf_forward(ws_t *w, const aenl_em_model_t *m, double *ll)
     {
         double *xp = w->xp + k * nx, *xf = w->xf + k * nx;
         const size_t s = w->mode[k];
-        if (k > 0 && ks.steady && s == w->mode[k - 1] && w->obs[k])
+        if (k > 0 && ks.steady && s == w->mode[k - 1] && w->obs[k] && !is_jump(w, k))
         {
             w->slot[k] = w->slot[k - 1]; /* steady state: reuse everything */
         }
@@ -734,7 +744,9 @@ static void add_outer(double *S, const double *a, const double *b, size_t n, int
 static size_t bucket_of(const ws_t *w, size_t k)
 {
     const size_t nm = w->nm;
-    const size_t a = (k >= 1) ? w->mode[k] : nm, b = (k + 1 < w->n) ? w->mode[k + 1] : nm;
+    /* a jump's transition enters no transition statistic: its ends count as "none" (nm) */
+    const size_t a = (k >= 1 && !is_jump(w, k)) ? w->mode[k] : nm;
+    const size_t b = (k + 1 < w->n && !is_jump(w, k + 1)) ? w->mode[k + 1] : nm;
     return (a * (nm + 1) + b) * 2 + (w->obs[k] ? 1u : 0u);
 }
 
@@ -903,8 +915,9 @@ static aenl_status_t rts_backward(ws_t *w)
                 xf[i] += Jr[i] * dr;
             }
         }
+        const int trans = !is_jump(w, k + 1); /* a jump's transition is left out */
         double *S10 = w->S10 + s * nn;
-        for (size_t i = 0; i < nx; ++i)
+        for (size_t i = 0; trans && i < nx; ++i)
         {
             const double xi = xs1[i];
             double *Si = S10 + i * nx;
@@ -914,8 +927,8 @@ static aenl_status_t rts_backward(ws_t *w)
                 Si[j] += Pi[j] + xi * xf[j];
             }
         }
-        w->cnt[s] += 1.0;
-        if (nu > 0) /* the inputs are known: only the means pair with them */
+        w->cnt[s] += trans ? 1.0 : 0.0;
+        if (nu > 0 && trans) /* the inputs are known: only the means pair with them */
         {
             const double *uk = w->u + k * nu;
             double *S0u = w->S0u + s * nx * nu, *S1u = w->S1u + s * nx * nu;
@@ -2404,6 +2417,11 @@ static aenl_status_t check_opts(const aenl_em_opts_t *o, size_t n, size_t nz, ae
         aenl_err_set(err, "inputs are estimated with A and b: neither may be frozen");
         return AENL_E_ARG;
     }
+    if (o->jump != NULL && o->P_jump == NULL)
+    {
+        aenl_err_set(err, "jumps need their covariance (P_jump)");
+        return AENL_E_ARG;
+    }
     for (size_t k = 0; k < n * o->n_u; ++k)
     {
         if (!isfinite(o->u[k]))
@@ -2531,6 +2549,8 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
         st = ws_set_inputs(&w, opts->u, opts->n_u, err);
     }
     w.steady_tol = opts->steady_tol;
+    w.jump = opts->jump;
+    w.Pjump = opts->P_jump;
     double *u = (st == AENL_OK) ? malloc(n * sizeof(double)) : NULL;
     res->loglik = (st == AENL_OK) ? calloc(opts->max_iter + 1, sizeof(double)) : NULL;
     if (st == AENL_OK && (u == NULL || res->loglik == NULL))
@@ -2604,6 +2624,11 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
         aenl_err_set(err, "NULL argument or no data");
         return AENL_E_ARG;
     }
+    if (opts->jump != NULL && opts->P_jump == NULL)
+    {
+        aenl_err_set(err, "jumps need their covariance (P_jump)");
+        return AENL_E_ARG;
+    }
     if (opts->n_u != m->n_u || (m->n_u > 0 && opts->u == NULL))
     {
         aenl_err_set(err, "the model has %zu inputs, the options give %zu", m->n_u, opts->n_u);
@@ -2624,6 +2649,8 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
         return st;
     }
     w.steady_tol = opts->steady_tol;
+    w.jump = opts->jump;
+    w.Pjump = opts->P_jump;
     set_modes(&w, m->thresholds, y + m->switch_channel, m->n_z);
     double final_ll = 0.0;
     st = em_run(&w, m, opts, opts->max_iter, loglik, n_iter, &final_ll);
