@@ -345,7 +345,21 @@ static void kicks(aenl_sim_model_t *m, aenl_sim_run_t *run, uint64_t seed)
     run->noise_seed = seed + 1u;
 }
 
-/* Kicks (the pitch rate jumps every 150 time units) are impulses: the filter restarts there. */
+/* The test of y (n samples, 2 channels) with the record declared driven by impulses; frees y. */
+static void test_impulsive_record(double *y, size_t n, aenl_nlt_result_t *r)
+{
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    o.impulsive = 1;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, r, &err), err.msg);
+    free(y);
+}
+
+/* Kicks (the pitch rate jumps every 150 time units) are impulses: the filter restarts there.
+ * Declared impulsive, the record is linear: the model fitted again with its kicks as state jumps
+ * finds each of the 19 after the start once, and its noise no longer holds them. */
 static void test_nlt_kicks_are_impulses(void)
 {
     size_t n = 0;
@@ -354,6 +368,31 @@ static void test_nlt_kicks_are_impulses(void)
     test_record(y, n, &r);
     printf("kicked record: %zu impulses (20 kicks)\n", r.n_impulses);
     TEST_ASSERT_TRUE(r.n_impulses >= 5u);
+    TEST_ASSERT_FALSE(r.jumps);
+    y = airfoil_run(NULL, kicks, 11u, &n);
+    test_impulsive_record(y, n, &r);
+    printf("declared impulsive: %zu impulses, verdict %s, chi-square %.1f and %.1f on %.0f\n",
+           r.n_impulses, aenl_nlt_class_name(r.verdict_class, r.undetermined), r.ch[0].stat,
+           r.ch[1].stat, r.ch[0].dof);
+    TEST_ASSERT_TRUE(r.jumps);
+    TEST_ASSERT_TRUE(r.n_impulses >= 17u && r.n_impulses <= 21u);
+    TEST_ASSERT_EQUAL_INT(-1, r.verdict);
+}
+
+/* A pitch freeplay under the same kicks, declared impulsive: the jumps do not take the law's
+ * place, and pitch is nonlinear. */
+static void test_nlt_kicked_freeplay_is_found_with_its_jumps(void)
+{
+    const aenl_sim_law_t law = pitch_freeplay();
+    size_t n = 0;
+    double *y = airfoil_run(&law, kicks, 12u, &n);
+    aenl_nlt_result_t r;
+    test_impulsive_record(y, n, &r);
+    printf("kicked pitch freeplay, declared impulsive: %zu impulses, %s in %d, chi-square %.1f\n",
+           r.n_impulses, aenl_nlt_class_name(r.verdict_class, r.undetermined), (int)r.verdict,
+           r.verdict >= 0 ? r.ch[r.verdict].stat : 0.0);
+    TEST_ASSERT_TRUE(r.jumps);
+    TEST_ASSERT_EQUAL_INT(0, r.verdict);
 }
 
 /* A hardening cubic in pitch (R = a + 3e5 a^3, a in rad) under the same gusts: polynomial in
@@ -607,10 +646,12 @@ static void test_cli_identify_method_test_bad_usage(void)
     const char *bad_level[] = {"identify", csv, "--method", "test", "--level", "2", NULL};
     const char *too_short[] = {"identify", csv, "--method", "test", NULL};
     const char *level_alone[] = {"identify", csv, "--method", "moments", "--level", "0.05", NULL};
-    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short, level_alone};
+    const char *impulsive[] = {"identify", csv, "--method", "moments", "--impulsive", NULL};
+    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short, level_alone,
+                                  impulsive};
     const char *const words[] = {"belong to the moments", "not a method", "not a test level",
-                                 "too few", "belongs to the test"};
-    for (size_t i = 0; i < 5; ++i)
+                                 "too few", "belongs to the test", "--impulsive belongs to"};
+    for (size_t i = 0; i < 6; ++i)
     {
         cli_result_t r;
         cli_run(&r, cases[i]);
@@ -798,6 +839,7 @@ int main(void)
     RUN_TEST(test_nlt_long_run_variance_brute_force);
     RUN_TEST(test_nlt_bad_input);
     RUN_TEST(test_nlt_kicks_are_impulses);
+    RUN_TEST(test_nlt_kicked_freeplay_is_found_with_its_jumps);
     RUN_TEST(test_nlt_hardening_cubic);
     RUN_TEST(test_nlt_noise_free_records_dithered);
     RUN_TEST(test_nlt_samples_per_period);

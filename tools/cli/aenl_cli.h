@@ -133,10 +133,10 @@ int aenl_bench_fit(int argc, char **argv);
 int aenl_cmd_identify(int argc, char **argv);
 /** `aenl identify` by its default method on `path` (only `channel` when not NULL; JSON when
  *  json): the likelihood-based test at family-wise `level`, with `inputs` (comma-separated
- *  column names, or NULL), n_controls linear controls, and its figures in plot_dir when not
- *  NULL (tools/cli/cmd_identify_test.c). */
+ *  column names, or NULL), n_controls linear controls, the record taken as driven by impulses
+ *  when impulsive, and its figures in plot_dir when not NULL (tools/cli/cmd_identify_test.c). */
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level, size_t n_controls, const char *plot_dir);
+                          double level, size_t n_controls, int impulsive, const char *plot_dir);
 /** `aenl identify --method moments` on `path` (only `channel` when not NULL) with opts, against
  *  the baseline INI `model` when not NULL, as JSON when json, its figures in plot_dir when not
  *  NULL (tools/cli/cmd_identify.c); the exit status. */

@@ -109,6 +109,7 @@ typedef struct
     double level;
     int verbose;
     int force_given; /* the forced records' force goes to the test as a known input */
+    int impulsive;   /* the kicked records are declared driven by impulses (--impulsive) */
 } null_args_t;
 
 static int parse(int argc, char **argv, null_args_t *a)
@@ -118,20 +119,23 @@ static int parse(int argc, char **argv, null_args_t *a)
     a->level = 0.01;
     a->verbose = 0;
     a->force_given = 0;
+    a->impulsive = 0;
     for (int i = 1; i < argc; ++i)
     {
         const char *s = argv[i];
         if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0)
         {
             printf("usage: aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
-                   "                       [--force-given]\n\n"
+                   "                       [--force-given] [--impulsive]\n\n"
                    "The level of `identify` (the test) on %ld linear records of the\n"
                    "simulator (free decays, kicked decay trains, first-order and Dryden\n"
                    "turbulence, swept-sine and multisine forcing without the force given; both\n"
                    "models; no noise and SNR 10, 5, 3, 2): every nonlinear verdict is a false\n"
                    "positive. --records N runs records K..N-1 (--from K), --level A the test's\n"
                    "level (0.01), --verbose a line per record, --force-given the swept-sine\n"
-                   "and multisine records with their force as a known input (--input).\n"
+                   "and multisine records with their force as a known input (--input),\n"
+                   "--impulsive the kicked trains declared driven by impulses (identify\n"
+                   "--impulsive).\n"
                    "About 3 s a record.\n",
                    N_RECORDS);
             return 1;
@@ -144,6 +148,11 @@ static int parse(int argc, char **argv, null_args_t *a)
         if (strcmp(s, "--force-given") == 0)
         {
             a->force_given = 1;
+            continue;
+        }
+        if (strcmp(s, "--impulsive") == 0)
+        {
+            a->impulsive = 1;
             continue;
         }
         const char *v = aenl_cli_value(k_cmd, argc, argv, &i);
@@ -219,6 +228,7 @@ static int run_record(size_t i, const null_args_t *a, double *secs, int *reg, in
         o.input = in;
         o.n_input = 1;
     }
+    o.impulsive = a->impulsive && run.kicks;
     aenl_nlt_result_t res;
     const double t0 = aenl_now_s();
     const aenl_status_t st = aenl_nlt_run_columns(cols, n, nc, &o, &res, &err);
@@ -256,9 +266,10 @@ int aenl_bench_null(int argc, char **argv)
         return pr > 0 ? AENL_EXIT_OK : AENL_EXIT_USAGE;
     }
     printf("level of identify (the test, level %g) on linear records: records %ld..%ld of "
-           "%ld%s\n",
+           "%ld%s%s\n",
            a.level, a.from, a.records - 1, N_RECORDS,
-           a.force_given ? "; forced records with their force as a known input" : "");
+           a.force_given ? "; forced records with their force as a known input" : "",
+           a.impulsive ? "; kicked records declared driven by impulses (--impulsive)" : "");
     size_t cnt[N_REG][2][2] = {{{0}}}; /* [regime][noisy][nonlinear] */
     size_t failed = 0;
     double secs_all = 0.0;

@@ -26,7 +26,7 @@ static const char *const k_cmd = "identify";
 static void help(void)
 {
     printf("usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--level A]\n"
-           "                     [--input COL[,COL]] [--controls N]\n"
+           "                     [--input COL[,COL]] [--controls N] [--impulsive]\n"
            "       aenl identify DATA.csv --method moments [--channel C] [--json] [--plot DIR]\n"
            "                     [--bandwidth H] [--no-prefilter] [--forced] [--model BASE.ini]\n"
            "       (either form: [--time COL] [--jobs N])\n\n"
@@ -58,7 +58,12 @@ static void help(void)
            "--controls N    also test N linear controls: records simulated from the fitted\n"
            "                linear model, driven by the same inputs, with its noise; per\n"
            "                channel, how many reach the record's statistic and the p-value that\n"
-           "                gives (each control costs about one more run)\n\n");
+           "                gives (each control costs about one more run)\n"
+           "--impulsive     the record is driven by impulses (taps, kicks, a rap test): the\n"
+           "                linear model is fitted again with them as state jumps, its noise\n"
+           "                estimated without them, and the test runs on that model; without it\n"
+           "                a train of kicks reads as a law. A single release or rap needs no\n"
+           "                option (its one impulse is the start)\n\n");
     printf("--method moments  the conditional-moments classifier instead (docs/identify.md):\n"
            "                the record is streamed, read twice and never held whole. Its own\n"
            "                options (--bandwidth, --no-prefilter, --forced, --model) choose it\n"
@@ -300,6 +305,7 @@ typedef struct
     int level_given;
     const char *input; /* --input COL[,COL] */
     long controls;     /* --controls N */
+    int impulsive;     /* --impulsive */
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -446,10 +452,13 @@ static int check_args(args_t *a)
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
         return -1;
     }
-    if (!a->by_test && (a->level_given || a->controls > 0 || a->input != NULL))
+    if (!a->by_test && (a->level_given || a->controls > 0 || a->input != NULL || a->impulsive))
     {
         aenl_cli_error(k_cmd, "%s belongs to the test, not to the moments method (%s)",
-                       a->level_given ? "--level" : (a->controls > 0 ? "--controls" : "--input"),
+                       a->level_given     ? "--level"
+                       : a->controls > 0  ? "--controls"
+                       : a->input != NULL ? "--input"
+                                          : "--impulsive",
                        a->method_given ? "--method moments"
                                        : "which --model, --bandwidth, --no-prefilter or --forced "
                                          "chose");
@@ -457,9 +466,9 @@ static int check_args(args_t *a)
     }
     if (a->by_test && a->moments_only)
     {
-        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --plot, --level, --input "
-                              "and --controls only (--model, --bandwidth, --no-prefilter and "
-                              "--forced belong to the moments method)");
+        aenl_cli_error(k_cmd, "--method test takes --channel, --json, --plot, --level, --input, "
+                              "--controls and --impulsive only (--model, --bandwidth, "
+                              "--no-prefilter and --forced belong to the moments method)");
         return -1;
     }
     if (a->model != NULL && a->channel != NULL)
@@ -507,6 +516,11 @@ static int parse_args(int argc, char **argv, args_t *a)
         {
             a->opts.forced = 1;
             a->moments_only = 1;
+            continue;
+        }
+        if (strcmp(o, "--impulsive") == 0)
+        {
+            a->impulsive = 1;
             continue;
         }
         const int r = parse_value_option(o, argc, argv, &i, a);
@@ -778,7 +792,7 @@ int aenl_cmd_identify(int argc, char **argv)
     if (a.by_test)
     {
         return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level,
-                                     (size_t)a.controls, a.plot_dir);
+                                     (size_t)a.controls, a.impulsive, a.plot_dir);
     }
     return by_moments(&a);
 }

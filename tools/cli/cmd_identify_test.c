@@ -136,7 +136,7 @@ static int print_json(const aenl_table_t *t, const aenl_nlt_result_t *res, const
 }
 
 int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level, size_t n_controls, const char *plot_dir)
+                          double level, size_t n_controls, int impulsive, const char *plot_dir)
 {
     aenl_err_t err;
     aenl_err_clear(&err);
@@ -207,6 +207,7 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
     opts.input = n_in > 0 ? in_cols : NULL;
     opts.n_input = (size_t)n_in;
     opts.n_controls = n_controls;
+    opts.impulsive = impulsive;
     aenl_cli_bar_t bar;
     aenl_cli_bar_begin(&bar, k_cmd, "linear controls");
     opts.progress = &bar.progress;

@@ -96,6 +96,10 @@ typedef struct aenl_nlt_opts
                                      fitted linear model, driven by the same inputs, with Gaussian
                                      noise of the fitted covariances, each tested like the record */
     uint64_t control_seed;      /**< their noise (default 1) */
+    int impulsive;              /**< 1: the record is driven by impulses (taps, kicks, raps): the
+                                     linear model is fitted again with them as state jumps, its
+                                     noise estimated without their transitions, and tested so
+                                     (default 0: Gaussian process noise throughout) */
     const aenl_progress_t *progress; /**< hears after each control (default NULL: nobody) */
 } aenl_nlt_opts_t;
 
@@ -157,6 +161,8 @@ typedef struct aenl_nlt_result
     size_t n_channels, n_samples, n_states;
     size_t n_inputs;   /**< known inputs the linear model took */
     size_t n_impulses; /**< samples taken for impulses (the filter restarted there) */
+    int jumps;         /**< 1: the impulses are state jumps of the linear model (opts.impulsive:
+                            the model was fitted again without their transitions) */
     size_t n_dithered; /**< channels dithered (see ch[].dithered) */
     size_t n_controls; /**< linear controls tested (those that could not be fitted are left out) */
     double loglik;     /**< of the linear model */

@@ -398,6 +398,25 @@ static double chi2_quantile_upper(double alpha, double k)
     return 0.5 * (lo + hi);
 }
 
+/* A peak of the jump statistic: its value and sample. */
+typedef struct
+{
+    double q;
+    size_t t;
+} peak_t;
+
+/* Larger statistic first; equal ones in sample order, so the order is the same on every run. */
+static int peak_cmp(const void *pa, const void *pb)
+{
+    const peak_t *a = (const peak_t *)pa;
+    const peak_t *b = (const peak_t *)pb;
+    if (a->q > b->q || a->q < b->q)
+    {
+        return a->q > b->q ? -1 : 1;
+    }
+    return (a->t > b->t) - (a->t < b->t);
+}
+
 /* Impulses: instants at which the state jumped (a tap, a kick, a gust front), found by the
  * generalised likelihood ratio of a jump (Willsky and Jones). A jump nu into sample tau leaves
  * the filter's predicted state wrong by Phi(t, tau) nu at every later t (Phi(tau, tau) = I,
@@ -411,7 +430,8 @@ static double chi2_quantile_upper(double alpha, double k)
  * test of single innovations misses; and a filter that believes its state goes on mispredicting
  * after a jump in a way that follows the motion, which the law test would read as a law.
  * Instants are added to flag (n entries; those set stay set); *n_imp receives the number set. */
-aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, aenl_err_t *err)
+aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size_t *n_imp,
+                           aenl_err_t *err)
 {
     const size_t n = k->n;
     const size_t nz = k->nz;
@@ -492,16 +512,70 @@ aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, ae
         }
         q[tt] = v;
     }
-    size_t cnt = 0;
+    /* A jump at tau and one a few samples away differ only in how the first samples after them
+     * see the state, which takes h = ceil(nx / nz) samples to observe in full, and in noise the
+     * statistic places a jump less sharply still: its instant is known to within the samples
+     * whose statistic stays within chi-square_1(0.95) = 3.84 of the peak's (a profile-likelihood
+     * interval). So the peaks are taken largest first, none inside the window of one taken
+     * already (this run's or an earlier run's), and the filter is widened over the window: the
+     * interval, and at least the h samples either side of the peak. */
+    const size_t h = windows ? (nx + nz - 1u) / nz : 0u;
+    size_t n_peaks = 0;
     for (size_t t = 0; t < n; ++t)
     {
         const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
-        if (k->used[t] && peak && q[t] > thr)
-        {
-            flag[t] = 1;
-        }
-        cnt += flag[t] ? 1u : 0u;
+        n_peaks += (k->used[t] && peak && q[t] > thr && !flag[t]) ? 1u : 0u;
     }
+    peak_t *pk = n_peaks > 0 ? (peak_t *)malloc(n_peaks * sizeof(peak_t)) : NULL;
+    if (n_peaks > 0 && pk == NULL)
+    {
+        free(q);
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    for (size_t t = 0, i = 0; t < n && i < n_peaks; ++t)
+    {
+        const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
+        if (k->used[t] && peak && q[t] > thr && !flag[t])
+        {
+            pk[i].q = q[t];
+            pk[i++].t = t;
+        }
+    }
+    if (n_peaks > 1)
+    {
+        qsort(pk, n_peaks, sizeof(peak_t), peak_cmp);
+    }
+    for (size_t i = 0; i < n_peaks; ++i)
+    {
+        const size_t t = pk[i].t;
+        if (flag[t])
+        {
+            continue; /* within h samples of a larger peak */
+        }
+        size_t lo = t > h ? t - h : 0u;
+        size_t hi = t + h < n ? t + h : n - 1u;
+        while (h > 0 && lo > 0 && q[lo - 1u] >= q[t] - NLT_CHI2_1_95 && t - lo < NLT_JUMP_SPAN * h)
+        {
+            --lo;
+        }
+        while (h > 0 && hi + 1u < n && q[hi + 1u] >= q[t] - NLT_CHI2_1_95 &&
+               hi - t < NLT_JUMP_SPAN * h)
+        {
+            ++hi;
+        }
+        for (size_t s = lo; s <= hi; ++s)
+        {
+            flag[s] = flag[s] ? flag[s] : NLT_IMPULSE_NEAR;
+        }
+        flag[t] = NLT_IMPULSE_AT;
+    }
+    size_t cnt = 0;
+    for (size_t t = 0; t < n; ++t)
+    {
+        cnt += flag[t] == NLT_IMPULSE_AT ? 1u : 0u;
+    }
+    free(pk);
     free(q);
     *n_imp = cnt;
     return AENL_OK;

@@ -13,10 +13,14 @@
 #include "aenl_tools/aenl_em.h"
 #include "aenl_tools/aenl_nltest.h"
 
-#define NLT_MAX_X         12      /* states of the linear model */
-#define NLT_STEADY_TOL    1e-11   /* relative change of P at which the filter is taken as steady */
-#define NLT_RIDGE         1e-10   /* relative ridge on the scaled normal equations */
-#define NLT_IMPULSE_LEVEL 1e-4    /* tail of a jump statistic taken for an impulse */
+#define NLT_MAX_X         12    /* states of the linear model */
+#define NLT_STEADY_TOL    1e-11 /* relative change of P at which the filter is taken as steady */
+#define NLT_RIDGE         1e-10 /* relative ridge on the scaled normal equations */
+#define NLT_IMPULSE_LEVEL 1e-4  /* tail of a jump statistic taken for an impulse */
+#define NLT_IMPULSE_AT    2u    /* an impulse's flag at its sample */
+#define NLT_IMPULSE_NEAR  1u    /* and within h samples of it, where it may be as well */
+#define NLT_CHI2_1_95     3.841458820694124 /* chi-square_1 at 0.95: profile-likelihood intervals */
+#define NLT_JUMP_SPAN     8u      /* a jump's window: at most this many times h either side */
 #define NLT_DITHER_SEED   0x5EEDu /* the dither's noise: fixed, so a run is repeatable */
 #define NLT_ROW_BLOCK     32      /* samples whose regression rows update G together */
 #define NLT_NUIS_MAX      (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
@@ -73,7 +77,8 @@ void nlt_kf_clear_run(kf_t *k);
 aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
                          const unsigned char *reset, const double *P_reset, aenl_err_t *err);
 
-aenl_status_t nlt_impulses(const kf_t *k, unsigned char *flag, size_t *n_imp, aenl_err_t *err);
+aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size_t *n_imp,
+                           aenl_err_t *err);
 
 void nlt_state_range(const kf_t *k, double *P);
 

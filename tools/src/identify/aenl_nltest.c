@@ -28,10 +28,10 @@
 
 #define NLT_N_QUANT     25 /* coarse switching-point grid: points evenly over the motion */
 #define NLT_N_FINE      9  /* fine grid points per switching point */
-#define NLT_CHI2_1_95   3.841458820694124 /* profile-likelihood interval: chi2_1 at 95 % */
 #define NLT_HOLD        2u /* values of an input per step: at its start and its end */
 #define NLT_STAGE1_LAWS 4  /* u^2, u^3, d, d u */
 #define NLT_N_ORDERS    3  /* candidate model orders: 4 and 6 states a channel, and 12 */
+#define NLT_JUMP_ROUNDS 3  /* refits of the linear model with its impulses as state jumps */
 
 /* every input's two values fit among the EM fit's inputs */
 typedef char nlt_inputs_fit[(NLT_HOLD * AENL_NLT_MAX_INPUT <= AENL_EM_MAX_U) ? 1 : -1];
@@ -1983,26 +1983,67 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
     return AENL_OK;
 }
 
-/* The filter of ys with the model of em, restarted at the impulses: they are found in a run
- * without restarts, and the filter is run again with its covariance widened at each of them by
- * the filtered states' own covariance (the state may have moved anywhere in its usual range).
- * *n_impulses receives their number. */
-static aenl_status_t filter_with_impulses(const double *ys, const run_t *rn,
-                                          const aenl_em_result_t *em, kf_t *kf, size_t *n_impulses,
-                                          aenl_err_t *err)
+/* The model em refitted with the impulses flagged in flag as state jumps: their transitions get
+ * the covariance P_imp on top of the process noise and are left out of the noise's estimate.
+ * Fitted over the whole record, Gaussian process noise would hold the impulses' energy at every
+ * sample; the filter would then follow the measurement noise between impulses too closely, and
+ * its misprediction would grow and fade with the motion, which the test reads as a law. */
+static aenl_status_t refit_with_jumps(const double *ys, const double *in, size_t n_in,
+                                      const run_t *rn, const unsigned char *flag,
+                                      const double *P_imp, aenl_em_result_t *em, aenl_err_t *err)
 {
-    const size_t n = rn->n;
-    unsigned char *flag = (unsigned char *)calloc(n, 1);
-    if (flag == NULL)
+    aenl_em_opts_t eo;
+    aenl_em_opts_default(&eo);
+    eo.u = n_in > 0 ? in : NULL;
+    eo.n_u = n_in;
+    eo.max_iter = rn->opts->em_iter;
+    eo.tol = 1e-9;
+    eo.jump = flag;
+    eo.P_jump = P_imp;
+    aenl_em_model_t trial;
+    memset(&trial, 0, sizeof(trial));
+    aenl_status_t st = aenl_em_model_copy(&trial, &em->model, err);
+    double *ll = st == AENL_OK ? (double *)malloc((eo.max_iter + 1u) * sizeof(double)) : NULL;
+    size_t it = 0;
+    if (st == AENL_OK && ll == NULL)
     {
         aenl_err_set(err, "out of memory");
-        return AENL_E_DIM;
+        st = AENL_E_DIM;
     }
+    if (st == AENL_OK)
+    {
+        st = aenl_em_iterate(&trial, ys, rn->n, &eo, ll, &it, err);
+    }
+    if (st == AENL_OK)
+    {
+        aenl_em_model_free(&em->model);
+        em->model = trial;
+        em->loglik_final = ll[it];
+    }
+    else
+    {
+        /* a refit that fails (a noise covariance at its boundary) keeps the model it started
+         * from: the impulses are still widened in the filter */
+        aenl_em_model_free(&trial);
+        aenl_err_clear(err);
+        st = AENL_OK;
+    }
+    free(ll);
+    return st;
+}
+
+/* The filter of ys with the model of em, restarted at the impulses: they are found in a run
+ * without restarts (flag, n samples, receives them), and the filter is run again with its
+ * covariance widened at each of them by the filtered states' own covariance (the state may have
+ * moved anywhere in its usual range). *n_impulses receives their number. */
+static aenl_status_t filter_with_impulses(const double *ys, const aenl_em_result_t *em, kf_t *kf,
+                                          unsigned char *flag, size_t *n_impulses, aenl_err_t *err)
+{
     size_t cnt = 0;
     aenl_status_t st = nlt_kf_run(kf, &em->model, ys, NULL, NULL, err);
     if (st == AENL_OK)
     {
-        st = nlt_impulses(kf, flag, &cnt, err);
+        st = nlt_impulses(kf, 0, flag, &cnt, err);
     }
     if (st == AENL_OK && cnt > 0)
     {
@@ -2012,7 +2053,56 @@ static aenl_status_t filter_with_impulses(const double *ys, const run_t *rn,
         st = nlt_kf_run(kf, &em->model, ys, flag, P_imp, err);
     }
     *n_impulses = cnt;
-    free(flag);
+    return st;
+}
+
+/* The jump model: em fitted again with the impulses of flag as state jumps, the filter run with
+ * its covariance widened there, and the impulses that filter still shows added to flag, until
+ * none is added (at most NLT_JUMP_ROUNDS refits). A filter restarted at the impulses found so far
+ * shows each remaining one once, where a filter that is not would go on mispredicting after it,
+ * more so as the refitted noise is smaller. *n_impulses receives their number. */
+static aenl_status_t jump_model(const double *ys, const double *in, const run_t *rn,
+                                aenl_em_result_t *em, kf_t *kf, unsigned char *flag,
+                                size_t *n_impulses, aenl_err_t *err)
+{
+    const size_t n = rn->n;
+    unsigned char *prev = (unsigned char *)malloc(n);
+    if (prev == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    double P_imp[NLT_MAX_X * NLT_MAX_X] = {0};
+    size_t cnt = *n_impulses;
+    aenl_status_t st = AENL_OK;
+    for (int round = 0; st == AENL_OK && round < NLT_JUMP_ROUNDS; ++round)
+    {
+        nlt_state_range(kf, P_imp);
+        memcpy(prev, flag, n);
+        st = refit_with_jumps(ys, in, rn->n_in, rn, flag, P_imp, em, err);
+        nlt_kf_clear_run(kf);
+        if (st == AENL_OK)
+        {
+            st = nlt_kf_run(kf, &em->model, ys, flag, P_imp, err);
+        }
+        if (st == AENL_OK)
+        {
+            st = nlt_impulses(kf, 1, flag, &cnt, err);
+        }
+        if (st == AENL_OK && memcmp(flag, prev, n) == 0)
+        {
+            break;
+        }
+    }
+    if (st == AENL_OK && memcmp(flag, prev, n) != 0)
+    {
+        /* the last round added impulses: the filter restarts at every one of them */
+        nlt_state_range(kf, P_imp);
+        nlt_kf_clear_run(kf);
+        st = nlt_kf_run(kf, &em->model, ys, flag, P_imp, err);
+    }
+    *n_impulses = cnt;
+    free(prev);
     return st;
 }
 
@@ -2046,14 +2136,25 @@ static size_t dither(double *ys, size_t n, size_t m, const aenl_em_model_t *mod,
     return cnt;
 }
 
+/* An empty filter pass of the record for em's model. */
+static void kf_setup(kf_t *kf, const run_t *rn, const aenl_em_result_t *em, const double *in)
+{
+    memset(kf, 0, sizeof(*kf));
+    kf->n = rn->n;
+    kf->nz = rn->nz;
+    kf->nx = em->model.n_x;
+    kf->in = in;
+    kf->n_in = rn->n_in;
+}
+
 /* The linear model of the scaled record ys and its Kalman filter pass into kf (set up here even
  * when st, the status so far, is a failure: the run frees it either way). Channels whose fitted
  * noise is nil are dithered after a first fit, and the model fitted again before the filter
  * runs (dithered[j], one per channel). */
 static aenl_status_t fit_and_filter(aenl_status_t st, double *ys, const double *in,
                                     const size_t *cand, size_t n_cand, const run_t *rn,
-                                    aenl_em_result_t *em, kf_t *kf, size_t *n_impulses,
-                                    int *dithered, aenl_err_t *err)
+                                    aenl_em_result_t *em, kf_t *kf, unsigned char *flag,
+                                    size_t *n_impulses, int *dithered, aenl_err_t *err)
 {
     const size_t n = rn->n;
     const size_t n_ch = rn->nz;
@@ -2074,15 +2175,10 @@ static aenl_status_t fit_and_filter(aenl_status_t st, double *ys, const double *
             aenl_err_set(err, "%s, once dithered (the record's fitted noise is nil)", why);
         }
     }
-    memset(kf, 0, sizeof(*kf));
-    kf->n = n;
-    kf->nz = n_ch;
-    kf->nx = em->model.n_x;
-    kf->in = in;
-    kf->n_in = n_in;
+    kf_setup(kf, rn, em, in);
     if (st == AENL_OK)
     {
-        st = filter_with_impulses(ys, rn, em, kf, n_impulses, err);
+        st = filter_with_impulses(ys, em, kf, flag, n_impulses, err);
     }
     return st;
 }
@@ -2116,6 +2212,112 @@ static aenl_status_t hand_over(aenl_status_t st, kept_t *keep, aenl_em_result_t 
     free(in);
     free(in_col);
     aenl_em_result_free(em);
+    return st;
+}
+
+/* The test of the record against the linear model em, filtered in kf: the summary, every
+ * channel's statistic (and laws unless stats_only) and the verdict into res. */
+static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t *kf,
+                               int stats_only, aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    const size_t n_impulses = res->n_impulses;
+    rn->nx = em->model.n_x;
+    rn->kf = kf;
+    rn->m = &em->model;
+    memset(rn->crit, 0, sizeof(rn->crit));
+    memset(rn->compared, 0, sizeof(rn->compared));
+    rn->G_nn = NULL;
+    rn->loss = (double *)malloc(rn->nz * rn->n * AENL_NLT_N_LAWS * sizeof(double));
+    aenl_status_t st = AENL_OK;
+    if (rn->loss == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    result_header(res, rn, em->loglik_final);
+    res->n_impulses = n_impulses;
+    rn->lnrows = log(fmax((double)kf->rows, 2.0));
+    double pmin = 1.0;
+    if (st == AENL_OK)
+    {
+        st = nuisance_products(rn, err);
+    }
+    if (st == AENL_OK)
+    {
+        st = test_channels(rn, stats_only, res, &pmin, err);
+    }
+    if (st == AENL_OK)
+    {
+        res->confidence = bonferroni_confidence(pmin, rn->nz);
+        res->class_confidence = res->confidence;
+        res->channel_confidence = 1.0;
+        st = verdict_comparison(rn, res, err);
+    }
+    free(rn->loss);
+    rn->loss = NULL;
+    free(rn->G_nn);
+    rn->G_nn = NULL;
+    return st;
+}
+
+/* The record as driven by impulses (opts->impulsive): the impulses found afresh on the filter of
+ * the fitted model em (flag, n samples, receives them), the model fitted again with them as state
+ * jumps (jump_model), and the test run again with it into res; em becomes the jump model. A
+ * linear structure driven by sparse jumps is not a linear Gaussian process: a Gaussian process
+ * noise fitted through the jumps holds their energy at every sample, the filter then follows
+ * the measurement noise between them too closely, and its misprediction, which grows and fades
+ * with the motion, reads as a law. Without an impulse the record's test stands. */
+static aenl_status_t impulsive_pass(const double *ys, const double *in, run_t *rn,
+                                    unsigned char *flag, int stats_only, aenl_em_result_t *em,
+                                    aenl_nlt_result_t *res, aenl_err_t *err)
+{
+    aenl_em_result_t ej;
+    memset(&ej, 0, sizeof(ej));
+    aenl_status_t st = aenl_em_model_copy(&ej.model, &em->model, err);
+    ej.loglik_final = em->loglik_final;
+    kf_t kj;
+    kf_setup(&kj, rn, &ej, in);
+    aenl_nlt_result_t *rj = (aenl_nlt_result_t *)calloc(1, sizeof(*rj));
+    if (rj == NULL && st == AENL_OK)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    size_t nj = 0;
+    if (st == AENL_OK)
+    {
+        st = nlt_kf_run(&kj, &ej.model, ys, NULL, NULL, err);
+    }
+    if (st == AENL_OK)
+    {
+        memset(flag, 0, rn->n);
+        st = nlt_impulses(&kj, 1, flag, &nj, err);
+    }
+    if (st == AENL_OK && nj > 0)
+    {
+        st = jump_model(ys, in, rn, &ej, &kj, flag, &nj, err);
+    }
+    if (st == AENL_OK && nj > 0)
+    {
+        for (size_t j = 0; j < rn->nz; ++j)
+        {
+            rj->ch[j].dithered = res->ch[j].dithered;
+        }
+        rj->n_dithered = res->n_dithered;
+        rj->n_impulses = nj;
+        rj->jumps = 1;
+        st = test_pass(rn, &ej, &kj, stats_only, rj, err);
+        if (st == AENL_OK)
+        {
+            *res = *rj;
+            aenl_em_result_free(em);
+            *em = ej;
+            memset(&ej, 0, sizeof(ej));
+        }
+    }
+    aenl_em_result_free(&ej);
+    nlt_kf_free(&kj);
+    free(rj);
     return st;
 }
 
@@ -2169,42 +2371,29 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     aenl_em_result_t em;
     kf_t kf;
     int dithered[AENL_NLT_MAX_CH] = {0};
-    st = fit_and_filter(st, ys, in, cand, n_cand, &rn, &em, &kf, &res->n_impulses, dithered, err);
-    free(ys);
+    unsigned char *flag = (unsigned char *)calloc(n, 1);
+    if (flag == NULL && st == AENL_OK)
+    {
+        aenl_err_set(err, "out of memory");
+        st = AENL_E_DIM;
+    }
+    st = fit_and_filter(st, ys, in, cand, n_cand, &rn, &em, &kf, flag, &res->n_impulses, dithered,
+                        err);
     for (size_t j = 0; j < n_ch; ++j)
     {
         res->ch[j].dithered = dithered[j];
         res->n_dithered += dithered[j] ? 1u : 0u;
     }
-    rn.nx = em.model.n_x;
-    rn.kf = &kf;
-    rn.m = &em.model;
-    rn.loss = (double *)malloc(n_ch * n * AENL_NLT_N_LAWS * sizeof(double));
-    if (rn.loss == NULL && st == AENL_OK)
-    {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_DIM;
-    }
-    result_header(res, &rn, em.loglik_final);
-    rn.lnrows = log(fmax((double)kf.rows, 2.0));
-    double pmin = 1.0;
     if (st == AENL_OK)
     {
-        st = nuisance_products(&rn, err);
+        st = test_pass(&rn, &em, &kf, stats_only, res, err);
     }
-    if (st == AENL_OK)
+    if (st == AENL_OK && opts->impulsive)
     {
-        st = test_channels(&rn, stats_only, res, &pmin, err);
+        st = impulsive_pass(ys, in, &rn, flag, stats_only, &em, res, err);
     }
-    if (st == AENL_OK)
-    {
-        res->confidence = bonferroni_confidence(pmin, n_ch);
-        res->class_confidence = res->confidence;
-        res->channel_confidence = 1.0;
-        st = verdict_comparison(&rn, res, err);
-    }
-    free(rn.loss);
-    free(rn.G_nn);
+    free(flag);
+    free(ys);
     nlt_kf_free(&kf);
     return hand_over(st, keep, &em, in, in_col);
 }

@@ -237,6 +237,10 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         bad |= aenl_json_add(model, "samples", cJSON_CreateNumber((double)r->n_samples));
         bad |= aenl_json_add(model, "loglik", aenl_json_num(r->loglik));
         bad |= aenl_json_add(model, "impulses", cJSON_CreateNumber((double)r->n_impulses));
+        if (r->jumps)
+        {
+            bad |= aenl_json_add(model, "jumps", cJSON_CreateBool(1));
+        }
         if (r->n_inputs > 0 && input_names != NULL)
         {
             bad |= aenl_json_add(model, "inputs", name_array(input_names, r->n_inputs, NULL));
@@ -321,12 +325,13 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
     }
     (void)fprintf(out,
                   "%s: %lu samples, %lu channel%s; linear state-space model with %lu states "
-                  "(%lu impulse%s)\n"
+                  "(%lu impulse%s%s)\n"
                   "test of a structural law against the linear model at level %.3g (each "
                   "channel at %.3g)\n\n",
                   path, (unsigned long)r->n_samples, (unsigned long)r->n_channels,
                   r->n_channels == 1 ? "" : "s", (unsigned long)r->n_states,
-                  (unsigned long)r->n_impulses, r->n_impulses == 1 ? "" : "s", r->level,
+                  (unsigned long)r->n_impulses, r->n_impulses == 1 ? "" : "s",
+                  r->jumps ? ", taken as state jumps" : "", r->level,
                   r->level / (double)r->n_channels);
     (void)fprintf(out, "%-12s %12s %5s %10s  %-12s %s%s\n", "channel", "chi-square", "dof",
                   "p-value", "class", "p vs best law poly/freeplay/hyst",
