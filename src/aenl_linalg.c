@@ -6,76 +6,55 @@
  */
 #include "aenl_linalg.h"
 
+/* C (n x m), C(i, j) = sum_r A(i, r) B(r, j) with A(i, r) = a[i ai + r ar] and
+ * B(r, j) = b[r br + j bj]: the products below differ only by these strides. */
+static void mul_strided(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
+                        const aenl_real_t *b, size_t br, size_t bj, uint16_t n, uint16_t k,
+                        uint16_t m)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            aenl_real_t s = AENL_R(0.0);
+            for (size_t r = 0; r < k; ++r)
+            {
+                s += a[i * ai + r * ar] * b[r * br + j * bj];
+            }
+            c[i * ldc + j] = s;
+        }
+    }
+}
+
 void aenl_la_mul(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
                  const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
 {
-    for (uint16_t i = 0; i < n; ++i)
-    {
-        for (uint16_t j = 0; j < m; ++j)
-        {
-            aenl_real_t s = AENL_R(0.0);
-            for (uint16_t r = 0; r < k; ++r)
-            {
-                s += a[(size_t)i * lda + r] * b[(size_t)r * ldb + j];
-            }
-            c[(size_t)i * ldc + j] = s;
-        }
-    }
+    mul_strided(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m);
 }
 
 void aenl_la_mul_nt(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
                     const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
 {
-    for (uint16_t i = 0; i < n; ++i)
-    {
-        for (uint16_t j = 0; j < m; ++j)
-        {
-            aenl_real_t s = AENL_R(0.0);
-            for (uint16_t r = 0; r < k; ++r)
-            {
-                s += a[(size_t)i * lda + r] * b[(size_t)j * ldb + r];
-            }
-            c[(size_t)i * ldc + j] = s;
-        }
-    }
+    mul_strided(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m);
 }
 
 void aenl_la_mul_tn(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
                     const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
 {
-    for (uint16_t i = 0; i < n; ++i)
-    {
-        for (uint16_t j = 0; j < m; ++j)
-        {
-            aenl_real_t s = AENL_R(0.0);
-            for (uint16_t r = 0; r < k; ++r)
-            {
-                s += a[(size_t)r * lda + i] * b[(size_t)r * ldb + j];
-            }
-            c[(size_t)i * ldc + j] = s;
-        }
-    }
+    mul_strided(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m);
 }
 
 void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint16_t lda, const aenl_real_t *x,
                 uint16_t n, uint16_t m)
 {
-    for (uint16_t i = 0; i < n; ++i)
-    {
-        aenl_real_t s = AENL_R(0.0);
-        for (uint16_t j = 0; j < m; ++j)
-        {
-            s += a[(size_t)i * lda + j] * x[j];
-        }
-        y[i] = s;
-    }
+    mul_strided(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u);
 }
 
 void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n)
 {
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
-        for (uint16_t j = 0; j < i; ++j)
+        for (uint32_t j = 0; j < i; ++j)
         {
             const aenl_real_t v = AENL_R(0.5) * (a[(size_t)i * lda + j] + a[(size_t)j * lda + i]);
             a[(size_t)i * lda + j] = v;
@@ -86,10 +65,10 @@ void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n)
 
 aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
 {
-    for (uint16_t j = 0; j < n; ++j)
+    for (uint32_t j = 0; j < n; ++j)
     {
         aenl_real_t d = a[(size_t)j * lda + j];
-        for (uint16_t r = 0; r < j; ++r)
+        for (uint32_t r = 0; r < j; ++r)
         {
             d -= a[(size_t)j * lda + r] * a[(size_t)j * lda + r];
         }
@@ -100,16 +79,16 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
         const aenl_real_t ljj = aenl_sqrt(d);
         a[(size_t)j * lda + j] = ljj;
         const aenl_real_t inv = AENL_R(1.0) / ljj;
-        for (uint16_t i = (uint16_t)(j + 1u); i < n; ++i)
+        for (uint32_t i = (uint16_t)(j + 1u); i < n; ++i)
         {
             aenl_real_t s = a[(size_t)i * lda + j];
-            for (uint16_t r = 0; r < j; ++r)
+            for (uint32_t r = 0; r < j; ++r)
             {
                 s -= a[(size_t)i * lda + r] * a[(size_t)j * lda + r];
             }
             a[(size_t)i * lda + j] = s * inv;
         }
-        for (uint16_t i = 0; i < j; ++i)
+        for (uint32_t i = 0; i < j; ++i)
         {
             a[(size_t)i * lda + j] = AENL_R(0.0);
         }
@@ -117,39 +96,34 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
     return AENL_OK;
 }
 
+void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint16_t n, aenl_real_t *b,
+                       uint16_t ldb, uint16_t m, int upper)
+{
+    for (size_t c = 0; c < m; ++c)
+    {
+        for (size_t step = 0; step < n; ++step)
+        {
+            const size_t i = upper ? n - 1u - step : step;
+            aenl_real_t s = b[i * ldb + c];
+            for (size_t j = upper ? i + 1u : 0u; j < (upper ? n : i); ++j)
+            {
+                s -= t[i * ti + j * tj] * b[j * ldb + c];
+            }
+            b[i * ldb + c] = s / t[i * (ti + tj)];
+        }
+    }
+}
+
 void aenl_la_solve_lower(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
                          uint16_t ldb, uint16_t m)
 {
-    for (uint16_t c = 0; c < m; ++c)
-    {
-        for (uint16_t i = 0; i < n; ++i)
-        {
-            aenl_real_t s = b[(size_t)i * ldb + c];
-            for (uint16_t r = 0; r < i; ++r)
-            {
-                s -= l[(size_t)i * ldl + r] * b[(size_t)r * ldb + c];
-            }
-            b[(size_t)i * ldb + c] = s / l[(size_t)i * ldl + i];
-        }
-    }
+    aenl_la_solve_tri(l, ldl, 1u, n, b, ldb, m, 0);
 }
 
 void aenl_la_solve_lower_t(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
                            uint16_t ldb, uint16_t m)
 {
-    for (uint16_t c = 0; c < m; ++c)
-    {
-        for (uint16_t ii = n; ii > 0u; --ii)
-        {
-            const uint16_t i = (uint16_t)(ii - 1u);
-            aenl_real_t s = b[(size_t)i * ldb + c];
-            for (uint16_t r = (uint16_t)(i + 1u); r < n; ++r)
-            {
-                s -= l[(size_t)r * ldl + i] * b[(size_t)r * ldb + c];
-            }
-            b[(size_t)i * ldb + c] = s / l[(size_t)i * ldl + i];
-        }
-    }
+    aenl_la_solve_tri(l, 1u, ldl, n, b, ldb, m, 1);
 }
 
 void aenl_la_chol_solve(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
@@ -161,9 +135,9 @@ void aenl_la_chol_solve(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_rea
 
 int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m)
 {
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
-        for (uint16_t j = 0; j < m; ++j)
+        for (uint32_t j = 0; j < m; ++j)
         {
             if (!aenl_is_finite(a[(size_t)i * lda + j]))
             {
@@ -176,9 +150,9 @@ int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t 
 
 int aenl_la_is_symmetric(const aenl_real_t *a, uint16_t lda, uint16_t n, aenl_real_t rel_tol)
 {
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
-        for (uint16_t j = 0; j < i; ++j)
+        for (uint32_t j = 0; j < i; ++j)
         {
             const aenl_real_t u = a[(size_t)i * lda + j];
             const aenl_real_t v = a[(size_t)j * lda + i];

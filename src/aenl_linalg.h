@@ -37,6 +37,15 @@ void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n);
  */
 aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n);
 
+/**
+ * Solve T X = B in place (B n x m, rows ldb apart), T triangular with a nonzero diagonal, read as
+ * T(i, j) = t[i ti + j tj] (a transposed or differently strided view costs nothing): lower
+ * (forward substitution) or, with upper, upper (backward). Each row subtracts its known terms in
+ * ascending j.
+ */
+void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint16_t n, aenl_real_t *b,
+                       uint16_t ldb, uint16_t m, int upper);
+
 /** Solve L X = B in place (B n x m), L lower with a nonzero diagonal. */
 void aenl_la_solve_lower(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
                          uint16_t ldb, uint16_t m);
