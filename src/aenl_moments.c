@@ -5,102 +5,103 @@
  *        docs/moments.md).
  *
  * Cell update (weighted Welford, West 1979), for a pair (u, y) with kernel weight w at a node:
- *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),  W2' = W2 +
- * w^2 Forgetting: rather than multiplying every cell by lambda at every sample (O(grid)), the
- * newest sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W, W^2/W2) are
- * unchanged. When the scale reaches 2^20 all active cells are multiplied by 2^-20 (exact in binary
- * floating point) and the scale divided by 2^20, so nothing overflows and no rounding is added.
- * The cells accumulate the kernel weight without its constant factor 1/h (1 - |d|/h, at most 1
- * times the scale): the factor cancels in the mean, the variance and n_eff, and leaving it out
- * keeps W and W2 bounded by the sample count whatever the bandwidth (with 1/h inside, a bandwidth
- * of 1e-20 in float32 overflowed W2 = sum w^2 at the first pair). Query applies it to `weight`.
+ *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),
+ *     W2' = W2 + w^2.
+ * Every lag is conditioned on the same samples (lockstep), so W and W2 are the same for all lags
+ * of a (direction, node) and are kept once there; each (lag series, direction, node) cell keeps
+ * its mean and M2. Forgetting: rather than multiplying every cell by lambda at every sample
+ * (O(grid)), the newest sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W,
+ * W^2/W2) are unchanged. When the scale reaches 2^20 all active sums are multiplied by 2^-20
+ * (exact in binary floating point) and the scale divided by 2^20, so nothing overflows and no
+ * rounding is added. The cells accumulate the kernel weight without its constant factor 1/h
+ * (1 - |d|/h, at most 1 times the scale): the factor cancels in the mean, the variance and n_eff,
+ * and leaving it out keeps W and W2 bounded by the sample count whatever the bandwidth (with 1/h
+ * inside, a bandwidth of 1e-20 in float32 overflowed W2 = sum w^2 at the first pair). Query
+ * applies it to `weight`.
+ *
+ * Compensation (AENL_MOMENTS_COMPENSATED): each sum s is a Kahan sum whose compensation c, the
+ * rounding error of its last addition (|c| <= ulp(s)/2 <= |s| eps/2), is stored as the integer
+ * lo = round(c / (|s| eps 2^-15)), |lo| <= 2^14: the sum then has about 40 significant bits in
+ * float32 (6 bytes instead of 8 for a float compensation). Rounding c costs at most
+ * |s| eps 2^-16 (float32: |s| 2^-39) per addition. That is far below the increments of W, W2
+ * and M2, which grow with the count: after N additions an increment is about |s| / N, so the
+ * rounding is 2^-39 N of it (5e-5 at N = 10^9 additions to one sum), and these roundings, spread
+ * over many units of c and of either sign, add up like a random walk (about 1e-8 of the sum; all
+ * of one sign they would reach 2e-3). A weighted mean does not grow: its increments shrink like
+ * its spread / N, and would fall to |mean| 2^-39 when the signal sits on a large offset
+ * (1000 +- 0.1: 1e-11 of the mean after 10^7 pairs, 2e-12 after 5 10^7). So the compensated
+ * build keeps each cell's mean relative to its node x_k, whose distance from the conditional
+ * mean is bounded by the grid rather than by the offset.
  */
 #include <string.h>
 
 #include "aenl/aenl_moments.h"
 
+#include "aenl_linalg.h"
+
 #define RING_LEN     ((uint16_t)(2 * AENL_MOMENTS_MAX_LAG + 2))
 #define SCALE_LIMIT  AENL_R(1048576.0)          /* 2^20 */
 #define SCALE_SHRINK AENL_R(9.5367431640625e-7) /* 2^-20 */
+#define LO_UNIT      (AENL_REAL_EPS / AENL_R(32768.0)) /* compensation unit relative to |s| */
+#define LO_MAX       AENL_R(32767.0)
 
-/* Kahan summation: the represented value is s - c. */
-static inline void kahan_add(aenl_real_t *s, aenl_real_t *c, aenl_real_t v)
-{
-    const aenl_real_t y = v - *c;
-    const aenl_real_t t = *s + y;
-    *c = (t - *s) - y;
-    *s = t;
-}
-
-static inline aenl_real_t cell_w(const aenl_moments_cell_t *c)
+/* Value of sum i (file comment: compensation). */
+static aenl_real_t sum_get(const aenl_moments_t *m, uint32_t i)
 {
 #if AENL_MOMENTS_COMPENSATED
-    return c->w - c->w_c;
+    return m->sum[i] - (aenl_real_t)m->sum_lo[i] * (aenl_fabs(m->sum[i]) * LO_UNIT);
 #else
-    return c->w;
+    return m->sum[i];
 #endif
 }
 
-static inline aenl_real_t cell_mean(const aenl_moments_cell_t *c)
+/* sum i += v. A compensation that does not fit (a sum cancelled to nearly nothing, or one so
+ * small that its unit underflows) is dropped: that addition is then a plain one. */
+static void sum_add(aenl_moments_t *m, uint32_t i, aenl_real_t v)
 {
 #if AENL_MOMENTS_COMPENSATED
-    return c->mean - c->mean_c;
+    const aenl_real_t s = m->sum[i];
+    const aenl_real_t y = v - (aenl_real_t)m->sum_lo[i] * (aenl_fabs(s) * LO_UNIT);
+    const aenl_real_t t = s + y;
+    const aenl_real_t k = ((t - s) - y) / (aenl_fabs(t) * LO_UNIT);
+    m->sum_lo[i] = (k >= -LO_MAX && k <= LO_MAX)
+                       ? (int16_t)((k >= AENL_R(0.0)) ? k + AENL_R(0.5) : k - AENL_R(0.5))
+                       : (int16_t)0;
+    m->sum[i] = t;
 #else
-    return c->mean;
+    m->sum[i] += v;
 #endif
 }
 
-static inline aenl_real_t cell_m2(const aenl_moments_cell_t *c)
-{
+/* Where the sums of a cell are: its weight sum W at *iw and W2 at *iw + W2_OFF, its mean (S1
+ * when compensated) at *im and M2 at *im + 1. Compensated, W and W2 are kept once per (direction,
+ * node), which every lag series shares, ahead of every cell's pair; plain, each cell holds its own
+ * four sums (W, mean, M2, W2). */
 #if AENL_MOMENTS_COMPENSATED
-    return c->m2 - c->m2_c;
+#define W2_OFF 1u
 #else
-    return c->m2;
+#define W2_OFF 3u
 #endif
-}
 
-static inline aenl_real_t cell_w2(const aenl_moments_cell_t *c)
+static void cell_index(const aenl_moments_t *m, uint32_t series, uint32_t dir, uint32_t node,
+                       uint32_t *iw, uint32_t *im)
 {
+    const uint32_t cell = (series * m->n_dir + dir) * m->cfg.n_grid + node;
 #if AENL_MOMENTS_COMPENSATED
-    return c->w2 - c->w2_c;
+    *iw = 2u * (dir * m->cfg.n_grid + node);
+    *im = 2u * ((uint32_t)m->n_dir * m->cfg.n_grid + cell);
 #else
-    return c->w2;
+    *iw = 4u * cell;
+    *im = *iw + 1u;
 #endif
 }
 
-static void cell_update(aenl_moments_cell_t *c, aenl_real_t w, aenl_real_t y)
+/* Sums in use (see cell_index). */
+static uint32_t active_sums(const aenl_moments_t *m)
 {
-    const aenl_real_t w_new = cell_w(c) + w;
-    const aenl_real_t d = y - cell_mean(c);
-    const aenl_real_t step = d * (w / w_new);
-#if AENL_MOMENTS_COMPENSATED
-    kahan_add(&c->w, &c->w_c, w);
-    kahan_add(&c->mean, &c->mean_c, step);
-    kahan_add(&c->m2, &c->m2_c, w * d * (d - step));
-    kahan_add(&c->w2, &c->w2_c, w * w);
-#else
-    c->w = w_new;
-    c->mean += step;
-    c->m2 += w * d * (d - step);
-    c->w2 += w * w;
-#endif
-}
-
-static void cell_scale(aenl_moments_cell_t *c, aenl_real_t f, aenl_real_t f2)
-{
-    c->w *= f;
-    c->m2 *= f;
-    c->w2 *= f2;
-#if AENL_MOMENTS_COMPENSATED
-    c->w_c *= f;
-    c->m2_c *= f;
-    c->w2_c *= f2;
-#endif
-}
-
-static uint32_t active_cells(const aenl_moments_t *m)
-{
-    return (uint32_t)aenl_moments_n_series(m) * m->cfg.n_grid * m->n_dir;
+    const uint32_t n_groups = (uint32_t)m->n_dir * m->cfg.n_grid;
+    return AENL_MOMENTS_COMPENSATED ? 2u * (1u + aenl_moments_n_series(m)) * n_groups
+                                    : 4u * aenl_moments_n_series(m) * n_groups;
 }
 
 static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
@@ -133,7 +134,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
     {
         return AENL_E_DIM;
     }
-    for (uint16_t i = 0; i < cfg->n_lags; ++i)
+    for (uint32_t i = 0; i < cfg->n_lags; ++i)
     {
         if (cfg->lags[i] == 0u)
         {
@@ -143,7 +144,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
         {
             return AENL_E_DIM;
         }
-        for (uint16_t j = 0; j < i; ++j)
+        for (uint32_t j = 0; j < i; ++j)
         {
             if (cfg->lags[j] == cfg->lags[i])
             {
@@ -160,9 +161,11 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
     {
         return AENL_E_ARG;
     }
-    const uint32_t cells = (uint32_t)cfg->n_lags * (cfg->symmetric ? 2u : 1u) * cfg->n_grid *
-                           (cfg->direction_split ? 2u : 1u);
-    if (cells > AENL_MOMENTS_MAX_CELLS)
+    const uint32_t groups = (uint32_t)cfg->n_grid * (cfg->direction_split ? 2u : 1u);
+    const uint32_t series = (uint32_t)cfg->n_lags * (cfg->symmetric ? 2u : 1u);
+    const uint32_t sums = AENL_MOMENTS_COMPENSATED ? 2u * (series + 1u) * groups
+                                                   : 4u * series * groups;
+    if (series * groups > AENL_MOMENTS_MAX_CELLS || sums > (uint32_t)AENL_MOMENTS_MAX_SUMS)
     {
         return AENL_E_DIM;
     }
@@ -189,7 +192,7 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
     }
     memset(m, 0, sizeof(*m));
     m->cfg = *cfg;
-    for (uint16_t i = cfg->n_lags; i < AENL_MOMENTS_MAX_LAGS; ++i)
+    for (uint32_t i = cfg->n_lags; i < AENL_MOMENTS_MAX_LAGS; ++i)
     {
         m->cfg.lags[i] = 0u; /* unused entries: defined, never read */
     }
@@ -198,7 +201,7 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
     m->inv_h = AENL_R(1.0) / cfg->bandwidth;
     m->inv_lambda = AENL_R(1.0) / cfg->forgetting;
     m->n_dir = cfg->direction_split ? 2u : 1u;
-    for (uint16_t i = 0; i < cfg->n_lags; ++i)
+    for (uint32_t i = 0; i < cfg->n_lags; ++i)
     {
         if (cfg->lags[i] > m->max_lag)
         {
@@ -215,7 +218,10 @@ void aenl_moments_reset(aenl_moments_t *m)
     {
         return;
     }
-    memset(m->cell, 0, sizeof(m->cell[0]) * active_cells(m));
+    memset(m->sum, 0, sizeof(m->sum[0]) * active_sums(m));
+#if AENL_MOMENTS_COMPENSATED
+    memset(m->sum_lo, 0, sizeof(m->sum_lo[0]) * active_sums(m));
+#endif
     memset(m->hist, 0, sizeof(m->hist));
     memset(m->valid, 0, sizeof(m->valid));
     m->head = 0u;
@@ -226,14 +232,21 @@ void aenl_moments_reset(aenl_moments_t *m)
     m->scale = AENL_R(1.0);
 }
 
-static uint16_t ring_back(uint16_t head, uint16_t back)
+/* Ring index back samples before head (back < RING_LEN). */
+static uint32_t ring_back(uint32_t head, uint32_t back)
 {
-    return (uint16_t)((head + RING_LEN - back) % RING_LEN);
+    return (head >= back) ? head - back : head + RING_LEN - back;
+}
+
+/* Ring index of the response of lag series ls to the conditioning sample X_c, c = n - L_max. */
+static uint32_t response(const aenl_moments_t *m, uint32_t ls)
+{
+    return ring_back(m->head, (uint32_t)((int32_t)m->max_lag - aenl_moments_lag(m, (uint16_t)ls)));
 }
 
 static void ring_store(aenl_moments_t *m, aenl_real_t v, uint8_t ok)
 {
-    m->head = (uint16_t)((m->head + 1u) % RING_LEN);
+    m->head = (uint16_t)((m->head + 1u < RING_LEN) ? m->head + 1u : 0u);
     m->hist[m->head] = v;
     m->valid[m->head] = ok;
     if (m->n_hist < RING_LEN)
@@ -272,12 +285,26 @@ static int32_t node_floor(aenl_real_t v, uint16_t n_grid)
     return (int32_t)v; /* v >= 0: truncation is floor */
 }
 
+/* Scale every weight-carrying sum (W, M2 by 2^-20, W2 by 2^-40; not the means) and the scale. */
 static void renormalise(aenl_moments_t *m)
 {
-    const uint32_t n = active_cells(m);
-    for (uint32_t i = 0; i < n; ++i)
+    const uint16_t n_series = aenl_moments_n_series(m);
+    for (uint32_t ls = 0; ls < n_series; ++ls)
     {
-        cell_scale(&m->cell[i], SCALE_SHRINK, SCALE_SHRINK * SCALE_SHRINK);
+        for (uint32_t dir = 0; dir < m->n_dir; ++dir)
+        {
+            for (uint32_t k = 0; k < m->cfg.n_grid; ++k)
+            {
+                uint32_t iw, im;
+                cell_index(m, ls, dir, k, &iw, &im);
+                if (!AENL_MOMENTS_COMPENSATED || ls == 0u) /* shared sums: once */
+                {
+                    m->sum[iw] *= SCALE_SHRINK;
+                    m->sum[iw + W2_OFF] *= SCALE_SHRINK * SCALE_SHRINK;
+                }
+                m->sum[im + 1u] *= SCALE_SHRINK;
+            }
+        }
     }
     m->scale *= SCALE_SHRINK;
     if (m->n_renorm < UINT32_MAX)
@@ -325,7 +352,7 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
     {
         return AENL_OK;
     }
-    const uint16_t pc = ring_back(m->head, max_lag);
+    const uint32_t pc = ring_back(m->head, max_lag);
     if (!m->valid[pc])
     {
         return AENL_OK;
@@ -334,49 +361,80 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
     uint32_t dir = 0u;
     if (m->n_dir == 2u)
     {
-        const uint16_t q = ring_back(pc, 1u);
+        const uint32_t q = ring_back(pc, 1u);
         if (!m->valid[q])
         {
             return AENL_OK; /* the direction of u is unknown: no pair is formed */
         }
         dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
     }
+    const uint16_t n_series = aenl_moments_n_series(m);
+#if AENL_MOMENTS_COMPENSATED
+    /* The lags share W and W2: X_c pairs at every lag or, one response missing, at none. */
+    for (uint32_t ls = 0; ls < n_series; ++ls)
+    {
+        if (!m->valid[response(m, ls)])
+        {
+            return AENL_OK;
+        }
+    }
+#endif
     /* The nodes within h of u, found once for all lags. */
     const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
     const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
     const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
     const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
-    const uint16_t n_grid = m->cfg.n_grid;
     for (int32_t k = k0; k <= k1; ++k)
     {
-        const aenl_real_t d = aenl_fabs(aenl_moments_node_x(m, (uint16_t)k) - u);
+        const aenl_real_t xk = aenl_moments_node_x(m, (uint16_t)k);
+        const aenl_real_t d = aenl_fabs(xk - u);
         if (!(d < m->cfg.bandwidth))
         {
             continue;
         }
         /* 1/h is left out of the stored weight and applied at query time (file comment). */
         const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
-        for (uint16_t li = 0; li < m->cfg.n_lags; ++li)
+        uint32_t iw = 0u, im;
+        for (uint32_t ls = 0; ls < n_series; ++ls) /* ls >= n_lags: backward series X_{c-L} */
         {
-            const uint16_t pr = ring_back(m->head, (uint16_t)(max_lag - m->cfg.lags[li]));
-            if (m->valid[pr])
+            const uint32_t pr = response(m, ls);
+            if (!m->valid[pr])
             {
-                cell_update(&m->cell[((uint32_t)li * m->n_dir + dir) * n_grid + (uint32_t)k], w,
-                            m->hist[pr]);
+                continue;
             }
-            if (n_back > 0u) /* backward series: X_{c-L}, index n_lags + li */
-            {
-                const uint16_t pb = ring_back(m->head, (uint16_t)(max_lag + m->cfg.lags[li]));
-                if (m->valid[pb])
-                {
-                    const uint32_t ls = (uint32_t)m->cfg.n_lags + li;
-                    cell_update(&m->cell[(ls * m->n_dir + dir) * n_grid + (uint32_t)k], w,
-                                m->hist[pb]);
-                }
-            }
+            const aenl_real_t y = m->hist[pr];
+            cell_index(m, ls, dir, (uint32_t)k, &iw, &im);
+            const aenl_real_t w_old = sum_get(m, iw);
+            const aenl_real_t r = w / (w_old + w); /* w / W' */
+#if AENL_MOMENTS_COMPENSATED
+            const aenl_real_t dy = (y - xk) - sum_get(m, im); /* mean relative to x_k */
+#else
+            const aenl_real_t dy = y - sum_get(m, im);
+            sum_add(m, iw, w);
+            sum_add(m, iw + W2_OFF, w * w);
+#endif
+            const aenl_real_t step = dy * r;
+            sum_add(m, im, step);
+            sum_add(m, im + 1u, w * dy * (dy - step));
         }
+#if AENL_MOMENTS_COMPENSATED
+        sum_add(m, iw, w); /* once for all lag series */
+        sum_add(m, iw + W2_OFF, w * w);
+#endif
     }
     return AENL_OK;
+}
+
+/* W, mean, M2, W2 of one cell. */
+static void cell_read(const aenl_moments_t *m, uint32_t series, uint32_t dir, uint32_t node,
+                      aenl_real_t *v)
+{
+    uint32_t iw, im;
+    cell_index(m, series, dir, node, &iw, &im);
+    v[0] = sum_get(m, iw);
+    v[1] = sum_get(m, im);
+    v[2] = sum_get(m, im + 1u);
+    v[3] = sum_get(m, iw + W2_OFF);
 }
 
 aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, uint16_t node,
@@ -394,38 +452,29 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     {
         return AENL_E_ARG;
     }
-    const uint16_t n_grid = m->cfg.n_grid;
-    const aenl_moments_cell_t *a = &m->cell[((uint32_t)lag_index * m->n_dir) * n_grid + node];
-    aenl_real_t w, mean, m2, w2;
+    aenl_real_t a[4]; /* W, mean, M2, W2 */
+    cell_read(m, lag_index, (dir == AENL_DIR_FALLING) ? 1u : 0u, node, a);
+    aenl_real_t w = a[0], mean = a[1], m2 = a[2], w2 = a[3];
     if (dir == AENL_DIR_ALL && m->n_dir == 2u)
     {
         /* Merge rising and falling (Chan et al.'s pairwise combination). */
-        const aenl_moments_cell_t *b = a + n_grid;
-        const aenl_real_t wa = cell_w(a);
-        const aenl_real_t wb = cell_w(b);
+        aenl_real_t b[4];
+        cell_read(m, lag_index, 1u, node, b);
+        const aenl_real_t wa = a[0];
+        const aenl_real_t wb = b[0];
         w = wa + wb;
         if (w > AENL_R(0.0))
         {
-            const aenl_real_t ma = cell_mean(a);
-            const aenl_real_t mb = cell_mean(b);
-            const aenl_real_t d = mb - ma;
-            mean = ma + d * (wb / w);
-            m2 = cell_m2(a) + cell_m2(b) + d * d * (wa / w) * wb;
+            const aenl_real_t d = b[1] - a[1];
+            mean = a[1] + d * (wb / w);
+            m2 = a[2] + b[2] + d * d * (wa / w) * wb;
         }
         else
         {
             mean = AENL_R(0.0);
             m2 = AENL_R(0.0);
         }
-        w2 = cell_w2(a) + cell_w2(b);
-    }
-    else
-    {
-        const aenl_moments_cell_t *c = (dir == AENL_DIR_FALLING) ? a + n_grid : a;
-        w = cell_w(c);
-        mean = cell_mean(c);
-        m2 = cell_m2(c);
-        w2 = cell_w2(c);
+        w2 = a[3] + b[3];
     }
     memset(out, 0, sizeof(*out));
     out->x = aenl_moments_node_x(m, node);
@@ -445,6 +494,9 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     /* Kernel weight sum sum phi_h = sum (1 - |d|/h) / h, saturating (a bandwidth near the
      * smallest real could push it past the largest one; mean and variance do not need it). */
     const aenl_real_t weight = (w / m->scale) * m->inv_h;
+#if AENL_MOMENTS_COMPENSATED
+    mean += out->x;
+#endif
     out->mean = mean;
     out->var = var;
     out->weight = aenl_is_finite(weight) ? weight : AENL_REAL_MAX;
@@ -485,12 +537,12 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
     memset(col2, 0, sizeof(col2));
     const aenl_real_t inv_lmax = AENL_R(1.0) / (aenl_real_t)m->max_lag;
     int weighted = 1;
-    for (uint16_t pass = 0; pass < 2u; ++pass) /* pass 0: are all se > 0? pass 1: rows */
+    for (uint32_t pass = 0; pass < 2u; ++pass) /* pass 0: are all se > 0? pass 1: rows */
     {
-        for (uint16_t li = 0; li < n; ++li)
+        for (uint32_t li = 0; li < n; ++li)
         {
             aenl_moments_point_t p;
-            const aenl_status_t st = aenl_moments_query(m, li, node, dir, &p);
+            const aenl_status_t st = aenl_moments_query(m, (uint16_t)li, node, dir, &p);
             if (st != AENL_OK)
             {
                 return st;
@@ -501,10 +553,10 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
                 continue;
             }
             const aenl_real_t sw = weighted ? AENL_R(1.0) / p.se : AENL_R(1.0);
-            const aenl_real_t t = (aenl_real_t)aenl_moments_lag(m, li) * inv_lmax;
+            const aenl_real_t t = (aenl_real_t)aenl_moments_lag(m, (uint16_t)li) * inv_lmax;
             aenl_real_t row[NT + 1];
             aenl_real_t pw = sw;
-            for (uint16_t k = 0; k < np; ++k)
+            for (uint32_t k = 0; k < np; ++k)
             {
                 row[k] = pw;
                 pw *= t;
@@ -514,11 +566,11 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
                 row[np] = sw * nuisance[li % m->cfg.n_lags]; /* the same for L and -L */
             }
             row[nt] = p.mean * sw;
-            for (uint16_t j = 0; j < nt; ++j)
+            for (uint32_t j = 0; j < nt; ++j)
             {
                 col2[j] += row[j] * row[j];
             }
-            for (uint16_t j = 0; j < nt; ++j) /* rotate the row into R */
+            for (uint32_t j = 0; j < nt; ++j) /* rotate the row into R */
             {
                 const aenl_real_t x = r[j][j], y = row[j];
                 if (!(aenl_fabs(y) > AENL_R(0.0)))
@@ -527,7 +579,7 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
                 }
                 const aenl_real_t hyp = aenl_sqrt(x * x + y * y);
                 const aenl_real_t cs = x / hyp, sn = y / hyp;
-                for (uint16_t k = j; k <= nt; ++k)
+                for (uint32_t k = j; k <= nt; ++k)
                 {
                     const aenl_real_t rk = r[j][k], wk = row[k];
                     r[j][k] = cs * rk + sn * wk;
@@ -540,7 +592,7 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
     /* A pivot that lost all but rounding of its column's norm: the columns are dependent
      * (e.g. too few distinct lags for the order and the nuisance column). */
     const aenl_real_t rank_tol = AENL_USE_DOUBLE ? AENL_R(1e-9) : AENL_R(1e-4);
-    for (uint16_t j = 0; j < nt; ++j)
+    for (uint32_t j = 0; j < nt; ++j)
     {
         if (!(aenl_fabs(r[j][j]) > rank_tol * aenl_sqrt(col2[j])) || !aenl_is_finite(r[j][j]))
         {
@@ -548,32 +600,21 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
         }
     }
     /* Back substitution R c = Q'b, and R^-1 (upper triangular) for the coefficient variances:
-     * Cov(c) = (R'R)^-1 = R^-1 R^-T, so var(c_k) = sum_j (R^-1)_kj^2. */
+     * Cov(c) = (R'R)^-1 = R^-1 R^-T, so var(c_k) = sum_j (R^-1)_kj^2;
+     * R^-1 column by column: R x = e_k (the terms below the diagonal come out as zeros). */
     aenl_real_t c[NT], rinv[NT][NT];
     memset(rinv, 0, sizeof(rinv));
-    for (int i = (int)nt - 1; i >= 0; --i)
+    for (uint32_t i = 0; i < nt; ++i)
     {
-        aenl_real_t acc = r[i][nt];
-        for (uint16_t k = (uint16_t)(i + 1); k < nt; ++k)
-        {
-            acc -= r[i][k] * c[k];
-        }
-        c[i] = acc / r[i][i];
-        rinv[i][i] = AENL_R(1.0) / r[i][i];
-        for (uint16_t k = (uint16_t)(i + 1); k < nt; ++k)
-        {
-            aenl_real_t sum = AENL_R(0.0);
-            for (uint16_t j = (uint16_t)(i + 1); j <= k; ++j)
-            {
-                sum += r[i][j] * rinv[j][k];
-            }
-            rinv[i][k] = -sum / r[i][i];
-        }
+        c[i] = r[i][nt];
+        rinv[i][i] = AENL_R(1.0);
     }
+    aenl_la_solve_tri(&r[0][0], NT + 1u, 1u, nt, c, 1u, 1u, 1);
+    aenl_la_solve_tri(&r[0][0], NT + 1u, 1u, nt, &rinv[0][0], NT, nt, 1);
     aenl_real_t var[3] = {AENL_R(0.0), AENL_R(0.0), AENL_R(0.0)};
-    for (uint16_t k = 0; k < 3u; ++k)
+    for (uint32_t k = 0; k < 3u; ++k)
     {
-        for (uint16_t j = k; j < nt; ++j)
+        for (uint32_t j = k; j < nt; ++j)
         {
             var[k] += rinv[k][j] * rinv[k][j];
         }

@@ -15,8 +15,9 @@
  * so lag curves differ only by the lag, never by which part of the record they saw. Each (lag,
  * node[, direction]) cell holds the weight sum, the weighted mean and the weighted second central
  * moment M2 updated in Welford form, so there is no sum(x^2) - sum(x)^2 cancellation; with
- * AENL_MOMENTS_COMPENSATED (default in float32) every sum also carries a Kahan compensation term,
- * so a float32 estimator stays accurate past 10^8 samples.
+ * AENL_MOMENTS_COMPENSATED (default in float32) every sum also carries a compensation term, so a
+ * float32 estimator stays accurate past 10^9 samples, and the lags share one weight sum per
+ * (node[, direction]) (which halves the state).
  *
  * Options: an exponential forgetting factor lambda (weight of a sample of age a is lambda^a), for
  * non-stationary conditions; and a direction split, which accumulates separately for a rising
@@ -75,18 +76,6 @@ typedef struct aenl_moments_point
     aenl_real_t se;     /**< standard error of the mean, sqrt(var / n_eff) */
 } aenl_moments_point_t;
 
-/** Statistics of one cell. Read through aenl_moments_query(); fields are private. */
-typedef struct aenl_moments_cell
-{
-    aenl_real_t w;    /**< sum of 1 - |d|/h (kernel weight without 1/h) times the scale */
-    aenl_real_t mean; /**< weighted mean */
-    aenl_real_t m2;   /**< weighted second central moment (times the scale) */
-    aenl_real_t w2;   /**< sum of squared weights (times the scale squared) */
-#if AENL_MOMENTS_COMPENSATED
-    aenl_real_t w_c, mean_c, m2_c, w2_c; /**< Kahan compensation terms: value = sum - c */
-#endif
-} aenl_moments_cell_t;
-
 /** Estimator state. Caller-owned; every field is read-only for the caller. */
 typedef struct aenl_moments
 {
@@ -105,7 +94,14 @@ typedef struct aenl_moments
     uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
     aenl_real_t hist[2 * AENL_MOMENTS_MAX_LAG + 2];   /**< sample history ring */
     uint8_t valid[2 * AENL_MOMENTS_MAX_LAG + 2];      /**< 0 marks a missing sample */
-    aenl_moments_cell_t cell[AENL_MOMENTS_MAX_CELLS]; /**< [lag][dir][node], active part only */
+    /** Running sums, active part only. Plain: per (lag series, direction, node) cell its weight
+     *  sum W, weighted mean, weighted second central moment M2 and sum of squared weights W2.
+     *  Compensated: first W and W2 of every (direction, node), which the lags share, then
+     *  sum w (y - x_node) and M2 of every cell. */
+    aenl_real_t sum[AENL_MOMENTS_MAX_SUMS];
+#if AENL_MOMENTS_COMPENSATED
+    int16_t sum_lo[AENL_MOMENTS_MAX_SUMS]; /**< compensation of each sum (aenl_config.h) */
+#endif
 } aenl_moments_t;
 
 /**
@@ -116,7 +112,8 @@ typedef struct aenl_moments
  *         n_lags = 0, a zero or repeated lag, forgetting outside [AENL_MOMENTS_MIN_FORGETTING, 1],
  *         direction_split or symmetric not 0/1;
  *         AENL_E_DIM for n_grid, n_lags or a lag above its compile-time maximum, or
- *         n_lags * (1 + symmetric) * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS.
+ *         n_lags * (1 + symmetric) * n_grid * (1 + direction_split) > AENL_MOMENTS_MAX_CELLS,
+ *         or its running sums > AENL_MOMENTS_MAX_SUMS (aenl_config.h).
  *         On error *m is not written.
  * @note O(cells), no allocation.
  */
@@ -137,6 +134,9 @@ void aenl_moments_reset(aenl_moments_t *m);
  * @return AENL_OK; AENL_E_ARG for NULL (nothing changed); AENL_E_NUMERIC for a NaN/Inf sample,
  *         which is a *missing* sample: the statistics stay byte-identical, the history records the
  *         gap (no pair is formed across it, time alignment is kept) and n_missing counts it.
+ *         With AENL_MOMENTS_COMPENSATED, whose lags share their weight sums, a conditioning
+ *         sample X_c forms pairs at every lag or at none (at none when one of its responses is
+ *         missing); without it, at the lags whose response is present.
  * @note O(n_lags * min(n_grid, 2h/dx + 1)) per sample, no loop over the grid (the node range is
  *       found once per sample for all lags). With forgetting < 1,
  *       one push in every ~(14 / -ln(lambda)) also rescales all active cells (O(cells)).

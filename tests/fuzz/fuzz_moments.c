@@ -182,9 +182,10 @@ static void check_all(const aenl_moments_t *m, const range_t *r)
 static aenl_moments_t g_m;
 static aenl_moments_t g_before;
 
-static size_t active_bytes(const aenl_moments_t *m)
+/* The sums in use: two per (direction, node) and two per (lag series, direction, node). */
+static size_t active_sums(const aenl_moments_t *m)
 {
-    return sizeof(m->cell[0]) * m->cfg.n_lags * m->cfg.n_grid * (m->cfg.direction_split ? 2u : 1u);
+    return 2u * (1u + aenl_moments_n_series(m)) * m->cfg.n_grid * (m->cfg.direction_split ? 2u : 1u);
 }
 
 /* AENL_FUZZ_TRACE=1 in the environment prints the configuration and every push (for replaying
@@ -294,14 +295,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 const aenl_real_t v = (op >> 5) == 4u ? (aenl_real_t)NAN
                                       : (op & 1u)     ? (aenl_real_t)INFINITY
                                                       : -(aenl_real_t)INFINITY;
-                const size_t nb = active_bytes(&g_m);
+                const size_t ns = active_sums(&g_m);
                 const uint32_t n_samples = g_m.n_samples;
                 const uint32_t n_missing = g_m.n_missing;
-                memcpy(g_before.cell, g_m.cell, nb);
+                memcpy(g_before.sum, g_m.sum, ns * sizeof(g_m.sum[0]));
+#if AENL_MOMENTS_COMPENSATED
+                memcpy(g_before.sum_lo, g_m.sum_lo, ns * sizeof(g_m.sum_lo[0]));
+#endif
                 st = aenl_moments_push(&g_m, v);
                 trace_push(v, st);
                 CHECK(st == AENL_E_NUMERIC, "NaN/Inf push not E_NUMERIC");
-                CHECK(memcmp(g_before.cell, g_m.cell, nb) == 0, "NaN/Inf push changed statistics");
+                int same = memcmp(g_before.sum, g_m.sum, ns * sizeof(g_m.sum[0])) == 0;
+#if AENL_MOMENTS_COMPENSATED
+                same = same && memcmp(g_before.sum_lo, g_m.sum_lo, ns * sizeof(g_m.sum_lo[0])) == 0;
+#endif
+                CHECK(same, "NaN/Inf push changed statistics");
                 CHECK(g_m.n_samples == n_samples, "NaN/Inf push counted as a sample");
                 CHECK(g_m.n_missing == n_missing + (n_missing < UINT32_MAX ? 1u : 0u),
                       "NaN/Inf push not counted as missing");
