@@ -37,7 +37,7 @@ uint16_t aenl_skf_mode_of(const aenl_skf_model_t *model, aenl_real_t value, int 
     }
     const aenl_real_t *thr = rising ? model->thr_rising : model->thr_falling;
     uint16_t s = 0u;
-    for (uint16_t i = 0; i + 1u < model->n_modes; ++i)
+    for (uint32_t i = 0; i + 1u < model->n_modes; ++i)
     {
         if (value >= thr[i])
         {
@@ -49,9 +49,19 @@ uint16_t aenl_skf_mode_of(const aenl_skf_model_t *model, aenl_real_t value, int 
 
 /* ---- model validation ------------------------------------------------------------------------ */
 
-static int psd_diag(const aenl_real_t *a, uint16_t lda, uint16_t n)
+/* Flags of matrix_ok: the matrix must be symmetric, and its diagonal >= 0. */
+#define CHK_SYM 1u
+#define CHK_PSD 2u
+
+/* 1 when the n x m block is finite and passes the checks of flags. */
+static int matrix_ok(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m, unsigned flags)
 {
-    for (uint16_t i = 0; i < n; ++i)
+    if (!aenl_la_all_finite(a, lda, n, m) ||
+        ((flags & CHK_SYM) && !aenl_la_is_symmetric(a, lda, n, SYM_REL_TOL)))
+    {
+        return 0;
+    }
+    for (uint32_t i = 0; (flags & CHK_PSD) && i < n; ++i)
     {
         if (a[(size_t)i * lda + i] < AENL_R(0.0))
         {
@@ -63,7 +73,7 @@ static int psd_diag(const aenl_real_t *a, uint16_t lda, uint16_t n)
 
 static aenl_status_t check_thresholds(const aenl_skf_model_t *m)
 {
-    for (uint16_t i = 0; i + 1u < m->n_modes; ++i)
+    for (uint32_t i = 0; i + 1u < m->n_modes; ++i)
     {
         if (!aenl_is_finite(m->thr_rising[i]) || !aenl_is_finite(m->thr_falling[i]))
         {
@@ -88,10 +98,10 @@ static aenl_status_t check_imm(const aenl_skf_model_t *m)
     {
         return AENL_OK;
     }
-    for (uint16_t i = 0; i < m->n_modes; ++i)
+    for (uint32_t i = 0; i < m->n_modes; ++i)
     {
         aenl_real_t s = AENL_R(0.0);
-        for (uint16_t j = 0; j < m->n_modes; ++j)
+        for (uint32_t j = 0; j < m->n_modes; ++j)
         {
             const aenl_real_t p = m->trans[i][j];
             if (!aenl_is_finite(p) || p < AENL_R(0.0) || p > AENL_R(1.0))
@@ -127,23 +137,17 @@ static aenl_status_t check_model(const aenl_skf_model_t *m)
         return AENL_E_ARG;
     }
     const uint16_t nx = m->n_x;
-    for (uint16_t s = 0; s < m->n_modes; ++s)
+    for (uint32_t s = 0; s < m->n_modes; ++s)
     {
-        if (!aenl_la_all_finite(&m->A[s][0][0], LDX, nx, nx) ||
-            !aenl_la_all_finite(m->b[s], LDX, 1u, nx) ||
-            !aenl_la_all_finite(&m->Q[s][0][0], LDX, nx, nx) ||
-            !aenl_la_is_symmetric(&m->Q[s][0][0], LDX, nx, SYM_REL_TOL) ||
-            !psd_diag(&m->Q[s][0][0], LDX, nx))
+        if (!matrix_ok(&m->A[s][0][0], LDX, nx, nx, 0u) || !matrix_ok(m->b[s], LDX, 1u, nx, 0u) ||
+            !matrix_ok(&m->Q[s][0][0], LDX, nx, nx, CHK_SYM | CHK_PSD))
         {
             return AENL_E_ARG;
         }
     }
-    if (!aenl_la_all_finite(&m->C[0][0], LDX, m->n_z, nx) ||
-        !aenl_la_all_finite(&m->R[0][0], LDZ, m->n_z, m->n_z) ||
-        !aenl_la_is_symmetric(&m->R[0][0], LDZ, m->n_z, SYM_REL_TOL) ||
-        !aenl_la_all_finite(m->x0, LDX, 1u, nx) || !aenl_la_all_finite(&m->P0[0][0], LDX, nx, nx) ||
-        !aenl_la_is_symmetric(&m->P0[0][0], LDX, nx, SYM_REL_TOL) ||
-        !psd_diag(&m->P0[0][0], LDX, nx))
+    if (!matrix_ok(&m->C[0][0], LDX, m->n_z, nx, 0u) ||
+        !matrix_ok(&m->R[0][0], LDZ, m->n_z, m->n_z, CHK_SYM) || !matrix_ok(m->x0, LDX, 1u, nx, 0u) ||
+        !matrix_ok(&m->P0[0][0], LDX, nx, nx, CHK_SYM | CHK_PSD))
     {
         return AENL_E_ARG;
     }
@@ -190,7 +194,7 @@ void aenl_skf_reset(aenl_skf_t *f)
     f->dir = 1;
     f->x_prev_s = m->x0[m->switch_state];
     const uint16_t n_est = m->imm ? f->n_modes : 1u;
-    for (uint16_t s = 0; s < n_est; ++s)
+    for (uint32_t s = 0; s < n_est; ++s)
     {
         memcpy(f->x[0][s], m->x0, sizeof(f->x[0][s]));
         memcpy(f->P[0][s], m->P0, sizeof(f->P[0][s]));
@@ -198,7 +202,7 @@ void aenl_skf_reset(aenl_skf_t *f)
     memset(f->mode_prob, 0, sizeof(f->mode_prob));
     if (m->imm)
     {
-        for (uint16_t s = 0; s < f->n_modes; ++s)
+        for (uint32_t s = 0; s < f->n_modes; ++s)
         {
             f->mode_prob[s] = AENL_R(1.0) / (aenl_real_t)f->n_modes;
         }
@@ -221,24 +225,24 @@ void aenl_skf_reset(aenl_skf_t *f)
  */
 
 /* x_p = A x + b, P_p = A P A' + Q into work.xp / work.Pp. */
-static void predict(aenl_skf_t *f, uint16_t s, const aenl_real_t *x, const aenl_real_t *P)
+static void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, const aenl_real_t *P)
 {
     const aenl_skf_model_t *m = f->model;
     aenl_skf_work_t *w = &f->work;
     const uint16_t nx = f->n_x;
     aenl_la_mv(w->xp, &m->A[s][0][0], LDX, x, nx, nx);
-    for (uint16_t i = 0; i < nx; ++i)
+    for (uint32_t i = 0; i < nx; ++i)
     {
         w->xp[i] += m->b[s][i];
     }
     aenl_la_mul(&w->T[0][0], LDX, &m->A[s][0][0], LDX, P, LDX, nx, nx, nx);
     /* (A P) A' is symmetric: the upper triangle, mirrored, with Q's symmetric part */
-    for (uint16_t i = 0; i < nx; ++i)
+    for (uint32_t i = 0; i < nx; ++i)
     {
-        for (uint16_t j = i; j < nx; ++j)
+        for (uint32_t j = i; j < nx; ++j)
         {
             aenl_real_t acc = AENL_R(0.0);
-            for (uint16_t k = 0; k < nx; ++k)
+            for (uint32_t k = 0; k < nx; ++k)
             {
                 acc += w->T[i][k] * m->A[s][j][k];
             }
@@ -268,22 +272,24 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, ae
         memcpy(P_out, w->Pp, sizeof(w->Pp));
         return AENL_OK;
     }
-    for (uint16_t r = 0; r < nu; ++r)
+    for (uint32_t r = 0; r < nu; ++r)
     {
         memcpy(w->Cu[r], m->C[w->idx[r]], sizeof(w->Cu[r]));
     }
     aenl_la_mv(w->e, &w->Cu[0][0], LDX, w->xp, nu, nx);
-    for (uint16_t r = 0; r < nu; ++r)
+    for (uint32_t r = 0; r < nu; ++r)
     {
         w->e[r] = z[w->idx[r]] - w->e[r];
     }
     aenl_la_mul(&w->CP[0][0], LDX, &w->Cu[0][0], LDX, &w->Pp[0][0], LDX, nu, nx, nx);
     aenl_la_mul_nt(&w->S[0][0], LDZ, &w->CP[0][0], LDX, &w->Cu[0][0], LDX, nu, nx, nu);
-    for (uint16_t r = 0; r < nu; ++r)
+    aenl_real_t ru[AENL_SKF_MAX_Z][AENL_SKF_MAX_Z]; /* R of the used components */
+    for (uint32_t r = 0; r < nu; ++r)
     {
-        for (uint16_t c = 0; c < nu; ++c)
+        for (uint32_t c = 0; c < nu; ++c)
         {
-            w->S[r][c] += m->R[w->idx[r]][w->idx[c]];
+            ru[r][c] = m->R[w->idx[r]][w->idx[c]];
+            w->S[r][c] += ru[r][c];
         }
     }
     aenl_la_symmetrise(&w->S[0][0], LDZ, nu);
@@ -296,36 +302,36 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, ae
     memcpy(u, w->e, sizeof(u));
     aenl_la_solve_lower(&w->S[0][0], LDZ, nu, u, 1u, 1u);
     aenl_real_t q = AENL_R(0.0), logdet = AENL_R(0.0);
-    for (uint16_t r = 0; r < nu; ++r)
+    for (uint32_t r = 0; r < nu; ++r)
     {
         q += u[r] * u[r];
         logdet += aenl_log(w->S[r][r]);
     }
     aenl_la_solve_lower_t(&w->S[0][0], LDZ, nu, u, 1u, 1u);
     /* K' = S^-1 C P_p (in CP); x = x_p + P_p C' S^-1 e = x_p + (C P_p)' u. */
-    for (uint16_t i = 0; i < nx; ++i)
+    for (uint32_t i = 0; i < nx; ++i)
     {
         aenl_real_t s = w->xp[i];
-        for (uint16_t r = 0; r < nu; ++r)
+        for (uint32_t r = 0; r < nu; ++r)
         {
             s += w->CP[r][i] * u[r];
         }
         x_out[i] = s;
     }
     /* C P_p into the first rows of T (T is free), then K' = S^-1 C P_p in CP. */
-    for (uint16_t r = 0; r < nu; ++r)
+    for (uint32_t r = 0; r < nu; ++r)
     {
         memcpy(w->T[r], w->CP[r], sizeof(w->T[r]));
     }
     aenl_la_chol_solve(&w->S[0][0], LDZ, nu, &w->CP[0][0], LDX, nx);
     /* Joseph form (I - K C) P_p (I - K C)' + K R K', with I - K C applied as a rank-nu
      * correction instead of an nx x nx product: first P_out = (I - K C) P_p = P_p - K (C P_p). */
-    for (uint16_t i = 0; i < nx; ++i)
+    for (uint32_t i = 0; i < nx; ++i)
     {
-        for (uint16_t j = 0; j < nx; ++j)
+        for (uint32_t j = 0; j < nx; ++j)
         {
             aenl_real_t acc = w->Pp[i][j];
-            for (uint16_t r = 0; r < nu; ++r)
+            for (uint32_t r = 0; r < nu; ++r)
             {
                 acc -= w->CP[r][i] * w->T[r][j];
             }
@@ -333,38 +339,16 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, ae
         }
     }
     /* V = P_out C' (nx x nu) into T's first columns: P_out (I - K C)' = P_out - V K'. */
-    for (uint16_t i = 0; i < nx; ++i)
-    {
-        for (uint16_t r = 0; r < nu; ++r)
-        {
-            aenl_real_t acc = AENL_R(0.0);
-            for (uint16_t j = 0; j < nx; ++j)
-            {
-                acc += P_out[(size_t)i * LDX + j] * w->Cu[r][j];
-            }
-            w->T[i][r] = acc;
-        }
-    }
+    aenl_la_mul_nt(&w->T[0][0], LDX, P_out, LDX, &w->Cu[0][0], LDX, nx, nx, nu);
     /* R_u K' into Cu (C rows no longer needed) */
-    for (uint16_t r = 0; r < nu; ++r)
-    {
-        for (uint16_t j = 0; j < nx; ++j)
-        {
-            aenl_real_t acc = AENL_R(0.0);
-            for (uint16_t c = 0; c < nu; ++c)
-            {
-                acc += m->R[w->idx[r]][w->idx[c]] * w->CP[c][j];
-            }
-            w->Cu[r][j] = acc;
-        }
-    }
+    aenl_la_mul(&w->Cu[0][0], LDX, &ru[0][0], LDZ, &w->CP[0][0], LDX, nu, nu, nx);
     /* P_out - V K' + K (R_u K') */
-    for (uint16_t i = 0; i < nx; ++i)
+    for (uint32_t i = 0; i < nx; ++i)
     {
-        for (uint16_t j = 0; j < nx; ++j)
+        for (uint32_t j = 0; j < nx; ++j)
         {
             aenl_real_t acc = P_out[(size_t)i * LDX + j];
-            for (uint16_t r = 0; r < nu; ++r)
+            for (uint32_t r = 0; r < nu; ++r)
             {
                 acc += w->CP[r][i] * w->Cu[r][j] - w->T[i][r] * w->CP[r][j];
             }
@@ -444,43 +428,55 @@ static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint16_
 /* ---- IMM --------------------------------------------------------------------------------------
  */
 
+/* Moment-matched mixture of the estimates of half h with weights w[j]: x_out = sum w_j x_j and,
+ * when P_out (rows ldp apart) is not NULL, P_out = sum w_j (P_j + (x_j - x_out)(x_j - x_out)')
+ * over the modes with w_j > 0 (0 times an overflowing spread would be NaN). */
+static void mixture(const aenl_skf_t *f, uint32_t h, const aenl_real_t *w, aenl_real_t *x_out,
+                    aenl_real_t *P_out, size_t ldp)
+{
+    const uint32_t nx = f->n_x, nm = f->n_modes;
+    for (uint32_t r = 0; r < nx; ++r)
+    {
+        aenl_real_t s = AENL_R(0.0);
+        for (uint32_t j = 0; j < nm; ++j)
+        {
+            s += w[j] * f->x[h][j][r];
+        }
+        x_out[r] = s;
+    }
+    for (uint32_t r = 0; P_out != NULL && r < nx; ++r)
+    {
+        for (uint32_t c = 0; c < nx; ++c)
+        {
+            aenl_real_t s = AENL_R(0.0);
+            for (uint32_t j = 0; j < nm; ++j)
+            {
+                const aenl_real_t *xj = f->x[h][j];
+                if (w[j] > AENL_R(0.0))
+                {
+                    s += w[j] * (f->P[h][j][r][c] + (xj[r] - x_out[r]) * (xj[c] - x_out[c]));
+                }
+            }
+            P_out[r * ldp + c] = s;
+        }
+    }
+}
+
 /* Mixed initial condition of mode j into x[nxt][j], P[nxt][j] (cbar_j in work.cbar). */
-static void imm_mix(aenl_skf_t *f, uint16_t j)
+static void imm_mix(aenl_skf_t *f, uint32_t j)
 {
     const aenl_skf_model_t *m = f->model;
-    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur), nx = f->n_x;
-    aenl_real_t *x0 = f->x[nxt][j];
-    aenl_real_t(*P0)[AENL_SKF_MAX_X] = f->P[nxt][j];
+    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur);
     const aenl_real_t cj = f->work.cbar[j];
-    memset(x0, 0, sizeof(f->x[nxt][j]));
-    memset(P0, 0, sizeof(f->P[nxt][j]));
-    for (uint16_t i = 0; i < f->n_modes; ++i)
+    aenl_real_t wi[AENL_SKF_MAX_MODES]; /* mixing weights of the modes i into j */
+    for (uint32_t i = 0; i < f->n_modes; ++i)
     {
-        const aenl_real_t wij = (cj > AENL_R(0.0)) ? m->trans[i][j] * f->mode_prob[i] / cj
-                                                   : ((i == j) ? AENL_R(1.0) : AENL_R(0.0));
-        for (uint16_t r = 0; r < nx; ++r)
-        {
-            x0[r] += wij * f->x[cur][i][r];
-        }
+        wi[i] = (cj > AENL_R(0.0)) ? m->trans[i][j] * f->mode_prob[i] / cj
+                                   : ((i == j) ? AENL_R(1.0) : AENL_R(0.0));
     }
-    for (uint16_t i = 0; i < f->n_modes; ++i)
-    {
-        const aenl_real_t wij = (cj > AENL_R(0.0)) ? m->trans[i][j] * f->mode_prob[i] / cj
-                                                   : ((i == j) ? AENL_R(1.0) : AENL_R(0.0));
-        if (!(wij > AENL_R(0.0)))
-        {
-            continue;
-        }
-        const aenl_real_t *xi = f->x[cur][i];
-        for (uint16_t r = 0; r < nx; ++r)
-        {
-            const aenl_real_t dr = xi[r] - x0[r];
-            for (uint16_t c = 0; c < nx; ++c)
-            {
-                P0[r][c] += wij * (f->P[cur][i][r][c] + dr * (xi[c] - x0[c]));
-            }
-        }
-    }
+    memset(f->x[nxt][j], 0, sizeof(f->x[nxt][j]));
+    memset(f->P[nxt][j], 0, sizeof(f->P[nxt][j]));
+    mixture(f, cur, wi, f->x[nxt][j], &f->P[nxt][j][0][0], LDX);
 }
 
 /* The moment-matched mixture of the estimates in half h with probabilities prob stays finite:
@@ -489,14 +485,14 @@ static void imm_mix(aenl_skf_t *f, uint16_t j)
 static int imm_mixture_finite(const aenl_skf_t *f, uint16_t h, const aenl_real_t *prob)
 {
     const uint16_t nx = f->n_x, nm = f->n_modes;
-    for (uint16_t r = 0; r < nx; ++r)
+    for (uint32_t r = 0; r < nx; ++r)
     {
         aenl_real_t xbar = AENL_R(0.0);
-        for (uint16_t j = 0; j < nm; ++j)
+        for (uint32_t j = 0; j < nm; ++j)
         {
             xbar += prob[j] * f->x[h][j][r];
         }
-        for (uint16_t j = 0; j < nm; ++j)
+        for (uint32_t j = 0; j < nm; ++j)
         {
             const aenl_real_t d = f->x[h][j][r] - xbar;
             if (prob[j] > AENL_R(0.0) && !aenl_is_finite(d * d + f->P[h][j][r][r]))
@@ -513,17 +509,17 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     const aenl_skf_model_t *m = f->model;
     const uint16_t nxt = (uint16_t)(1u - f->cur), nm = f->n_modes;
     aenl_skf_work_t *w = &f->work;
-    for (uint16_t j = 0; j < nm; ++j)
+    for (uint32_t j = 0; j < nm; ++j)
     {
         aenl_real_t c = AENL_R(0.0);
-        for (uint16_t i = 0; i < nm; ++i)
+        for (uint32_t i = 0; i < nm; ++i)
         {
             c += m->trans[i][j] * f->mode_prob[i];
         }
         w->cbar[j] = c;
     }
     aenl_real_t nis_j[AENL_SKF_MAX_MODES] = {AENL_R(0.0)};
-    for (uint16_t j = 0; j < nm; ++j)
+    for (uint32_t j = 0; j < nm; ++j)
     {
         imm_mix(f, j);
         predict(f, j, f->x[nxt][j], &f->P[nxt][j][0][0]);
@@ -540,13 +536,13 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     }
     /* mode probabilities: mu_j proportional to cbar_j e^lik_j, by log-sum-exp */
     aenl_real_t lmax = -AENL_REAL_MAX;
-    for (uint16_t j = 0; j < nm; ++j)
+    for (uint32_t j = 0; j < nm; ++j)
     {
         w->lik[j] = (w->cbar[j] > AENL_R(0.0)) ? w->lik[j] + aenl_log(w->cbar[j]) : -AENL_REAL_MAX;
         lmax = (w->lik[j] > lmax) ? w->lik[j] : lmax;
     }
     aenl_real_t sum = AENL_R(0.0);
-    for (uint16_t j = 0; j < nm; ++j)
+    for (uint32_t j = 0; j < nm; ++j)
     {
         w->cbar[j] = (w->lik[j] > -AENL_REAL_MAX) ? aenl_exp(w->lik[j] - lmax) : AENL_R(0.0);
         sum += w->cbar[j];
@@ -556,10 +552,10 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
         return AENL_E_NUMERIC;
     }
     uint16_t best = 0u;
-    for (uint16_t j = 0; j < nm; ++j)
+    for (uint32_t j = 0; j < nm; ++j)
     {
         w->cbar[j] /= sum;
-        best = (w->cbar[j] > w->cbar[best]) ? j : best;
+        best = (w->cbar[j] > w->cbar[best]) ? (uint16_t)j : best;
     }
     if (!aenl_is_finite(nis_j[best]) || !imm_mixture_finite(f, nxt, w->cbar))
     {
@@ -595,7 +591,7 @@ aenl_status_t aenl_skf_step(aenl_skf_t *f, const aenl_real_t *z, aenl_skf_out_t 
         return AENL_E_ARG;
     }
     uint16_t nu = 0u;
-    for (uint16_t r = 0; r < f->n_z; ++r)
+    for (uint32_t r = 0; r < f->n_z; ++r)
     {
         if (isinf(z[r]))
         {
@@ -604,7 +600,7 @@ aenl_status_t aenl_skf_step(aenl_skf_t *f, const aenl_real_t *z, aenl_skf_out_t 
         }
         if (!isnan(z[r]))
         {
-            f->work.idx[nu++] = r;
+            f->work.idx[nu++] = (uint16_t)r;
         }
     }
     const aenl_status_t st =
@@ -648,43 +644,14 @@ aenl_status_t aenl_skf_estimate(const aenl_skf_t *f, aenl_real_t *x_out, aenl_re
         memcpy(x_out, f->x[cur][0], (size_t)nx * sizeof(aenl_real_t));
         if (P_out != NULL)
         {
-            for (uint16_t i = 0; i < nx; ++i)
+            for (uint32_t i = 0; i < nx; ++i)
             {
                 memcpy(&P_out[(size_t)i * nx], f->P[cur][0][i], (size_t)nx * sizeof(aenl_real_t));
             }
         }
         return AENL_OK;
     }
-    for (uint16_t r = 0; r < nx; ++r)
-    {
-        aenl_real_t s = AENL_R(0.0);
-        for (uint16_t j = 0; j < f->n_modes; ++j)
-        {
-            s += f->mode_prob[j] * f->x[cur][j][r];
-        }
-        x_out[r] = s;
-    }
-    if (P_out != NULL)
-    {
-        for (uint16_t r = 0; r < nx; ++r)
-        {
-            for (uint16_t c = 0; c < nx; ++c)
-            {
-                aenl_real_t s = AENL_R(0.0);
-                for (uint16_t j = 0; j < f->n_modes; ++j)
-                {
-                    const aenl_real_t *xj = f->x[cur][j];
-                    if (!(f->mode_prob[j] > AENL_R(0.0)))
-                    {
-                        continue; /* 0 * an overflowing spread would be NaN */
-                    }
-                    s += f->mode_prob[j] *
-                         (f->P[cur][j][r][c] + (xj[r] - x_out[r]) * (xj[c] - x_out[c]));
-                }
-                P_out[(size_t)r * nx + c] = s;
-            }
-        }
-    }
+    mixture(f, cur, f->mode_prob, x_out, P_out, nx);
     return AENL_OK;
 }
 
