@@ -114,10 +114,10 @@ aenl_status_t aenl_classifier_init(aenl_classifier_t *c, const aenl_classifier_c
 /** Insertion sort by u (at most AENL_CLASSIFIER_MAX_NODES points, nearly sorted already). */
 static void sort_points(aenl_cls_point_t *pt, uint16_t n)
 {
-    for (uint16_t i = 1; i < n; ++i)
+    for (uint32_t i = 1; i < n; ++i)
     {
         const aenl_cls_point_t key = pt[i];
-        uint16_t j = i;
+        uint32_t j = i;
         while (j > 0u && pt[j - 1u].p > key.p)
         {
             pt[j] = pt[j - 1u];
@@ -179,7 +179,7 @@ static uint16_t spec_nb(const cls_spec_t *sp)
 }
 
 /** Kinks of set d: b + shift/2 on set 0 (rising), b - shift/2 on set 1 (falling). */
-static void set_kinks(const cls_spec_t *sp, uint16_t d, aenl_real_t *bb)
+static void set_kinks(const cls_spec_t *sp, uint32_t d, aenl_real_t *bb)
 {
     const aenl_real_t off = (d == 0u) ? AENL_R(0.5) * sp->shift : AENL_R(-0.5) * sp->shift;
     bb[0] = sp->b[0] + off;
@@ -187,7 +187,7 @@ static void set_kinks(const cls_spec_t *sp, uint16_t d, aenl_real_t *bb)
 }
 
 /** Basis functions of the law at one point of set d, in coefficient order; returns their count. */
-static uint16_t basis(const cls_spec_t *sp, uint16_t d, const aenl_cls_point_t *q,
+static uint16_t basis(const cls_spec_t *sp, uint32_t d, const aenl_cls_point_t *q,
                       const aenl_real_t *bb, aenl_real_t *phi)
 {
     uint16_t k = 0u;
@@ -208,7 +208,7 @@ static uint16_t basis(const cls_spec_t *sp, uint16_t d, const aenl_cls_point_t *
         {
             phi[k++] = (d == 0u) ? AENL_R(1.0) : AENL_R(0.0);
         }
-        for (uint16_t j = 0; j < sp->n_k; ++j)
+        for (uint32_t j = 0; j < sp->n_k; ++j)
         {
             phi[k++] = (q->p > bb[j]) ? q->p - bb[j] : AENL_R(0.0);
         }
@@ -217,10 +217,32 @@ static uint16_t basis(const cls_spec_t *sp, uint16_t d, const aenl_cls_point_t *
 }
 
 /**
+ * Add column col of a kinked law's normal equations (upper triangle): e holds its products with
+ * 1, u, v, itself and a; the rising offset's product equals the one with 1. Rows iv (velocity)
+ * and idr (rising offset) are added when they lie above col (NB_MAX: absent).
+ */
+static void add_column(aenl_real_t g[NB_MAX][NB_MAX], aenl_real_t *r, uint32_t col,
+                       const aenl_real_t *e, uint32_t iv, uint32_t idr)
+{
+    g[0][col] += e[0];
+    g[1][col] += e[1];
+    if (iv < col)
+    {
+        g[iv][col] += e[2];
+    }
+    if (idr < col)
+    {
+        g[idr][col] += e[0];
+    }
+    g[col][col] += e[3];
+    r[col] += e[4];
+}
+
+/**
  * Add the normal equations of set d (upper triangle of g, right-hand side r, sum of w a^2).
  * Kinked laws read the suffix table: O(n_k log n); cubic laws sum over the points: O(n).
  */
-static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_t *sp, uint16_t d,
+static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_t *sp, uint32_t d,
                        aenl_real_t g[NB_MAX][NB_MAX], aenl_real_t *r, aenl_real_t *waa)
 {
     aenl_real_t bb[2];
@@ -228,14 +250,14 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
     *waa += t->waa;
     if (sp->cubic)
     {
-        for (uint16_t i = 0; i < s->n; ++i)
+        for (uint32_t i = 0; i < s->n; ++i)
         {
             const aenl_cls_point_t *q = &s->pt[i];
             aenl_real_t phi[NB_MAX];
             const uint16_t nb = basis(sp, d, q, bb, phi);
-            for (uint16_t a = 0; a < nb; ++a)
+            for (uint32_t a = 0; a < nb; ++a)
             {
-                for (uint16_t b = a; b < nb; ++b)
+                for (uint32_t b = a; b < nb; ++b)
                 {
                     g[a][b] += q->w * phi[a] * phi[b];
                 }
@@ -245,9 +267,10 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
         return;
     }
     const cls_sums_t *tot = &t->row[0];
-    const uint16_t iv = 2u, idr = (uint16_t)(2u + sp->use_v);
-    const uint16_t h0 = (uint16_t)(2u + sp->use_v + sp->dir_term);
-    const int own = sp->dir_term && d == 0u;
+    /* rows of the velocity and of the rising offset (NB_MAX: not in this law or set) */
+    const uint32_t iv = sp->use_v ? 2u : NB_MAX, idr = 2u + sp->use_v;
+    const uint32_t h0 = 2u + sp->use_v + sp->dir_term;
+    const uint32_t own = (sp->dir_term && d == 0u) ? idr : NB_MAX;
     g[0][0] += tot->s0;
     g[0][1] += tot->s1;
     g[1][1] += tot->s2;
@@ -255,41 +278,25 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
     r[1] += tot->t1;
     if (sp->use_v)
     {
-        g[0][iv] += tot->v0;
-        g[1][iv] += tot->v1;
-        g[iv][iv] += t->wvv;
-        r[iv] += t->wva;
+        const aenl_real_t e[5] = {tot->v0, tot->v1, AENL_R(0.0), t->wvv, t->wva};
+        add_column(g, r, iv, e, iv, NB_MAX);
     }
-    if (own)
+    if (own < NB_MAX)
     {
-        g[0][idr] += tot->s0;
-        g[1][idr] += tot->s1;
-        if (sp->use_v)
-        {
-            g[iv][idr] += tot->v0;
-        }
-        g[idr][idr] += tot->s0;
-        r[idr] += tot->t0;
+        const aenl_real_t e[5] = {tot->s0, tot->s1, tot->v0, tot->s0, tot->t0};
+        add_column(g, r, own, e, iv, NB_MAX);
     }
-    for (uint16_t j = 0; j < sp->n_k; ++j)
+    for (uint32_t j = 0; j < sp->n_k; ++j)
     {
         const cls_sums_t *q = &t->row[first_above(s, bb[j])];
         const aenl_real_t bj = bb[j];
-        const uint16_t hj = (uint16_t)(h0 + j);
-        const aenl_real_t sh = q->s1 - bj * q->s0; /* sum w (u - b)+ */
-        g[0][hj] += sh;
-        g[1][hj] += q->s2 - bj * q->s1;
-        if (sp->use_v)
-        {
-            g[iv][hj] += q->v1 - bj * q->v0;
-        }
-        if (own)
-        {
-            g[idr][hj] += sh;
-        }
-        g[hj][hj] += q->s2 - AENL_R(2.0) * bj * q->s1 + bj * bj * q->s0;
-        r[hj] += q->t1 - bj * q->t0;
-        for (uint16_t i = 0; i < j; ++i) /* bb[i] < bb[j]: the product lives above bb[j] */
+        const uint32_t hj = h0 + j;
+        const aenl_real_t e[5] = {q->s1 - bj * q->s0, /* sum w (u - b)+ */
+                                  q->s2 - bj * q->s1, q->v1 - bj * q->v0,
+                                  q->s2 - AENL_R(2.0) * bj * q->s1 + bj * bj * q->s0,
+                                  q->t1 - bj * q->t0};
+        add_column(g, r, hj, e, iv, own);
+        for (uint32_t i = 0; i < j; ++i) /* bb[i] < bb[j]: the product lives above bb[j] */
         {
             g[h0 + i][hj] += q->s2 - (bb[i] + bj) * q->s1 + bb[i] * bj * q->s0;
         }
@@ -309,13 +316,13 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
     memset(g, 0, sizeof(g));
     memset(r, 0, sizeof(r));
     const uint16_t nb = spec_nb(sp);
-    for (uint16_t d = 0; d < n_sets; ++d)
+    for (uint32_t d = 0; d < n_sets; ++d)
     {
         accumulate(&s[d], &t[d], sp, d, g, r, &waa);
     }
-    for (uint16_t a = 0; a < nb; ++a)
+    for (uint32_t a = 0; a < nb; ++a)
     {
-        for (uint16_t b = 0; b < a; ++b)
+        for (uint32_t b = 0; b < a; ++b)
         {
             g[a][b] = g[b][a];
         }
@@ -327,7 +334,7 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
     }
     aenl_la_chol_solve(&g[0][0], NB_MAX, nb, c, 1u, 1u);
     aenl_real_t explained = AENL_R(0.0);
-    for (uint16_t a = 0; a < nb; ++a)
+    for (uint32_t a = 0; a < nb; ++a)
     {
         explained += c[a] * r[a];
     }
@@ -341,16 +348,16 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
     if (res != NULL)
     {
         uint16_t k = 0u;
-        for (uint16_t d = 0; d < n_sets; ++d)
+        for (uint32_t d = 0; d < n_sets; ++d)
         {
             aenl_real_t bb[2];
             set_kinks(sp, d, bb);
-            for (uint16_t i = 0; i < s[d].n; ++i)
+            for (uint32_t i = 0; i < s[d].n; ++i)
             {
                 aenl_real_t phi[NB_MAX], f = AENL_R(0.0);
                 const aenl_cls_point_t *q = &s[d].pt[i];
                 const uint16_t m = basis(sp, d, q, bb, phi);
-                for (uint16_t a = 0; a < m; ++a)
+                for (uint32_t a = 0; a < m; ++a)
                 {
                     f += c[a] * phi[a];
                 }
@@ -362,6 +369,15 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
 }
 
 /* ---- kink search ------------------------------------------------------------------------- */
+
+/** RSS of sp with kink j moved to b, or -1 when the kinks are then out of order or the fit fails. */
+static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+                            cls_spec_t *sp, uint32_t j, aenl_real_t b)
+{
+    sp->b[j] = b;
+    return (sp->n_k == 2u && !(sp->b[0] < sp->b[1])) ? AENL_R(-1.0)
+                                                     : fit(s, t, n_sets, sp, NULL, NULL);
+}
 
 /**
  * Refine kink j of the best fit by a parabola through the RSS at the candidate and its two
@@ -381,11 +397,9 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_set
     const aenl_real_t x0 = cand[ci - 1u], x1 = cand[ci], x2 = cand[ci + 1u];
     aenl_real_t rr[2];
     const aenl_real_t xs[2] = {x0, x2};
-    for (uint16_t e = 0; e < 2u; ++e)
+    for (uint32_t e = 0; e < 2u; ++e)
     {
-        sp.b[j] = xs[e];
-        rr[e] = (sp.n_k == 2u && !(sp.b[0] < sp.b[1])) ? AENL_R(-1.0)
-                                                       : fit(s, t, n_sets, &sp, NULL, NULL);
+        rr[e] = fit_kink(s, t, n_sets, &sp, j, xs[e]);
         if (rr[e] < AENL_R(0.0))
         {
             return;
@@ -402,12 +416,7 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_set
     /* vertex of rr0 + d01 (x - x0) + c2 (x - x0)(x - x1) */
     aenl_real_t v = AENL_R(0.5) * (x0 + x1) - d01 / (AENL_R(2.0) * c2);
     v = (v < x0) ? x0 : ((v > x2) ? x2 : v);
-    sp.b[j] = v;
-    if (sp.n_k == 2u && !(sp.b[0] < sp.b[1]))
-    {
-        return;
-    }
-    const aenl_real_t rv = fit(s, t, n_sets, &sp, NULL, NULL);
+    const aenl_real_t rv = fit_kink(s, t, n_sets, &sp, j, v);
     if (rv >= AENL_R(0.0) && rv <= k->rss)
     {
         k->rss = rv;
@@ -434,15 +443,15 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
                      uint16_t *bj)
 {
     cls_spec_t sp = *base;
-    for (uint16_t js = bx->js_lo; js <= bx->js_hi; js = (uint16_t)(js + bx->shift_step))
+    for (uint32_t js = bx->js_lo; js <= bx->js_hi; js = (uint16_t)(js + bx->shift_step))
     {
         sp.shift = (aenl_real_t)js * du;
-        for (uint16_t i = bx->i_lo; i <= bx->i_hi && i + 2u < n_cand; i = (uint16_t)(i + bx->step))
+        for (uint32_t i = bx->i_lo; i <= bx->i_hi && i + 2u < n_cand; i = (uint16_t)(i + bx->step))
         {
             sp.b[0] = cand[i];
-            const uint16_t j_lo = (sp.n_k == 2u) ? bx->j_lo : i;
-            const uint16_t j_hi = (sp.n_k == 2u) ? bx->j_hi : i;
-            for (uint16_t j = j_lo; j <= j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? bx->step : 1u)))
+            const uint32_t j_lo = (sp.n_k == 2u) ? bx->j_lo : i;
+            const uint32_t j_hi = (sp.n_k == 2u) ? bx->j_hi : i;
+            for (uint32_t j = j_lo; j <= j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? bx->step : 1u)))
             {
                 if (sp.n_k == 2u && (j < i + 2u || j + 2u >= n_cand))
                 {
@@ -456,8 +465,8 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
                     k->b[0] = sp.b[0];
                     k->b[1] = sp.b[1];
                     k->shift = sp.shift;
-                    *bi = i;
-                    *bj = j;
+                    *bi = (uint16_t)i;
+                    *bj = (uint16_t)j;
                     k->ok = 1;
                 }
             }
@@ -521,7 +530,7 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
 /** Median of the squares of res[0..n) (reorders res). Quickselect, O(n) expected. */
 static aenl_real_t median_sq(aenl_real_t *res, uint16_t n)
 {
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
         res[i] *= res[i];
     }
@@ -589,7 +598,7 @@ static aenl_real_t noise_scale(aenl_real_t *res, uint16_t n, aenl_real_t wmax)
 static aenl_real_t huber_sum(const aenl_real_t *res, uint16_t n, aenl_real_t inv_sigma)
 {
     aenl_real_t sum = AENL_R(0.0);
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
         const aenl_real_t z = aenl_fabs(res[i] * inv_sigma);
         sum += (z <= HUBER_C) ? z * z : AENL_R(2.0) * HUBER_C * z - HUBER_C * HUBER_C;
@@ -611,7 +620,7 @@ static aenl_real_t criterion(const cls_set_t *s, const cls_table_t *t, uint16_t 
         return AENL_REAL_MAX;
     }
     uint16_t n = 0u;
-    for (uint16_t d = 0; d < n_sets; ++d)
+    for (uint32_t d = 0; d < n_sets; ++d)
     {
         n = (uint16_t)(n + s[d].n);
     }
@@ -642,19 +651,19 @@ static uint16_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t
                        const uint8_t *interior, aenl_cls_point_t *pt)
 {
     uint16_t n = 0u;
-    for (uint16_t k = 0; k < m->cfg.n_grid; ++k)
+    for (uint32_t k = 0; k < m->cfg.n_grid; ++k)
     {
         if (!interior[k])
         {
             continue;
         }
         aenl_moments_point_t q;
-        if (aenl_moments_query(m, 0u, k, dir, &q) != AENL_OK || q.n_eff < c->cfg.min_n_eff)
+        if (aenl_moments_query(m, 0u, (uint16_t)k, dir, &q) != AENL_OK || q.n_eff < c->cfg.min_n_eff)
         {
             continue;
         }
         aenl_moments_taylor_t tx;
-        if (aenl_moments_taylor_ex(m, k, dir, c->cfg.taylor_order,
+        if (aenl_moments_taylor_ex(m, (uint16_t)k, dir, c->cfg.taylor_order,
                                    c->cfg.use_noise_acf ? c->cfg.noise_acf : NULL,
                                    &tx) != AENL_OK ||
             !(tx.se_accel > AENL_R(0.0)) || !aenl_is_finite(tx.se_accel))
@@ -676,11 +685,11 @@ static uint16_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t
 static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint16_t n)
 {
     aenl_real_t wmax = AENL_R(0.0);
-    for (uint16_t k = 0; k < n; ++k)
+    for (uint32_t k = 0; k < n; ++k)
     {
         wmax = (pt[k].w > wmax) ? pt[k].w : wmax;
     }
-    for (uint16_t k = 0; k < n; ++k)
+    for (uint32_t k = 0; k < n; ++k)
     {
         pt[k].w /= wmax;
     }
@@ -691,7 +700,7 @@ static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint16_t n)
 static uint16_t candidates(const aenl_cls_point_t *pt, uint16_t n, aenl_real_t *cand)
 {
     uint16_t nc = 0u;
-    for (uint16_t k = 0; k < n; ++k)
+    for (uint32_t k = 0; k < n; ++k)
     {
         if (nc == 0u || pt[k].p > cand[nc - 1u])
         {
@@ -707,15 +716,15 @@ static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_
 {
     aenl_real_t v[AENL_CLASSIFIER_MAX_SWITCH], e[AENL_CLASSIFIER_MAX_SWITCH];
     uint16_t m = 0u;
-    for (uint16_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
+    for (uint32_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
     {
         v[m] = b[i];
         e[m] = se[i];
         ++m;
     }
-    for (uint16_t i = 1; i < m; ++i) /* sort by value */
+    for (uint32_t i = 1; i < m; ++i) /* sort by value */
     {
-        uint16_t j = i;
+        uint32_t j = i;
         while (j > 0u && v[j - 1u] > v[j])
         {
             const aenl_real_t tv = v[j], te = e[j];
@@ -727,7 +736,7 @@ static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_
         }
     }
     uint8_t k = 0u;
-    for (uint16_t i = 0; i < m; ++i)
+    for (uint32_t i = 0; i < m; ++i)
     {
         if (k > 0u)
         {
@@ -754,7 +763,7 @@ static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_
 static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint16_t n)
 {
     aenl_real_t s = AENL_R(0.0);
-    for (uint16_t k = 0; k < n; ++k)
+    for (uint32_t k = 0; k < n; ++k)
     {
         s += pt[k].a * pt[k].a;
     }
@@ -764,7 +773,7 @@ static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint16_t n)
 /** Divide a and v by the acceleration scale, multiply w by its square. */
 static void rescale(aenl_cls_point_t *pt, uint16_t n, aenl_real_t inv_ascale)
 {
-    for (uint16_t k = 0; k < n; ++k)
+    for (uint32_t k = 0; k < n; ++k)
     {
         pt[k].a *= inv_ascale;
         pt[k].v *= inv_ascale;
@@ -776,16 +785,16 @@ static void rescale(aenl_cls_point_t *pt, uint16_t n, aenl_real_t inv_ascale)
 static void posterior(const aenl_real_t *b, uint16_t n, aenl_real_t *p)
 {
     aenl_real_t bmin = b[0], sum = AENL_R(0.0);
-    for (uint16_t i = 1; i < n; ++i)
+    for (uint32_t i = 1; i < n; ++i)
     {
         bmin = (b[i] < bmin) ? b[i] : bmin;
     }
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
         p[i] = aenl_exp(AENL_R(-0.5) * (b[i] - bmin));
         sum += p[i];
     }
-    for (uint16_t i = 0; i < n; ++i)
+    for (uint32_t i = 0; i < n; ++i)
     {
         p[i] /= sum;
     }
@@ -803,18 +812,18 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
 {
     const uint16_t ng = m->cfg.n_grid;
     aenl_real_t total = AENL_R(0.0);
-    for (uint16_t k = 0; k < ng; ++k)
+    for (uint32_t k = 0; k < ng; ++k)
     {
         aenl_moments_point_t q;
         const aenl_real_t w =
-            (aenl_moments_query(m, 0u, k, AENL_DIR_ALL, &q) == AENL_OK) ? q.weight : AENL_R(0.0);
+            (aenl_moments_query(m, 0u, (uint16_t)k, AENL_DIR_ALL, &q) == AENL_OK) ? q.weight : AENL_R(0.0);
         c->cand[k] = w; /* borrowed as scratch until the kink search */
         total += w;
         aenl_moments_taylor_t tx;
         c->pt[0][k].p = AENL_R(0.0); /* scratch: the position, valid flag in w */
         c->pt[0][k].w = AENL_R(0.0);
         if (w > AENL_R(0.0) &&
-            aenl_moments_taylor_ex(m, k, AENL_DIR_ALL, c->cfg.taylor_order,
+            aenl_moments_taylor_ex(m, (uint16_t)k, AENL_DIR_ALL, c->cfg.taylor_order,
                                    c->cfg.use_noise_acf ? c->cfg.noise_acf : NULL, &tx) == AENL_OK)
         {
             c->pt[0][k].p = tx.position;
@@ -822,7 +831,7 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
         }
     }
     aenl_real_t cum = AENL_R(0.0);
-    for (uint16_t k = 0; k < ng; ++k)
+    for (uint32_t k = 0; k < ng; ++k)
     {
         const aenl_real_t w = c->cand[k];
         const aenl_real_t mid = cum + AENL_R(0.5) * w;
@@ -831,8 +840,8 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
                  mid <= (AENL_R(1.0) - c->cfg.trim) * total;
         if (in)
         {
-            const uint16_t kl = (k > 0u) ? (uint16_t)(k - 1u) : k;
-            const uint16_t kr = (k + 1u < ng) ? (uint16_t)(k + 1u) : k;
+            const uint32_t kl = (k > 0u) ? k - 1u : k;
+            const uint32_t kr = (k + 1u < ng) ? k + 1u : k;
             in = kr > kl && c->pt[0][kl].w > AENL_R(0.0) && c->pt[0][kr].w > AENL_R(0.0) &&
                  (c->pt[0][kr].p - c->pt[0][kl].p) >= AENL_R(0.5) * (aenl_real_t)(kr - kl) * m->dx;
         }
@@ -840,14 +849,14 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
     }
     /* keep the longest run */
     uint16_t best_start = 0u, best_len = 0u;
-    for (uint16_t k = 0; k < ng;)
+    for (uint32_t k = 0; k < ng;)
     {
         if (!c->interior[k])
         {
             ++k;
             continue;
         }
-        uint16_t e = k;
+        uint32_t e = k;
         while (e < ng && c->interior[e])
         {
             ++e;
@@ -855,11 +864,11 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
         if ((uint16_t)(e - k) > best_len)
         {
             best_len = (uint16_t)(e - k);
-            best_start = k;
+            best_start = (uint16_t)k;
         }
         k = e;
     }
-    for (uint16_t k = 0; k < ng; ++k)
+    for (uint32_t k = 0; k < ng; ++k)
     {
         c->interior[k] = (uint8_t)(k >= best_start && k < best_start + best_len);
     }
@@ -926,13 +935,14 @@ static void publish(aenl_classifier_t *c, aenl_classifier_result_t *r)
 /** The laws, with (use_v) or without the velocity regressor. */
 static void laws_init(cls_laws_t *l, uint8_t use_v)
 {
-    const cls_spec_t lin = {0u, use_v, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)};
-    l->lin = l->poly = l->one = l->two = l->hy = lin;
-    l->poly.cubic = 1u;
-    l->one.n_k = 1u;
-    l->two.n_k = 2u;
-    l->hy.n_k = 2u;
-    l->hy.dir_term = 1u;
+    /* cubic, use_v, dir_term, n_k; the kinks and the shift come from the searches */
+    static const cls_laws_t k_laws = {{0u, 0u, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)},
+                                      {1u, 0u, 0u, 0u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)},
+                                      {0u, 0u, 0u, 1u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)},
+                                      {0u, 0u, 0u, 2u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)},
+                                      {0u, 0u, 1u, 2u, {AENL_R(0.0), AENL_R(0.0)}, AENL_R(0.0)}};
+    *l = k_laws;
+    l->lin.use_v = l->poly.use_v = l->one.use_v = l->two.use_v = l->hy.use_v = use_v;
 }
 
 /**
@@ -945,7 +955,7 @@ static const cls_spec_t *noise_reference(const cls_laws_t *l, aenl_real_t rss_po
 {
     const cls_spec_t *ref = &l->poly;
     aenl_real_t ref_rss = (rss_poly >= AENL_R(0.0)) ? rss_poly : AENL_REAL_MAX;
-    for (uint16_t i = 0; i < nk; ++i)
+    for (uint32_t i = 0; i < nk; ++i)
     {
         if (kk[i]->ok && kk[i]->rss < ref_rss)
         {
@@ -990,25 +1000,34 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
     return 1;
 }
 
+/**
+ * Criteria of the first n_laws laws (lin, poly, one, two, hy) on n_sets sets; AENL_REAL_MAX for
+ * a law whose fit failed or whose kink search found nothing (ok[i] zero). Parameters: the law's
+ * coefficients (the kinks at KINK_DF each), plus the rising offset of a direction split.
+ */
+static void score_laws(aenl_classifier_t *c, const cls_set_t *s, uint16_t n_sets,
+                       const cls_laws_t *l, const int *ok, uint16_t n_laws, aenl_real_t sigma,
+                       aenl_real_t frac, aenl_real_t n_ind, aenl_real_t *b)
+{
+    static const uint8_t k_params[5] = {2u, 4u, 3u + KINK_DF, 4u + 2u * KINK_DF,
+                                        5u + 3u * KINK_DF};
+    const cls_spec_t *const sp[5] = {&l->lin, &l->poly, &l->one, &l->two, &l->hy};
+    for (uint32_t i = 0; i < n_laws; ++i)
+    {
+        b[i] = ok[i] ? criterion(s, c->tab, n_sets, sp[i], sigma, frac, n_ind,
+                                 (uint16_t)(k_params[i] + n_sets - 1u), c->resid)
+                     : AENL_REAL_MAX;
+    }
+}
+
 /** Criteria and posterior weights of the all-pairs laws (rss_poly < 0: the polynomial failed). */
 static void all_pairs_scores(aenl_classifier_t *c, const cls_set_t *all, const cls_laws_t *l,
                              const cls_frame_t *fr, aenl_real_t sigma, aenl_real_t rss_poly,
                              cls_all_t *ap, aenl_classifier_result_t *r)
 {
-    aenl_real_t *scratch = c->resid;
-    const aenl_real_t frac = fr->frac, n_ind = fr->n_ind;
     aenl_real_t *b = ap->b;
-    b[AENL_CLS_MODEL_LINEAR] =
-        criterion(all, &c->tab[0], 1u, &l->lin, sigma, frac, n_ind, 2u, scratch);
-    b[AENL_CLS_MODEL_POLY] = (rss_poly >= AENL_R(0.0)) ? criterion(all, &c->tab[0], 1u, &l->poly,
-                                                                   sigma, frac, n_ind, 4u, scratch)
-                                                       : AENL_REAL_MAX;
-    b[AENL_CLS_MODEL_KINK1] = ap->k1.ok ? criterion(all, &c->tab[0], 1u, &l->one, sigma, frac,
-                                                    n_ind, 3u + KINK_DF, scratch)
-                                        : AENL_REAL_MAX;
-    b[AENL_CLS_MODEL_KINK2] = ap->k2.ok ? criterion(all, &c->tab[0], 1u, &l->two, sigma, frac,
-                                                    n_ind, 4u + 2u * KINK_DF, scratch)
-                                        : AENL_REAL_MAX;
+    const int ok[AENL_CLS_N_MODELS] = {1, rss_poly >= AENL_R(0.0), ap->k1.ok, ap->k2.ok};
+    score_laws(c, all, 1u, l, ok, AENL_CLS_N_MODELS, sigma, fr->frac, fr->n_ind, b);
     posterior(b, AENL_CLS_N_MODELS, ap->pm);
     for (unsigned i = 0; i < (unsigned)AENL_CLS_N_MODELS; ++i)
     {
@@ -1082,17 +1101,17 @@ static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, cons
         return 0;
     }
     *wmax = AENL_R(0.0);
-    for (uint16_t d = 0; d < 2u; ++d)
+    for (uint32_t d = 0; d < 2u; ++d)
     {
         sort_points(c->pt[1 + d], nd[d]);
-        for (uint16_t i = 0; i < nd[d]; ++i)
+        for (uint32_t i = 0; i < nd[d]; ++i)
         {
             *wmax = (c->pt[1 + d][i].w > *wmax) ? c->pt[1 + d][i].w : *wmax;
         }
     }
-    for (uint16_t d = 0; d < 2u; ++d)
+    for (uint32_t d = 0; d < 2u; ++d)
     {
-        for (uint16_t i = 0; i < nd[d]; ++i)
+        for (uint32_t i = 0; i < nd[d]; ++i)
         {
             c->pt[1 + d][i].w /= *wmax;
         }
@@ -1108,20 +1127,9 @@ static void direction_scores(aenl_classifier_t *c, const cls_set_t *sets, const 
                              const cls_frame_t *fr, aenl_real_t sig_d, cls_dir_t *dir,
                              aenl_classifier_result_t *r)
 {
-    aenl_real_t *scratch = c->resid;
-    const aenl_real_t frac_d = fr->frac, nd_ind = dir->nd_ind;
-    aenl_real_t *bd = dir->bd;
-    bd[D_LIN] = criterion(sets, c->tab, 2u, &l->lin, sig_d, frac_d, nd_ind, 3u, scratch);
-    bd[D_POLY] = criterion(sets, c->tab, 2u, &l->poly, sig_d, frac_d, nd_ind, 5u, scratch);
-    bd[D_FP1] = dir->t1.ok ? criterion(sets, c->tab, 2u, &l->one, sig_d, frac_d, nd_ind,
-                                       4u + KINK_DF, scratch)
-                           : AENL_REAL_MAX;
-    bd[D_FP2] = dir->t2.ok ? criterion(sets, c->tab, 2u, &l->two, sig_d, frac_d, nd_ind,
-                                       5u + 2u * KINK_DF, scratch)
-                           : AENL_REAL_MAX;
-    bd[D_HYST] = dir->hy.ok ? criterion(sets, c->tab, 2u, &l->hy, sig_d, frac_d, nd_ind,
-                                        6u + 3u * KINK_DF, scratch)
-                            : AENL_REAL_MAX;
+    const aenl_real_t frac_d = fr->frac;
+    const int ok[D_N] = {1, 1, dir->t1.ok, dir->t2.ok, dir->hy.ok};
+    score_laws(c, sets, 2u, l, ok, D_N, sig_d, frac_d, dir->nd_ind, dir->bd);
     aenl_real_t cp[NB_MAX];
     if (fit(sets, c->tab, 2u, &l->poly, cp, NULL) >= AENL_R(0.0))
     {
@@ -1129,7 +1137,7 @@ static void direction_scores(aenl_classifier_t *c, const cls_set_t *sets, const 
     }
     const aenl_real_t fb = AENL_R(2.0) / (aenl_real_t)fr->nc;
     dir->se_t1 = kink_se(dir->t1.curv[0], sig_d, frac_d, fb);
-    for (uint16_t j = 0; j < 2u; ++j)
+    for (uint32_t j = 0; j < 2u; ++j)
     {
         dir->se_t2[j] = kink_se(dir->t2.curv[j], sig_d, frac_d, fb);
         dir->se_hy[j] = kink_se(dir->hy.curv[j], sig_d, frac_d, fb);
@@ -1183,40 +1191,31 @@ static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const
 static int decide(const cls_frame_t *fr, const cls_all_t *ap, const cls_dir_t *dir,
                   aenl_classifier_result_t *r)
 {
-    aenl_real_t best_nl = AENL_REAL_MAX;
-    int use_two;
+    /* The laws in the same order either way (lin, poly, one kink, two kinks[, hysteresis]). */
+    aenl_real_t pd[D_N];
+    const aenl_real_t *b = dir->ok ? dir->bd : ap->b;
+    const aenl_real_t *p = dir->ok ? pd : ap->pm;
+    const unsigned n_laws = dir->ok ? (unsigned)D_N : (unsigned)AENL_CLS_N_MODELS;
     if (dir->ok)
     {
-        aenl_real_t pd[D_N];
         posterior(dir->bd, D_N, pd);
-        r->prob[AENL_CLASS_LINEAR] = pd[D_LIN];
-        r->prob[AENL_CLASS_POLYNOMIAL] = pd[D_POLY];
-        r->prob[AENL_CLASS_FREEPLAY] = pd[D_FP1] + pd[D_FP2];
         r->prob[AENL_CLASS_HYSTERESIS] = pd[D_HYST];
         r->bic_hysteresis = (dir->bd[D_HYST] < AENL_REAL_MAX && dir->bd[D_FP2] < AENL_REAL_MAX)
                                 ? dir->bd[D_HYST] - dir->bd[D_FP2]
                                 : AENL_R(0.0);
-        for (unsigned i = D_POLY; i < (unsigned)D_N; ++i)
-        {
-            best_nl = (dir->bd[i] < best_nl) ? dir->bd[i] : best_nl;
-        }
-        r->evidence = (dir->bd[D_LIN] - best_nl) / dir->nd_ind;
-        use_two = pd[D_FP2] >= pd[D_FP1];
     }
-    else
+    r->prob[AENL_CLASS_LINEAR] = p[D_LIN];
+    r->prob[AENL_CLASS_POLYNOMIAL] = p[D_POLY];
+    r->prob[AENL_CLASS_FREEPLAY] = p[D_FP1] + p[D_FP2];
+    aenl_real_t best_nl = AENL_REAL_MAX;
+    for (unsigned i = D_POLY; i < n_laws; ++i)
     {
-        r->prob[AENL_CLASS_LINEAR] = ap->pm[AENL_CLS_MODEL_LINEAR];
-        r->prob[AENL_CLASS_POLYNOMIAL] = ap->pm[AENL_CLS_MODEL_POLY];
-        r->prob[AENL_CLASS_FREEPLAY] = ap->pm[AENL_CLS_MODEL_KINK1] + ap->pm[AENL_CLS_MODEL_KINK2];
-        for (unsigned i = AENL_CLS_MODEL_POLY; i < (unsigned)AENL_CLS_N_MODELS; ++i)
-        {
-            best_nl = (ap->b[i] < best_nl) ? ap->b[i] : best_nl;
-        }
-        r->evidence = (ap->b[AENL_CLS_MODEL_LINEAR] - best_nl) / fr->n_ind;
-        use_two = ap->pm[AENL_CLS_MODEL_KINK2] >= ap->pm[AENL_CLS_MODEL_KINK1];
+        best_nl = (b[i] < best_nl) ? b[i] : best_nl;
     }
+    r->evidence = (b[D_LIN] - best_nl) / (dir->ok ? dir->nd_ind : fr->n_ind);
+    const int use_two = p[D_FP2] >= p[D_FP1];
     r->cls = AENL_CLASS_LINEAR;
-    for (uint16_t i = AENL_CLASS_POLYNOMIAL; i < AENL_CLASS_COUNT; ++i)
+    for (uint32_t i = AENL_CLASS_POLYNOMIAL; i < AENL_CLASS_COUNT; ++i)
     {
         if (r->prob[i] > r->prob[r->cls])
         {
@@ -1239,7 +1238,7 @@ static void switching_points(const cls_frame_t *fr, const cls_all_t *ap, const c
         const aenl_real_t se1[2] = {dir->ok ? dir->se_t1 : ap->se_k1, AENL_R(0.0)};
         const aenl_real_t *ks = use_two ? (dir->ok ? dir->se_t2 : ap->se_k2) : se1;
         r->n_switch = use_two ? 2u : 1u;
-        for (uint16_t j = 0; j < r->n_switch; ++j)
+        for (uint32_t j = 0; j < r->n_switch; ++j)
         {
             r->switch_points[j] = centre + kb[j] * half;
             r->switch_std[j] = ks[j] * half;
@@ -1248,7 +1247,7 @@ static void switching_points(const cls_frame_t *fr, const cls_all_t *ap, const c
     else if (r->cls == AENL_CLASS_HYSTERESIS)
     {
         aenl_real_t pb[4], ps[4];
-        for (uint16_t j = 0; j < 2u; ++j)
+        for (uint32_t j = 0; j < 2u; ++j)
         {
             pb[j] = centre + (dir->hy.b[j] + AENL_R(0.5) * dir->hy.shift) * half;
             pb[2u + j] = centre + (dir->hy.b[j] - AENL_R(0.5) * dir->hy.shift) * half;
