@@ -48,7 +48,7 @@ typedef aenl_cls_table_t cls_table_t;
 typedef struct cls_set
 {
     const aenl_cls_point_t *pt;
-    uint16_t n;
+    uint32_t n;
 } cls_set_t;
 
 /** A law fitted to one or two sets (the second: falling points). */
@@ -112,7 +112,7 @@ aenl_status_t aenl_classifier_init(aenl_classifier_t *c, const aenl_classifier_c
 /* ---- point sets -------------------------------------------------------------------------- */
 
 /** Insertion sort by u (at most AENL_CLASSIFIER_MAX_NODES points, nearly sorted already). */
-static void sort_points(aenl_cls_point_t *pt, uint16_t n)
+static void sort_points(aenl_cls_point_t *pt, uint32_t n)
 {
     for (uint32_t i = 1; i < n; ++i)
     {
@@ -128,19 +128,19 @@ static void sort_points(aenl_cls_point_t *pt, uint16_t n)
 }
 
 /** Index of the first point with u > b. */
-static uint16_t first_above(const cls_set_t *s, aenl_real_t b)
+static uint32_t first_above(const cls_set_t *s, aenl_real_t b)
 {
-    uint16_t lo = 0u, hi = s->n;
+    uint32_t lo = 0u, hi = s->n;
     while (lo < hi)
     {
-        const uint16_t mid = (uint16_t)((lo + hi) / 2u);
+        const uint32_t mid = (uint32_t)((lo + hi) / 2u);
         if (s->pt[mid].p > b)
         {
             hi = mid;
         }
         else
         {
-            lo = (uint16_t)(mid + 1u);
+            lo = (uint32_t)(mid + 1u);
         }
     }
     return lo;
@@ -172,10 +172,10 @@ static void build_table(const cls_set_t *s, cls_table_t *t)
 
 /* ---- one weighted least-squares fit ------------------------------------------------------ */
 
-static uint16_t spec_nb(const cls_spec_t *sp)
+static uint32_t spec_nb(const cls_spec_t *sp)
 {
-    return sp->cubic ? (uint16_t)(4u + sp->use_v)
-                     : (uint16_t)(2u + sp->use_v + sp->dir_term + sp->n_k);
+    return sp->cubic ? (uint32_t)(4u + sp->use_v)
+                     : (uint32_t)(2u + sp->use_v + sp->dir_term + sp->n_k);
 }
 
 /** Kinks of set d: b + shift/2 on set 0 (rising), b - shift/2 on set 1 (falling). */
@@ -187,10 +187,10 @@ static void set_kinks(const cls_spec_t *sp, uint32_t d, aenl_real_t *bb)
 }
 
 /** Basis functions of the law at one point of set d, in coefficient order; returns their count. */
-static uint16_t basis(const cls_spec_t *sp, uint32_t d, const aenl_cls_point_t *q,
+static uint32_t basis(const cls_spec_t *sp, uint32_t d, const aenl_cls_point_t *q,
                       const aenl_real_t *bb, aenl_real_t *phi)
 {
-    uint16_t k = 0u;
+    uint32_t k = 0u;
     phi[k++] = AENL_R(1.0);
     phi[k++] = q->p;
     if (sp->cubic)
@@ -254,7 +254,7 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
         {
             const aenl_cls_point_t *q = &s->pt[i];
             aenl_real_t phi[NB_MAX];
-            const uint16_t nb = basis(sp, d, q, bb, phi);
+            const uint32_t nb = basis(sp, d, q, bb, phi);
             for (uint32_t a = 0; a < nb; ++a)
             {
                 for (uint32_t b = a; b < nb; ++b)
@@ -309,13 +309,13 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
  * singular. coef (NB_MAX) and res (standardised residuals sqrt(w) (a - fit), set after set) may
  * be NULL.
  */
-static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
                        const cls_spec_t *sp, aenl_real_t *coef, aenl_real_t *res)
 {
     aenl_real_t g[NB_MAX][NB_MAX], r[NB_MAX], c[NB_MAX], waa = AENL_R(0.0);
     memset(g, 0, sizeof(g));
     memset(r, 0, sizeof(r));
-    const uint16_t nb = spec_nb(sp);
+    const uint32_t nb = spec_nb(sp);
     for (uint32_t d = 0; d < n_sets; ++d)
     {
         accumulate(&s[d], &t[d], sp, d, g, r, &waa);
@@ -328,11 +328,11 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
         }
     }
     memcpy(c, r, sizeof(c));
-    if (aenl_la_chol(&g[0][0], NB_MAX, nb) != AENL_OK)
+    if (aenl_la_chol(&g[0][0], NB_MAX, (uint16_t)nb) != AENL_OK)
     {
         return AENL_R(-1.0);
     }
-    aenl_la_chol_solve(&g[0][0], NB_MAX, nb, c, 1u, 1u);
+    aenl_la_chol_solve(&g[0][0], NB_MAX, (uint16_t)nb, c, 1u, 1u);
     aenl_real_t explained = AENL_R(0.0);
     for (uint32_t a = 0; a < nb; ++a)
     {
@@ -347,7 +347,7 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
     }
     if (res != NULL)
     {
-        uint16_t k = 0u;
+        uint32_t k = 0u;
         for (uint32_t d = 0; d < n_sets; ++d)
         {
             aenl_real_t bb[2];
@@ -356,7 +356,7 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
             {
                 aenl_real_t phi[NB_MAX], f = AENL_R(0.0);
                 const aenl_cls_point_t *q = &s[d].pt[i];
-                const uint16_t m = basis(sp, d, q, bb, phi);
+                const uint32_t m = basis(sp, d, q, bb, phi);
                 for (uint32_t a = 0; a < m; ++a)
                 {
                     f += c[a] * phi[a];
@@ -371,7 +371,7 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets
 /* ---- kink search ------------------------------------------------------------------------- */
 
 /** RSS of sp with kink j moved to b, or -1 when the kinks are then out of order or the fit fails. */
-static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
                             cls_spec_t *sp, uint32_t j, aenl_real_t b)
 {
     sp->b[j] = b;
@@ -384,9 +384,9 @@ static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n
  * neighbours; keep the vertex when it fits better, and the profile's curvature for the standard
  * error.
  */
-static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
-                        const cls_spec_t *best, const aenl_real_t *cand, uint16_t n_cand,
-                        uint16_t ci, uint16_t j, cls_kinks_t *k)
+static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
+                        const cls_spec_t *best, const aenl_real_t *cand, uint32_t n_cand,
+                        uint32_t ci, uint32_t j, cls_kinks_t *k)
 {
     k->curv[j] = AENL_R(0.0);
     if (ci == 0u || ci + 1u >= n_cand)
@@ -433,25 +433,25 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint16_t n_set
  *  (n_k 2; j >= i + 2), each in steps of `step` (shifts of `shift_step`). */
 typedef struct cls_box
 {
-    uint16_t js_lo, js_hi, shift_step, i_lo, i_hi, j_lo, j_hi, step;
+    uint32_t js_lo, js_hi, shift_step, i_lo, i_hi, j_lo, j_hi, step;
 } cls_box_t;
 
 /** Fit every candidate of the box; keep the best in k (and its candidate indices). */
-static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
-                     const cls_spec_t *base, const aenl_real_t *cand, uint16_t n_cand,
-                     aenl_real_t du, const cls_box_t *bx, cls_kinks_t *k, uint16_t *bi,
-                     uint16_t *bj)
+static void scan_box(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
+                     const cls_spec_t *base, const aenl_real_t *cand, uint32_t n_cand,
+                     aenl_real_t du, const cls_box_t *bx, cls_kinks_t *k, uint32_t *bi,
+                     uint32_t *bj)
 {
     cls_spec_t sp = *base;
-    for (uint32_t js = bx->js_lo; js <= bx->js_hi; js = (uint16_t)(js + bx->shift_step))
+    for (uint32_t js = bx->js_lo; js <= bx->js_hi; js = (uint32_t)(js + bx->shift_step))
     {
         sp.shift = (aenl_real_t)js * du;
-        for (uint32_t i = bx->i_lo; i <= bx->i_hi && i + 2u < n_cand; i = (uint16_t)(i + bx->step))
+        for (uint32_t i = bx->i_lo; i <= bx->i_hi && i + 2u < n_cand; i = (uint32_t)(i + bx->step))
         {
             sp.b[0] = cand[i];
             const uint32_t j_lo = (sp.n_k == 2u) ? bx->j_lo : i;
             const uint32_t j_hi = (sp.n_k == 2u) ? bx->j_hi : i;
-            for (uint32_t j = j_lo; j <= j_hi; j = (uint16_t)(j + (sp.n_k == 2u ? bx->step : 1u)))
+            for (uint32_t j = j_lo; j <= j_hi; j = (uint32_t)(j + (sp.n_k == 2u ? bx->step : 1u)))
             {
                 if (sp.n_k == 2u && (j < i + 2u || j + 2u >= n_cand))
                 {
@@ -465,8 +465,8 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
                     k->b[0] = sp.b[0];
                     k->b[1] = sp.b[1];
                     k->shift = sp.shift;
-                    *bi = (uint16_t)i;
-                    *bj = (uint16_t)j;
+                    *bi = (uint32_t)i;
+                    *bj = (uint32_t)j;
                     k->ok = 1;
                 }
             }
@@ -474,9 +474,9 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     }
 }
 
-static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
-                   const cls_spec_t *base, const aenl_real_t *cand, uint16_t n_cand,
-                   uint16_t n_shift, cls_kinks_t *k)
+static void search(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
+                   const cls_spec_t *base, const aenl_real_t *cand, uint32_t n_cand,
+                   uint32_t n_shift, cls_kinks_t *k)
 {
     memset(k, 0, sizeof(*k));
     k->rss = AENL_REAL_MAX;
@@ -487,12 +487,12 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     const aenl_real_t du = (cand[n_cand - 1u] - cand[0]) / (aenl_real_t)(n_cand - 1u);
     /* bounded work: a coarse pass over at most SEARCH_MAX candidates and SEARCH_MAX_SHIFT
      * shifts, then full resolution around the best */
-    const uint16_t stride = (uint16_t)((n_cand + SEARCH_MAX - 1u) / SEARCH_MAX);
-    uint16_t shift_stride = (uint16_t)((n_shift + SEARCH_MAX_SHIFT - 1u) / SEARCH_MAX_SHIFT);
+    const uint32_t stride = (uint32_t)((n_cand + SEARCH_MAX - 1u) / SEARCH_MAX);
+    uint32_t shift_stride = (uint32_t)((n_shift + SEARCH_MAX_SHIFT - 1u) / SEARCH_MAX_SHIFT);
     shift_stride = (shift_stride > 0u) ? shift_stride : 1u;
-    uint16_t bi = 0u, bj = 0u;
+    uint32_t bi = 0u, bj = 0u;
     const cls_box_t coarse = {
-        0u,    n_shift, shift_stride, 1u, (uint16_t)(n_cand - 1u), 0u, (uint16_t)(n_cand - 1u),
+        0u,    n_shift, shift_stride, 1u, (uint32_t)(n_cand - 1u), 0u, (uint32_t)(n_cand - 1u),
         stride};
     scan_box(s, t, n_sets, base, cand, n_cand, du, &coarse, k, &bi, &bj);
     if (!k->ok)
@@ -501,15 +501,15 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
     }
     if (stride > 1u || shift_stride > 1u)
     {
-        const uint16_t js0 = (uint16_t)(k->shift / du + AENL_R(0.5));
-        const uint16_t js_hi = (uint16_t)(js0 + shift_stride);
-        const cls_box_t fine = {(js0 > shift_stride) ? (uint16_t)(js0 - shift_stride) : 0u,
+        const uint32_t js0 = (uint32_t)(k->shift / du + AENL_R(0.5));
+        const uint32_t js_hi = (uint32_t)(js0 + shift_stride);
+        const cls_box_t fine = {(js0 > shift_stride) ? (uint32_t)(js0 - shift_stride) : 0u,
                                 (js_hi < n_shift) ? js_hi : n_shift,
                                 1u,
-                                (bi > stride + 1u) ? (uint16_t)(bi - stride) : 1u,
-                                (uint16_t)(bi + stride),
-                                (bj > stride) ? (uint16_t)(bj - stride) : 0u,
-                                (uint16_t)(bj + stride),
+                                (bi > stride + 1u) ? (uint32_t)(bi - stride) : 1u,
+                                (uint32_t)(bi + stride),
+                                (bj > stride) ? (uint32_t)(bj - stride) : 0u,
+                                (uint32_t)(bj + stride),
                                 1u};
         scan_box(s, t, n_sets, base, cand, n_cand, du, &fine, k, &bi, &bj);
     }
@@ -528,18 +528,18 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
 /* ---- evidence ---------------------------------------------------------------------------- */
 
 /** Median of the squares of res[0..n) (reorders res). Quickselect, O(n) expected. */
-static aenl_real_t median_sq(aenl_real_t *res, uint16_t n)
+static aenl_real_t median_sq(aenl_real_t *res, uint32_t n)
 {
     for (uint32_t i = 0; i < n; ++i)
     {
         res[i] *= res[i];
     }
-    uint16_t lo = 0u, hi = (uint16_t)(n - 1u);
-    const uint16_t k = (uint16_t)(n / 2u);
+    uint32_t lo = 0u, hi = (uint32_t)(n - 1u);
+    const uint32_t k = (uint32_t)(n / 2u);
     while (lo < hi)
     {
         const aenl_real_t pivot = res[(lo + hi) / 2u];
-        uint16_t i = lo, j = hi;
+        uint32_t i = lo, j = hi;
         while (i <= j)
         {
             while (res[i] < pivot)
@@ -586,7 +586,7 @@ static aenl_real_t median_sq(aenl_real_t *res, uint16_t n)
  * trajectories, so their residuals are smooth and their scatter understates the error. The weights
  * were divided by wmax, so one nominal standard error is 1 / sqrt(wmax).
  */
-static aenl_real_t noise_scale(aenl_real_t *res, uint16_t n, aenl_real_t wmax)
+static aenl_real_t noise_scale(aenl_real_t *res, uint32_t n, aenl_real_t wmax)
 {
     /* the weights were divided by wmax: one nominal standard error is 1 / sqrt(wmax) */
     const aenl_real_t nominal = AENL_R(1.0) / aenl_sqrt(wmax);
@@ -595,7 +595,7 @@ static aenl_real_t noise_scale(aenl_real_t *res, uint16_t n, aenl_real_t wmax)
 }
 
 /** Huber loss of standardised residuals at 1/inv_sigma: z^2 inside +-HUBER_C, linear beyond. */
-static aenl_real_t huber_sum(const aenl_real_t *res, uint16_t n, aenl_real_t inv_sigma)
+static aenl_real_t huber_sum(const aenl_real_t *res, uint32_t n, aenl_real_t inv_sigma)
 {
     aenl_real_t sum = AENL_R(0.0);
     for (uint32_t i = 0; i < n; ++i)
@@ -611,18 +611,18 @@ static aenl_real_t huber_sum(const aenl_real_t *res, uint16_t n, aenl_real_t inv
  * is the chi-square of the fit for residuals within HUBER_C sigma (a few misfitting nodes cannot
  * decide), counted per independent point.
  */
-static aenl_real_t criterion(const cls_set_t *s, const cls_table_t *t, uint16_t n_sets,
+static aenl_real_t criterion(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
                              const cls_spec_t *sp, aenl_real_t sigma, aenl_real_t frac,
-                             aenl_real_t n_ind, uint16_t k, aenl_real_t *scratch)
+                             aenl_real_t n_ind, uint32_t k, aenl_real_t *scratch)
 {
     if (fit(s, t, n_sets, sp, NULL, scratch) < AENL_R(0.0))
     {
         return AENL_REAL_MAX;
     }
-    uint16_t n = 0u;
+    uint32_t n = 0u;
     for (uint32_t d = 0; d < n_sets; ++d)
     {
-        n = (uint16_t)(n + s[d].n);
+        n = (uint32_t)(n + s[d].n);
     }
     return frac * huber_sum(scratch, n, AENL_R(1.0) / sigma) + (aenl_real_t)k * aenl_log(n_ind);
 }
@@ -646,11 +646,11 @@ static aenl_real_t kink_se(aenl_real_t curv, aenl_real_t sigma, aenl_real_t frac
  * Gather the usable nodes of one direction into pt[], scaled: p -> (p - centre) * inv_half, a and
  * v times inv_ascale, weight 1 / se_a^2 (scaled).
  */
-static uint16_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t dir,
+static uint32_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t dir,
                        aenl_real_t centre, aenl_real_t inv_half, aenl_real_t inv_ascale,
                        const uint8_t *interior, aenl_cls_point_t *pt)
 {
-    uint16_t n = 0u;
+    uint32_t n = 0u;
     for (uint32_t k = 0; k < m->cfg.n_grid; ++k)
     {
         if (!interior[k])
@@ -682,7 +682,7 @@ static uint16_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t
 
 /** Normalise the weights to a maximum of 1 (keeps every sum far from overflow in float32); returns
  * the divisor. */
-static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint16_t n)
+static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint32_t n)
 {
     aenl_real_t wmax = AENL_R(0.0);
     for (uint32_t k = 0; k < n; ++k)
@@ -697,9 +697,9 @@ static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint16_t n)
 }
 
 /** Candidate kink positions: the sorted u of the points (duplicates dropped). */
-static uint16_t candidates(const aenl_cls_point_t *pt, uint16_t n, aenl_real_t *cand)
+static uint32_t candidates(const aenl_cls_point_t *pt, uint32_t n, aenl_real_t *cand)
 {
-    uint16_t nc = 0u;
+    uint32_t nc = 0u;
     for (uint32_t k = 0; k < n; ++k)
     {
         if (nc == 0u || pt[k].p > cand[nc - 1u])
@@ -711,11 +711,11 @@ static uint16_t candidates(const aenl_cls_point_t *pt, uint16_t n, aenl_real_t *
 }
 
 /** Merge ascending kink lists into distinct switching points (closer than 2 combined se). */
-static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_t n,
+static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint32_t n,
                             aenl_real_t *out, aenl_real_t *out_se)
 {
     aenl_real_t v[AENL_CLASSIFIER_MAX_SWITCH], e[AENL_CLASSIFIER_MAX_SWITCH];
-    uint16_t m = 0u;
+    uint32_t m = 0u;
     for (uint32_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
     {
         v[m] = b[i];
@@ -760,7 +760,7 @@ static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint16_
 }
 
 /** Root mean square of a (the acceleration scale). */
-static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint16_t n)
+static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint32_t n)
 {
     aenl_real_t s = AENL_R(0.0);
     for (uint32_t k = 0; k < n; ++k)
@@ -771,7 +771,7 @@ static aenl_real_t accel_rms(const aenl_cls_point_t *pt, uint16_t n)
 }
 
 /** Divide a and v by the acceleration scale, multiply w by its square. */
-static void rescale(aenl_cls_point_t *pt, uint16_t n, aenl_real_t inv_ascale)
+static void rescale(aenl_cls_point_t *pt, uint32_t n, aenl_real_t inv_ascale)
 {
     for (uint32_t k = 0; k < n; ++k)
     {
@@ -782,7 +782,7 @@ static void rescale(aenl_cls_point_t *pt, uint16_t n, aenl_real_t inv_ascale)
 }
 
 /** Posterior weights exp(-B/2) of n criterion values, normalised. */
-static void posterior(const aenl_real_t *b, uint16_t n, aenl_real_t *p)
+static void posterior(const aenl_real_t *b, uint32_t n, aenl_real_t *p)
 {
     aenl_real_t bmin = b[0], sum = AENL_R(0.0);
     for (uint32_t i = 1; i < n; ++i)
@@ -807,10 +807,10 @@ static void posterior(const aenl_real_t *b, uint16_t n, aenl_real_t *p)
  * oscillation p(x) flattens, the measured extremes being mostly noise). The longest run of such
  * nodes is kept.
  */
-static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aenl_real_t *x_lo,
+static uint32_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aenl_real_t *x_lo,
                               aenl_real_t *x_hi)
 {
-    const uint16_t ng = m->cfg.n_grid;
+    const uint32_t ng = m->cfg.n_grid;
     aenl_real_t total = AENL_R(0.0);
     for (uint32_t k = 0; k < ng; ++k)
     {
@@ -848,7 +848,7 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
         c->interior[k] = (uint8_t)in;
     }
     /* keep the longest run */
-    uint16_t best_start = 0u, best_len = 0u;
+    uint32_t best_start = 0u, best_len = 0u;
     for (uint32_t k = 0; k < ng;)
     {
         if (!c->interior[k])
@@ -861,10 +861,10 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
         {
             ++e;
         }
-        if ((uint16_t)(e - k) > best_len)
+        if ((uint32_t)(e - k) > best_len)
         {
-            best_len = (uint16_t)(e - k);
-            best_start = (uint16_t)k;
+            best_len = (uint32_t)(e - k);
+            best_start = (uint32_t)k;
         }
         k = e;
     }
@@ -872,7 +872,7 @@ static uint16_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
     {
         c->interior[k] = (uint8_t)(k >= best_start && k < best_start + best_len);
     }
-    *x_lo = aenl_moments_node_x(m, best_start);
+    *x_lo = aenl_moments_node_x(m, (uint16_t)best_start);
     *x_hi = aenl_moments_node_x(m, (uint16_t)(best_start + (best_len > 0u ? best_len - 1u : 0u)));
     return best_len;
 }
@@ -896,8 +896,8 @@ typedef struct cls_frame
     aenl_real_t frac;         /**< independent share of the nodes */
     aenl_real_t n_ind;        /**< independent points of all pairs */
     aenl_real_t wmax;         /**< divisor of the all-pairs weights */
-    uint16_t n;               /**< points of all pairs */
-    uint16_t nc;              /**< candidate kink positions */
+    uint32_t n;               /**< points of all pairs */
+    uint32_t nc;              /**< candidate kink positions */
 } cls_frame_t;
 
 /** The laws one fit compares; the kinked ones take their kinks from the searches. */
@@ -951,7 +951,7 @@ static void laws_init(cls_laws_t *l, uint8_t use_v)
  */
 static const cls_spec_t *noise_reference(const cls_laws_t *l, aenl_real_t rss_poly,
                                          const cls_spec_t *const *ksp, const cls_kinks_t *const *kk,
-                                         uint16_t nk)
+                                         uint32_t nk)
 {
     const cls_spec_t *ref = &l->poly;
     aenl_real_t ref_rss = (rss_poly >= AENL_R(0.0)) ? rss_poly : AENL_REAL_MAX;
@@ -974,7 +974,7 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
                           aenl_classifier_result_t *r)
 {
     aenl_real_t x_lo = AENL_R(0.0), x_hi = AENL_R(0.0);
-    const uint16_t n_in = mark_interior(c, m, &x_lo, &x_hi);
+    const uint32_t n_in = mark_interior(c, m, &x_lo, &x_hi);
     /* independent share of the nodes: kernels one bandwidth apart barely overlap */
     fr->frac = (m->dx < m->cfg.bandwidth) ? m->dx / m->cfg.bandwidth : AENL_R(1.0);
     fr->n = 0u;
@@ -989,7 +989,7 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
     }
     fr->n_ind = (aenl_real_t)fr->n * fr->frac;
     fr->ascale = (fr->n > 0u) ? accel_rms(c->pt[0], fr->n) : AENL_R(0.0);
-    r->n_nodes = fr->n;
+    r->n_nodes = (uint16_t)fr->n;
     if (fr->n < c->cfg.min_nodes || fr->n_ind < AENL_R(8.0) || !(fr->ascale > AENL_R(0.0)))
     {
         return 0;
@@ -1005,8 +1005,8 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
  * a law whose fit failed or whose kink search found nothing (ok[i] zero). Parameters: the law's
  * coefficients (the kinks at KINK_DF each), plus the rising offset of a direction split.
  */
-static void score_laws(aenl_classifier_t *c, const cls_set_t *s, uint16_t n_sets,
-                       const cls_laws_t *l, const int *ok, uint16_t n_laws, aenl_real_t sigma,
+static void score_laws(aenl_classifier_t *c, const cls_set_t *s, uint32_t n_sets,
+                       const cls_laws_t *l, const int *ok, uint32_t n_laws, aenl_real_t sigma,
                        aenl_real_t frac, aenl_real_t n_ind, aenl_real_t *b)
 {
     static const uint8_t k_params[5] = {2u, 4u, 3u + KINK_DF, 4u + 2u * KINK_DF,
@@ -1015,7 +1015,7 @@ static void score_laws(aenl_classifier_t *c, const cls_set_t *s, uint16_t n_sets
     for (uint32_t i = 0; i < n_laws; ++i)
     {
         b[i] = ok[i] ? criterion(s, c->tab, n_sets, sp[i], sigma, frac, n_ind,
-                                 (uint16_t)(k_params[i] + n_sets - 1u), c->resid)
+                                 (uint32_t)(k_params[i] + n_sets - 1u), c->resid)
                      : AENL_REAL_MAX;
     }
 }
@@ -1043,7 +1043,7 @@ static void all_pairs_scores(aenl_classifier_t *c, const cls_set_t *all, const c
 static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
                      aenl_classifier_result_t *r)
 {
-    const uint16_t n = fr->n;
+    const uint32_t n = fr->n;
     const cls_set_t all = {c->pt[0], n};
     build_table(&all, &c->tab[0]);
     fr->nc = candidates(c->pt[0], n, c->cand);
@@ -1089,7 +1089,7 @@ static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
  * weighted with one divisor (*wmax). Zero when either direction has too few.
  */
 static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, const cls_frame_t *fr,
-                             uint16_t *nd, aenl_real_t *wmax, cls_dir_t *dir)
+                             uint32_t *nd, aenl_real_t *wmax, cls_dir_t *dir)
 {
     nd[0] = gather(c, m, AENL_DIR_RISING, fr->centre, AENL_R(1.0) / fr->half,
                    AENL_R(1.0) / fr->ascale, c->interior, c->pt[1]);
@@ -1151,7 +1151,7 @@ static void direction_scores(aenl_classifier_t *c, const cls_set_t *sets, const 
 static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const cls_frame_t *fr,
                             cls_dir_t *dir, aenl_classifier_result_t *r)
 {
-    uint16_t nd[2];
+    uint32_t nd[2];
     aenl_real_t wmax;
     if (!gather_directions(c, m, fr, nd, &wmax, dir))
     {
@@ -1164,7 +1164,7 @@ static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const
     laws_init(&l, 1u);
     search(sets, c->tab, 2u, &l.one, c->cand, fr->nc, 0u, &dir->t1);
     search(sets, c->tab, 2u, &l.two, c->cand, fr->nc, 0u, &dir->t2);
-    search(sets, c->tab, 2u, &l.hy, c->cand, fr->nc, (uint16_t)(fr->nc / 3u), &dir->hy);
+    search(sets, c->tab, 2u, &l.hy, c->cand, fr->nc, (uint32_t)(fr->nc / 3u), &dir->hy);
     l.one.b[0] = dir->t1.b[0];
     l.two.b[0] = dir->t2.b[0];
     l.two.b[1] = dir->t2.b[1];
@@ -1180,7 +1180,7 @@ static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const
         return;
     }
     dir->ok = 1;
-    const aenl_real_t sig_d = noise_scale(c->resid, (uint16_t)(nd[0] + nd[1]), wmax);
+    const aenl_real_t sig_d = noise_scale(c->resid, (uint32_t)(nd[0] + nd[1]), wmax);
     direction_scores(c, sets, &l, fr, sig_d, dir, r);
 }
 

@@ -37,7 +37,7 @@ aenl_status_t aenl_filter_init(aenl_filter_t *f, const aenl_filter_cfg_t *cfg)
     f->cfg = *cfg;
     f->n_sections = (uint16_t)(cfg->order / 2u);
     const aenl_real_t k2 = k * k;
-    for (uint16_t s = 0; s < f->n_sections; ++s)
+    for (uint32_t s = 0; s < f->n_sections; ++s)
     {
         const aenl_real_t angle =
             PI * (aenl_real_t)(2u * s + 1u) / (aenl_real_t)(2u * (uint32_t)cfg->order);
@@ -79,7 +79,7 @@ aenl_status_t aenl_filter_push(aenl_filter_t *f, aenl_real_t in, aenl_real_t *ou
     }
     if (!f->primed)
     {
-        for (uint16_t s = 0; s < f->n_sections; ++s)
+        for (uint32_t s = 0; s < f->n_sections; ++s)
         {
             f->z1[s] = (AENL_R(1.0) - f->b0[s]) * in;
             f->z2[s] = (f->b0[s] - f->a2[s]) * in;
@@ -87,7 +87,7 @@ aenl_status_t aenl_filter_push(aenl_filter_t *f, aenl_real_t in, aenl_real_t *ou
         f->primed = 1u;
     }
     aenl_real_t x = in;
-    for (uint16_t s = 0; s < f->n_sections; ++s)
+    for (uint32_t s = 0; s < f->n_sections; ++s)
     {
         const aenl_real_t b0 = f->b0[s];
         const aenl_real_t y = b0 * x + f->z1[s];

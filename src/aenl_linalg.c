@@ -8,9 +8,9 @@
 
 /* C (n x m), C(i, j) = sum_r A(i, r) B(r, j) with A(i, r) = a[i ai + r ar] and
  * B(r, j) = b[r br + j bj]: the products below differ only by these strides. */
-static void mul_strided(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
-                        const aenl_real_t *b, size_t br, size_t bj, uint16_t n, uint16_t k,
-                        uint16_t m)
+static void mul_strided(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
+                        const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k,
+                        uint32_t m)
 {
     for (size_t i = 0; i < n; ++i)
     {
@@ -26,31 +26,31 @@ static void mul_strided(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, size
     }
 }
 
-void aenl_la_mul(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                 const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
+void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                 const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
     mul_strided(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m);
 }
 
-void aenl_la_mul_nt(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
+void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
     mul_strided(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m);
 }
 
-void aenl_la_mul_tn(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m)
+void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
     mul_strided(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m);
 }
 
-void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint16_t lda, const aenl_real_t *x,
-                uint16_t n, uint16_t m)
+void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda, const aenl_real_t *x,
+                uint32_t n, uint32_t m)
 {
     mul_strided(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u);
 }
 
-void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n)
+void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n)
 {
     for (uint32_t i = 0; i < n; ++i)
     {
@@ -63,7 +63,7 @@ void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n)
     }
 }
 
-aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
+aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n)
 {
     for (uint32_t j = 0; j < n; ++j)
     {
@@ -79,7 +79,7 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
         const aenl_real_t ljj = aenl_sqrt(d);
         a[(size_t)j * lda + j] = ljj;
         const aenl_real_t inv = AENL_R(1.0) / ljj;
-        for (uint32_t i = (uint16_t)(j + 1u); i < n; ++i)
+        for (uint32_t i = (uint32_t)(j + 1u); i < n; ++i)
         {
             aenl_real_t s = a[(size_t)i * lda + j];
             for (uint32_t r = 0; r < j; ++r)
@@ -96,8 +96,8 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n)
     return AENL_OK;
 }
 
-void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint16_t n, aenl_real_t *b,
-                       uint16_t ldb, uint16_t m, int upper)
+void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, aenl_real_t *b,
+                       size_t ldb, uint32_t m, int upper)
 {
     for (size_t c = 0; c < m; ++c)
     {
@@ -114,26 +114,26 @@ void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint16_t n, a
     }
 }
 
-void aenl_la_solve_lower(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                         uint16_t ldb, uint16_t m)
+void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                         uint32_t ldb, uint32_t m)
 {
     aenl_la_solve_tri(l, ldl, 1u, n, b, ldb, m, 0);
 }
 
-void aenl_la_solve_lower_t(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                           uint16_t ldb, uint16_t m)
+void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                           uint32_t ldb, uint32_t m)
 {
     aenl_la_solve_tri(l, 1u, ldl, n, b, ldb, m, 1);
 }
 
-void aenl_la_chol_solve(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                        uint16_t ldb, uint16_t m)
+void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                        uint32_t ldb, uint32_t m)
 {
     aenl_la_solve_lower(l, ldl, n, b, ldb, m);
     aenl_la_solve_lower_t(l, ldl, n, b, ldb, m);
 }
 
-int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m)
+int aenl_la_all_finite(const aenl_real_t *a, uint32_t lda, uint32_t n, uint32_t m)
 {
     for (uint32_t i = 0; i < n; ++i)
     {
@@ -148,7 +148,7 @@ int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t 
     return 1;
 }
 
-int aenl_la_is_symmetric(const aenl_real_t *a, uint16_t lda, uint16_t n, aenl_real_t rel_tol)
+int aenl_la_is_symmetric(const aenl_real_t *a, uint32_t lda, uint32_t n, aenl_real_t rel_tol)
 {
     for (uint32_t i = 0; i < n; ++i)
     {

@@ -12,30 +12,30 @@
 #include "aenl/aenl_types.h"
 
 /** C (n x m) = A (n x k) * B (k x m). */
-void aenl_la_mul(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                 const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                 const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
 
 /** C (n x m) = A (n x k) * B' with B (m x k). */
-void aenl_la_mul_nt(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
 
 /** C (n x m) = A' * B with A (k x n), B (k x m). */
-void aenl_la_mul_tn(aenl_real_t *c, uint16_t ldc, const aenl_real_t *a, uint16_t lda,
-                    const aenl_real_t *b, uint16_t ldb, uint16_t n, uint16_t k, uint16_t m);
+void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
 
 /** y (n) = A (n x m) x (m). y must not alias x. */
-void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint16_t lda, const aenl_real_t *x,
-                uint16_t n, uint16_t m);
+void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda, const aenl_real_t *x,
+                uint32_t n, uint32_t m);
 
 /** A = (A + A') / 2 in place (n x n). */
-void aenl_la_symmetrise(aenl_real_t *a, uint16_t lda, uint16_t n);
+void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n);
 
 /**
  * @brief In-place lower Cholesky A = L L' (upper triangle set to zero).
  * @return AENL_OK; AENL_E_NOT_PD when a pivot is <= 0 or not finite (A is then partly
  *         overwritten: factor a copy when the original must survive).
  */
-aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n);
+aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n);
 
 /**
  * Solve T X = B in place (B n x m, rows ldb apart), T triangular with a nonzero diagonal, read as
@@ -43,25 +43,25 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint16_t lda, uint16_t n);
  * (forward substitution) or, with upper, upper (backward). Each row subtracts its known terms in
  * ascending j.
  */
-void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint16_t n, aenl_real_t *b,
-                       uint16_t ldb, uint16_t m, int upper);
+void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, aenl_real_t *b,
+                       size_t ldb, uint32_t m, int upper);
 
 /** Solve L X = B in place (B n x m), L lower with a nonzero diagonal. */
-void aenl_la_solve_lower(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                         uint16_t ldb, uint16_t m);
+void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                         uint32_t ldb, uint32_t m);
 
 /** Solve L' X = B in place (B n x m). */
-void aenl_la_solve_lower_t(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                           uint16_t ldb, uint16_t m);
+void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                           uint32_t ldb, uint32_t m);
 
 /** Solve (L L') X = B in place, L from aenl_la_chol. */
-void aenl_la_chol_solve(const aenl_real_t *l, uint16_t ldl, uint16_t n, aenl_real_t *b,
-                        uint16_t ldb, uint16_t m);
+void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                        uint32_t ldb, uint32_t m);
 
 /** 1 when every entry of the n x m block is finite. */
-int aenl_la_all_finite(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m);
+int aenl_la_all_finite(const aenl_real_t *a, uint32_t lda, uint32_t n, uint32_t m);
 
 /** 1 when A (n x n) is symmetric to rel_tol * (|a_ij| + |a_ji|) (exactly, for rel_tol = 0). */
-int aenl_la_is_symmetric(const aenl_real_t *a, uint16_t lda, uint16_t n, aenl_real_t rel_tol);
+int aenl_la_is_symmetric(const aenl_real_t *a, uint32_t lda, uint32_t n, aenl_real_t rel_tol);
 
 #endif /* AENL_LINALG_H */

@@ -258,7 +258,7 @@ static void ring_store(aenl_moments_t *m, aenl_real_t v, uint8_t ok)
 /* First node index >= v (ceil) and last node index <= v (floor), for v in grid units, clamped to
  * [-1, n_grid] before any conversion so that a far-off value cannot overflow the integer. Written
  * without ceil/floor: those are library calls on many targets, and this is the hot path. */
-static int32_t node_ceil(aenl_real_t v, uint16_t n_grid)
+static int32_t node_ceil(aenl_real_t v, uint32_t n_grid)
 {
     if (!(v > AENL_R(-1.0)))
     {
@@ -272,7 +272,7 @@ static int32_t node_ceil(aenl_real_t v, uint16_t n_grid)
     return ((aenl_real_t)k < v) ? k + 1 : k;
 }
 
-static int32_t node_floor(aenl_real_t v, uint16_t n_grid)
+static int32_t node_floor(aenl_real_t v, uint32_t n_grid)
 {
     if (!(v >= AENL_R(0.0)))
     {
@@ -288,7 +288,7 @@ static int32_t node_floor(aenl_real_t v, uint16_t n_grid)
 /* Scale every weight-carrying sum (W, M2 by 2^-20, W2 by 2^-40; not the means) and the scale. */
 static void renormalise(aenl_moments_t *m)
 {
-    const uint16_t n_series = aenl_moments_n_series(m);
+    const uint32_t n_series = aenl_moments_n_series(m);
     for (uint32_t ls = 0; ls < n_series; ++ls)
     {
         for (uint32_t dir = 0; dir < m->n_dir; ++dir)
@@ -344,10 +344,10 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
     /* Lockstep pairing: every lag is conditioned on the same sample c = n - max_lag, with the
      * responses X_{c+L}. All lags thus see one set of conditioning samples, so differences
      * between lags (aenl_moments_taylor) carry no bias from where the record starts or ends. */
-    const uint16_t max_lag = m->max_lag;
+    const uint32_t max_lag = m->max_lag;
     /* history before X_c: L_max for the backward series, one sample for the direction */
-    const uint16_t n_back = m->cfg.symmetric ? max_lag : 0u;
-    const uint16_t n_before = (n_back > 0u) ? n_back : (m->n_dir == 2u ? 1u : 0u);
+    const uint32_t n_back = m->cfg.symmetric ? max_lag : 0u;
+    const uint32_t n_before = (n_back > 0u) ? n_back : (m->n_dir == 2u ? 1u : 0u);
     if (m->n_hist <= max_lag + n_before)
     {
         return AENL_OK;
@@ -368,7 +368,7 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         }
         dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
     }
-    const uint16_t n_series = aenl_moments_n_series(m);
+    const uint32_t n_series = aenl_moments_n_series(m);
 #if AENL_MOMENTS_COMPENSATED
     /* The lags share W and W2: X_c pairs at every lag or, one response missing, at none. */
     for (uint32_t ls = 0; ls < n_series; ++ls)
@@ -525,9 +525,9 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
     {
         return AENL_E_ARG;
     }
-    const uint16_t nt = (uint16_t)(order + 1u + (nuisance != NULL ? 1u : 0u));
-    const uint16_t np = (uint16_t)(order + 1u); /* polynomial columns */
-    const uint16_t n = aenl_moments_n_series(m);
+    const uint32_t nt = order + 1u + (nuisance != NULL ? 1u : 0u);
+    const uint32_t np = order + 1u; /* polynomial columns */
+    const uint32_t n = aenl_moments_n_series(m);
     /* Weighted least squares on rows [sqrt(w) t^k | sqrt(w) y], lags scaled to t = L / L_max in
      * [-1, 1], by a QR factorisation built one row at a time with Givens rotations: no normal
      * equations (whose squared condition number costs float32 every digit at order 4) and a

@@ -19,8 +19,8 @@
 
 #include "aenl_linalg.h"
 
-#define LDX         ((uint16_t)AENL_SKF_MAX_X)
-#define LDZ         ((uint16_t)AENL_SKF_MAX_Z)
+#define LDX         ((uint32_t)AENL_SKF_MAX_X)
+#define LDZ         ((uint32_t)AENL_SKF_MAX_Z)
 #define LOG_2PI     AENL_R(1.8378770664093453)
 #define SYM_REL_TOL (AENL_R(64.0) * AENL_REAL_EPS)
 
@@ -36,15 +36,15 @@ uint16_t aenl_skf_mode_of(const aenl_skf_model_t *model, aenl_real_t value, int 
         return 0u;
     }
     const aenl_real_t *thr = rising ? model->thr_rising : model->thr_falling;
-    uint16_t s = 0u;
+    uint32_t s = 0u;
     for (uint32_t i = 0; i + 1u < model->n_modes; ++i)
     {
         if (value >= thr[i])
         {
-            s = (uint16_t)(i + 1u);
+            s = (uint32_t)(i + 1u);
         }
     }
-    return s;
+    return (uint16_t)s;
 }
 
 /* ---- model validation ------------------------------------------------------------------------ */
@@ -54,7 +54,7 @@ uint16_t aenl_skf_mode_of(const aenl_skf_model_t *model, aenl_real_t value, int 
 #define CHK_PSD 2u
 
 /* 1 when the n x m block is finite and passes the checks of flags. */
-static int matrix_ok(const aenl_real_t *a, uint16_t lda, uint16_t n, uint16_t m, unsigned flags)
+static int matrix_ok(const aenl_real_t *a, uint32_t lda, uint32_t n, uint32_t m, unsigned flags)
 {
     if (!aenl_la_all_finite(a, lda, n, m) ||
         ((flags & CHK_SYM) && !aenl_la_is_symmetric(a, lda, n, SYM_REL_TOL)))
@@ -136,7 +136,7 @@ static aenl_status_t check_model(const aenl_skf_model_t *m)
     {
         return AENL_E_ARG;
     }
-    const uint16_t nx = m->n_x;
+    const uint32_t nx = m->n_x;
     for (uint32_t s = 0; s < m->n_modes; ++s)
     {
         if (!matrix_ok(&m->A[s][0][0], LDX, nx, nx, 0u) || !matrix_ok(m->b[s], LDX, 1u, nx, 0u) ||
@@ -193,7 +193,7 @@ void aenl_skf_reset(aenl_skf_t *f)
     f->cur = 0u;
     f->dir = 1;
     f->x_prev_s = m->x0[m->switch_state];
-    const uint16_t n_est = m->imm ? f->n_modes : 1u;
+    const uint32_t n_est = m->imm ? f->n_modes : 1u;
     for (uint32_t s = 0; s < n_est; ++s)
     {
         memcpy(f->x[0][s], m->x0, sizeof(f->x[0][s]));
@@ -229,7 +229,7 @@ static void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, const aenl_
 {
     const aenl_skf_model_t *m = f->model;
     aenl_skf_work_t *w = &f->work;
-    const uint16_t nx = f->n_x;
+    const uint32_t nx = f->n_x;
     aenl_la_mv(w->xp, &m->A[s][0][0], LDX, x, nx, nx);
     for (uint32_t i = 0; i < nx; ++i)
     {
@@ -258,12 +258,12 @@ static void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, const aenl_
  * P_out (which must not alias the work buffers). Returns NOT_PD / NUMERIC without touching
  * anything outside the work area and the outputs.
  */
-static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, aenl_real_t *x_out,
+static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu, aenl_real_t *x_out,
                             aenl_real_t *P_out, aenl_real_t *nis, aenl_real_t *ll)
 {
     const aenl_skf_model_t *m = f->model;
     aenl_skf_work_t *w = &f->work;
-    const uint16_t nx = f->n_x;
+    const uint32_t nx = f->n_x;
     *nis = AENL_R(0.0);
     *ll = AENL_R(0.0);
     if (nu == 0u)
@@ -361,7 +361,7 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, ae
     return AENL_OK;
 }
 
-static aenl_status_t check_result(const aenl_real_t *x, const aenl_real_t *P, uint16_t nx)
+static aenl_status_t check_result(const aenl_real_t *x, const aenl_real_t *P, uint32_t nx)
 {
     if (!aenl_la_all_finite(x, LDX, 1u, nx) || !aenl_la_all_finite(P, LDX, nx, nx))
     {
@@ -389,20 +389,27 @@ static int16_t next_direction(const aenl_skf_t *f, const aenl_real_t *x)
     return f->dir;
 }
 
-static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu,
+/* Predict estimate e of the next half from (x, P) in mode s and update it with z: NOT_PD from the
+ * update, NUMERIC for a non-finite result. */
+static aenl_status_t mode_step(aenl_skf_t *f, uint32_t s, uint32_t e, const aenl_real_t *x,
+                               const aenl_real_t *P, const aenl_real_t *z, uint32_t nu,
+                               aenl_real_t *nis, aenl_real_t *ll)
+{
+    const uint32_t nxt = 1u - f->cur;
+    predict(f, s, x, P);
+    const aenl_status_t st = update(f, z, nu, f->x[nxt][e], &f->P[nxt][e][0][0], nis, ll);
+    return (st == AENL_OK) ? check_result(f->x[nxt][e], &f->P[nxt][e][0][0], f->n_x) : st;
+}
+
+static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu,
                                     aenl_skf_out_t *out)
 {
-    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur);
+    const uint32_t cur = f->cur;
     const aenl_real_t *x = f->x[cur][0];
     const int16_t dir = next_direction(f, x);
-    const uint16_t s = aenl_skf_mode_of(f->model, x[f->model->switch_state], dir > 0);
-    predict(f, s, x, &f->P[cur][0][0][0]);
+    const uint32_t s = aenl_skf_mode_of(f->model, x[f->model->switch_state], dir > 0);
     aenl_real_t nis, ll;
-    aenl_status_t st = update(f, z, nu, f->x[nxt][0], &f->P[nxt][0][0][0], &nis, &ll);
-    if (st == AENL_OK)
-    {
-        st = check_result(f->x[nxt][0], &f->P[nxt][0][0][0], f->n_x);
-    }
+    aenl_status_t st = mode_step(f, s, 0u, x, &f->P[cur][0][0][0], z, nu, &nis, &ll);
     /* A finite estimate can still come with an innovation whose square overflows. */
     if (st == AENL_OK && (!aenl_is_finite(nis) || !aenl_is_finite(ll)))
     {
@@ -414,12 +421,12 @@ static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint16_
     }
     f->x_prev_s = x[f->model->switch_state];
     f->dir = dir;
-    f->mode = s;
+    f->mode = (uint16_t)s;
     memset(f->mode_prob, 0, sizeof(f->mode_prob));
     f->mode_prob[s] = AENL_R(1.0);
-    f->cur = nxt;
-    out->mode = s;
-    out->mode_threshold = s;
+    f->cur = (uint16_t)(1u - cur);
+    out->mode = (uint16_t)s;
+    out->mode_threshold = (uint16_t)s;
     out->nis = nis;
     out->log_lik = ll;
     return AENL_OK;
@@ -466,7 +473,7 @@ static void mixture(const aenl_skf_t *f, uint32_t h, const aenl_real_t *w, aenl_
 static void imm_mix(aenl_skf_t *f, uint32_t j)
 {
     const aenl_skf_model_t *m = f->model;
-    const uint16_t cur = f->cur, nxt = (uint16_t)(1u - cur);
+    const uint32_t cur = f->cur, nxt = (uint32_t)(1u - cur);
     const aenl_real_t cj = f->work.cbar[j];
     aenl_real_t wi[AENL_SKF_MAX_MODES]; /* mixing weights of the modes i into j */
     for (uint32_t i = 0; i < f->n_modes; ++i)
@@ -482,9 +489,9 @@ static void imm_mix(aenl_skf_t *f, uint32_t j)
 /* The moment-matched mixture of the estimates in half h with probabilities prob stays finite:
  * every spread (x_j - xbar)^2 + P_j of a mode with prob_j > 0 is finite (then so is every term
  * of aenl_skf_estimate's covariance, a convex combination of them). */
-static int imm_mixture_finite(const aenl_skf_t *f, uint16_t h, const aenl_real_t *prob)
+static int imm_mixture_finite(const aenl_skf_t *f, uint32_t h, const aenl_real_t *prob)
 {
-    const uint16_t nx = f->n_x, nm = f->n_modes;
+    const uint32_t nx = f->n_x, nm = f->n_modes;
     for (uint32_t r = 0; r < nx; ++r)
     {
         aenl_real_t xbar = AENL_R(0.0);
@@ -504,10 +511,10 @@ static int imm_mixture_finite(const aenl_skf_t *f, uint16_t h, const aenl_real_t
     return 1;
 }
 
-static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, aenl_skf_out_t *out)
+static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu, aenl_skf_out_t *out)
 {
     const aenl_skf_model_t *m = f->model;
-    const uint16_t nxt = (uint16_t)(1u - f->cur), nm = f->n_modes;
+    const uint32_t nxt = (uint32_t)(1u - f->cur), nm = f->n_modes;
     aenl_skf_work_t *w = &f->work;
     for (uint32_t j = 0; j < nm; ++j)
     {
@@ -522,16 +529,11 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     for (uint32_t j = 0; j < nm; ++j)
     {
         imm_mix(f, j);
-        predict(f, j, f->x[nxt][j], &f->P[nxt][j][0][0]);
         const aenl_status_t st =
-            update(f, z, nu, f->x[nxt][j], &f->P[nxt][j][0][0], &nis_j[j], &w->lik[j]);
+            mode_step(f, j, j, f->x[nxt][j], &f->P[nxt][j][0][0], z, nu, &nis_j[j], &w->lik[j]);
         if (st != AENL_OK)
         {
             return st;
-        }
-        if (check_result(f->x[nxt][j], &f->P[nxt][j][0][0], f->n_x) != AENL_OK)
-        {
-            return AENL_E_NUMERIC;
         }
     }
     /* mode probabilities: mu_j proportional to cbar_j e^lik_j, by log-sum-exp */
@@ -551,11 +553,11 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     {
         return AENL_E_NUMERIC;
     }
-    uint16_t best = 0u;
+    uint32_t best = 0u;
     for (uint32_t j = 0; j < nm; ++j)
     {
         w->cbar[j] /= sum;
-        best = (w->cbar[j] > w->cbar[best]) ? (uint16_t)j : best;
+        best = (w->cbar[j] > w->cbar[best]) ? (uint32_t)j : best;
     }
     if (!aenl_is_finite(nis_j[best]) || !imm_mixture_finite(f, nxt, w->cbar))
     {
@@ -567,9 +569,9 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint16_t nu, 
     f->x_prev_s = x[m->switch_state];
     f->dir = dir;
     memcpy(f->mode_prob, w->cbar, sizeof(f->mode_prob));
-    f->mode = best;
-    f->cur = nxt;
-    out->mode = best;
+    f->mode = (uint16_t)best;
+    f->cur = (uint16_t)nxt;
+    out->mode = (uint16_t)best;
     out->nis = nis_j[best];
     out->log_lik = (nu > 0u) ? lmax + aenl_log(sum) : AENL_R(0.0);
     return AENL_OK;
@@ -590,7 +592,7 @@ aenl_status_t aenl_skf_step(aenl_skf_t *f, const aenl_real_t *z, aenl_skf_out_t 
     {
         return AENL_E_ARG;
     }
-    uint16_t nu = 0u;
+    uint32_t nu = 0u;
     for (uint32_t r = 0; r < f->n_z; ++r)
     {
         if (isinf(z[r]))
@@ -618,7 +620,7 @@ aenl_status_t aenl_skf_step(aenl_skf_t *f, const aenl_real_t *z, aenl_skf_out_t 
         memset(out, 0, sizeof(*out));
         return st;
     }
-    out->n_used = nu;
+    out->n_used = (uint16_t)nu;
     f->n_steps = sat_inc(f->n_steps);
     if (nu == 0u)
     {
@@ -638,7 +640,7 @@ aenl_status_t aenl_skf_estimate(const aenl_skf_t *f, aenl_real_t *x_out, aenl_re
     {
         return AENL_E_ARG;
     }
-    const uint16_t nx = f->n_x, cur = f->cur;
+    const uint32_t nx = f->n_x, cur = f->cur;
     if (!f->model->imm)
     {
         memcpy(x_out, f->x[cur][0], (size_t)nx * sizeof(aenl_real_t));
