@@ -51,6 +51,17 @@ typedef struct cls_set
     uint32_t n;
 } cls_set_t;
 
+/** What every fit of one evidence reads: its sets (the second: falling points), their suffix
+ *  tables and the candidate kink positions. */
+typedef struct cls_data
+{
+    const cls_set_t *s;
+    const cls_table_t *t;
+    uint32_t n_sets;
+    const aenl_real_t *cand; /**< ascending */
+    uint32_t n_cand;
+} cls_data_t;
+
 /** A law fitted to one or two sets (the second: falling points). */
 typedef struct cls_spec
 {
@@ -181,7 +192,8 @@ static uint32_t spec_nb(const cls_spec_t *sp)
 /** Kinks of set d: b + shift/2 on set 0 (rising), b - shift/2 on set 1 (falling). */
 static void set_kinks(const cls_spec_t *sp, uint32_t d, aenl_real_t *bb)
 {
-    const aenl_real_t off = (d == 0u) ? AENL_R(0.5) * sp->shift : AENL_R(-0.5) * sp->shift;
+    aenl_real_t off = AENL_R(0.5) * sp->shift;
+    off = (d == 0u) ? off : -off;
     bb[0] = sp->b[0] + off;
     bb[1] = sp->b[1] + off;
 }
@@ -217,29 +229,29 @@ static uint32_t basis(const cls_spec_t *sp, uint32_t d, const aenl_cls_point_t *
 }
 
 /**
- * Add column col of a kinked law's normal equations (upper triangle): e holds its products with
- * 1, u, v, itself and a; the rising offset's product equals the one with 1. Rows iv (velocity)
- * and idr (rising offset) are added when they lie above col (NB_MAX: absent).
+ * Add row col of a kinked law's normal equations (lower triangle): e holds its products with
+ * 1, u, v, itself and a; the rising offset's product equals the one with 1. Columns iv
+ * (velocity) and idr (rising offset) are added when they lie left of col (NB_MAX: absent).
  */
 static void add_column(aenl_real_t g[NB_MAX][NB_MAX], aenl_real_t *r, uint32_t col,
                        const aenl_real_t *e, uint32_t iv, uint32_t idr)
 {
-    g[0][col] += e[0];
-    g[1][col] += e[1];
+    g[col][0] += e[0];
+    g[col][1] += e[1];
     if (iv < col)
     {
-        g[iv][col] += e[2];
+        g[col][iv] += e[2];
     }
     if (idr < col)
     {
-        g[idr][col] += e[0];
+        g[col][idr] += e[0];
     }
     g[col][col] += e[3];
     r[col] += e[4];
 }
 
 /**
- * Add the normal equations of set d (upper triangle of g, right-hand side r, sum of w a^2).
+ * Add the normal equations of set d (lower triangle of g, right-hand side r, sum of w a^2).
  * Kinked laws read the suffix table: O(n_k log n); cubic laws sum over the points: O(n).
  */
 static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_t *sp, uint32_t d,
@@ -259,7 +271,7 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
             {
                 for (uint32_t b = a; b < nb; ++b)
                 {
-                    g[a][b] += q->w * phi[a] * phi[b];
+                    g[b][a] += q->w * phi[a] * phi[b];
                 }
                 r[a] += q->w * phi[a] * q->a;
             }
@@ -272,7 +284,7 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
     const uint32_t h0 = 2u + sp->use_v + sp->dir_term;
     const uint32_t own = (sp->dir_term && d == 0u) ? idr : NB_MAX;
     g[0][0] += tot->s0;
-    g[0][1] += tot->s1;
+    g[1][0] += tot->s1;
     g[1][1] += tot->s2;
     r[0] += tot->t0;
     r[1] += tot->t1;
@@ -298,7 +310,7 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
         add_column(g, r, hj, e, iv, own);
         for (uint32_t i = 0; i < j; ++i) /* bb[i] < bb[j]: the product lives above bb[j] */
         {
-            g[h0 + i][hj] += q->s2 - (bb[i] + bj) * q->s1 + bb[i] * bj * q->s0;
+            g[hj][h0 + i] += q->s2 - (bb[i] + bj) * q->s1 + bb[i] * bj * q->s0;
         }
     }
 }
@@ -309,25 +321,20 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
  * singular. coef (NB_MAX) and res (standardised residuals sqrt(w) (a - fit), set after set) may
  * be NULL.
  */
-static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                       const cls_spec_t *sp, aenl_real_t *coef, aenl_real_t *res)
+static aenl_real_t fit(const cls_data_t *dt, const cls_spec_t *sp, aenl_real_t *coef,
+                       aenl_real_t *res)
 {
+    const cls_set_t *s = dt->s;
+    const uint32_t n_sets = dt->n_sets;
     aenl_real_t g[NB_MAX][NB_MAX], r[NB_MAX], c[NB_MAX], waa = AENL_R(0.0);
     memset(g, 0, sizeof(g));
     memset(r, 0, sizeof(r));
     const uint32_t nb = spec_nb(sp);
     for (uint32_t d = 0; d < n_sets; ++d)
     {
-        accumulate(&s[d], &t[d], sp, d, g, r, &waa);
+        accumulate(&s[d], &dt->t[d], sp, d, g, r, &waa);
     }
-    for (uint32_t a = 0; a < nb; ++a)
-    {
-        for (uint32_t b = 0; b < a; ++b)
-        {
-            g[a][b] = g[b][a];
-        }
-    }
-    memcpy(c, r, sizeof(c));
+    memcpy(c, r, sizeof(c)); /* g holds the lower triangle, all that the factorisation reads */
     if (aenl_la_chol(&g[0][0], NB_MAX, (uint16_t)nb) != AENL_OK)
     {
         return AENL_R(-1.0);
@@ -371,12 +378,11 @@ static aenl_real_t fit(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets
 /* ---- kink search ------------------------------------------------------------------------- */
 
 /** RSS of sp with kink j moved to b, or -1 when the kinks are then out of order or the fit fails. */
-static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                            cls_spec_t *sp, uint32_t j, aenl_real_t b)
+static aenl_real_t fit_kink(const cls_data_t *dt, cls_spec_t *sp, uint32_t j, aenl_real_t b)
 {
     sp->b[j] = b;
     return (sp->n_k == 2u && !(sp->b[0] < sp->b[1])) ? AENL_R(-1.0)
-                                                     : fit(s, t, n_sets, sp, NULL, NULL);
+                                                     : fit(dt, sp, NULL, NULL);
 }
 
 /**
@@ -384,12 +390,12 @@ static aenl_real_t fit_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n
  * neighbours; keep the vertex when it fits better, and the profile's curvature for the standard
  * error.
  */
-static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                        const cls_spec_t *best, const aenl_real_t *cand, uint32_t n_cand,
-                        uint32_t ci, uint32_t j, cls_kinks_t *k)
+static void refine_kink(const cls_data_t *dt, const cls_spec_t *best, uint32_t ci, uint32_t j,
+                        cls_kinks_t *k)
 {
+    const aenl_real_t *cand = dt->cand;
     k->curv[j] = AENL_R(0.0);
-    if (ci == 0u || ci + 1u >= n_cand)
+    if (ci == 0u || ci + 1u >= dt->n_cand)
     {
         return;
     }
@@ -399,7 +405,7 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_set
     const aenl_real_t xs[2] = {x0, x2};
     for (uint32_t e = 0; e < 2u; ++e)
     {
-        rr[e] = fit_kink(s, t, n_sets, &sp, j, xs[e]);
+        rr[e] = fit_kink(dt, &sp, j, xs[e]);
         if (rr[e] < AENL_R(0.0))
         {
             return;
@@ -416,7 +422,7 @@ static void refine_kink(const cls_set_t *s, const cls_table_t *t, uint32_t n_set
     /* vertex of rr0 + d01 (x - x0) + c2 (x - x0)(x - x1) */
     aenl_real_t v = AENL_R(0.5) * (x0 + x1) - d01 / (AENL_R(2.0) * c2);
     v = (v < x0) ? x0 : ((v > x2) ? x2 : v);
-    const aenl_real_t rv = fit_kink(s, t, n_sets, &sp, j, v);
+    const aenl_real_t rv = fit_kink(dt, &sp, j, v);
     if (rv >= AENL_R(0.0) && rv <= k->rss)
     {
         k->rss = rv;
@@ -437,11 +443,11 @@ typedef struct cls_box
 } cls_box_t;
 
 /** Fit every candidate of the box; keep the best in k (and its candidate indices). */
-static void scan_box(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                     const cls_spec_t *base, const aenl_real_t *cand, uint32_t n_cand,
-                     aenl_real_t du, const cls_box_t *bx, cls_kinks_t *k, uint32_t *bi,
-                     uint32_t *bj)
+static void scan_box(const cls_data_t *dt, const cls_spec_t *base, aenl_real_t du,
+                     const cls_box_t *bx, cls_kinks_t *k, uint32_t *bi, uint32_t *bj)
 {
+    const aenl_real_t *cand = dt->cand;
+    const uint32_t n_cand = dt->n_cand;
     cls_spec_t sp = *base;
     for (uint32_t js = bx->js_lo; js <= bx->js_hi; js = (uint32_t)(js + bx->shift_step))
     {
@@ -458,7 +464,7 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
                     continue;
                 }
                 sp.b[1] = cand[j];
-                const aenl_real_t rss = fit(s, t, n_sets, &sp, NULL, NULL);
+                const aenl_real_t rss = fit(dt, &sp, NULL, NULL);
                 if (rss >= AENL_R(0.0) && rss < k->rss)
                 {
                     k->rss = rss;
@@ -474,10 +480,11 @@ static void scan_box(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
     }
 }
 
-static void search(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                   const cls_spec_t *base, const aenl_real_t *cand, uint32_t n_cand,
-                   uint32_t n_shift, cls_kinks_t *k)
+static void search(const cls_data_t *dt, const cls_spec_t *base, uint32_t n_shift,
+                   cls_kinks_t *k)
 {
+    const aenl_real_t *cand = dt->cand;
+    const uint32_t n_cand = dt->n_cand;
     memset(k, 0, sizeof(*k));
     k->rss = AENL_REAL_MAX;
     if (n_cand < 6u)
@@ -494,7 +501,7 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
     const cls_box_t coarse = {
         0u,    n_shift, shift_stride, 1u, (uint32_t)(n_cand - 1u), 0u, (uint32_t)(n_cand - 1u),
         stride};
-    scan_box(s, t, n_sets, base, cand, n_cand, du, &coarse, k, &bi, &bj);
+    scan_box(dt, base, du, &coarse, k, &bi, &bj);
     if (!k->ok)
     {
         return;
@@ -511,17 +518,17 @@ static void search(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
                                 (bj > stride) ? (uint32_t)(bj - stride) : 0u,
                                 (uint32_t)(bj + stride),
                                 1u};
-        scan_box(s, t, n_sets, base, cand, n_cand, du, &fine, k, &bi, &bj);
+        scan_box(dt, base, du, &fine, k, &bi, &bj);
     }
     cls_spec_t best = *base;
     best.b[0] = k->b[0];
     best.b[1] = k->b[1];
     best.shift = k->shift;
-    refine_kink(s, t, n_sets, &best, cand, n_cand, bi, 0u, k);
+    refine_kink(dt, &best, bi, 0u, k);
     if (base->n_k == 2u)
     {
         best.b[0] = k->b[0];
-        refine_kink(s, t, n_sets, &best, cand, n_cand, bj, 1u, k);
+        refine_kink(dt, &best, bj, 1u, k);
     }
 }
 
@@ -611,11 +618,12 @@ static aenl_real_t huber_sum(const aenl_real_t *res, uint32_t n, aenl_real_t inv
  * is the chi-square of the fit for residuals within HUBER_C sigma (a few misfitting nodes cannot
  * decide), counted per independent point.
  */
-static aenl_real_t criterion(const cls_set_t *s, const cls_table_t *t, uint32_t n_sets,
-                             const cls_spec_t *sp, aenl_real_t sigma, aenl_real_t frac,
-                             aenl_real_t n_ind, uint32_t k, aenl_real_t *scratch)
+static aenl_real_t criterion(const cls_data_t *dt, const cls_spec_t *sp, aenl_real_t sigma,
+                             aenl_real_t frac, aenl_real_t n_ind, uint32_t k, aenl_real_t *scratch)
 {
-    if (fit(s, t, n_sets, sp, NULL, scratch) < AENL_R(0.0))
+    const cls_set_t *s = dt->s;
+    const uint32_t n_sets = dt->n_sets;
+    if (fit(dt, sp, NULL, scratch) < AENL_R(0.0))
     {
         return AENL_REAL_MAX;
     }
@@ -680,19 +688,30 @@ static uint32_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t
     return n;
 }
 
-/** Normalise the weights to a maximum of 1 (keeps every sum far from overflow in float32); returns
- * the divisor. */
-static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint32_t n)
+/** The largest of wmax and the weights of pt[0..n). */
+static aenl_real_t max_weight(const aenl_cls_point_t *pt, uint32_t n, aenl_real_t wmax)
 {
-    aenl_real_t wmax = AENL_R(0.0);
     for (uint32_t k = 0; k < n; ++k)
     {
         wmax = (pt[k].w > wmax) ? pt[k].w : wmax;
     }
+    return wmax;
+}
+
+static void divide_weights(aenl_cls_point_t *pt, uint32_t n, aenl_real_t wmax)
+{
     for (uint32_t k = 0; k < n; ++k)
     {
         pt[k].w /= wmax;
     }
+}
+
+/** Normalise the weights to a maximum of 1 (keeps every sum far from overflow in float32); returns
+ * the divisor. */
+static aenl_real_t normalise_weights(aenl_cls_point_t *pt, uint32_t n)
+{
+    const aenl_real_t wmax = max_weight(pt, n, AENL_R(0.0));
+    divide_weights(pt, n, wmax);
     return wmax;
 }
 
@@ -710,50 +729,31 @@ static uint32_t candidates(const aenl_cls_point_t *pt, uint32_t n, aenl_real_t *
     return nc;
 }
 
-/** Merge ascending kink lists into distinct switching points (closer than 2 combined se). */
-static uint8_t merge_points(const aenl_real_t *b, const aenl_real_t *se, uint32_t n,
-                            aenl_real_t *out, aenl_real_t *out_se)
+/** Merge the switching points q[0..m) (value in p, standard error in w; sorted here) into
+ *  distinct ones (closer than 2 combined se merge); m <= AENL_CLASSIFIER_MAX_SWITCH. */
+static uint8_t merge_points(aenl_cls_point_t *q, uint32_t m, aenl_real_t *out,
+                            aenl_real_t *out_se)
 {
-    aenl_real_t v[AENL_CLASSIFIER_MAX_SWITCH], e[AENL_CLASSIFIER_MAX_SWITCH];
-    uint32_t m = 0u;
-    for (uint32_t i = 0; i < n && i < AENL_CLASSIFIER_MAX_SWITCH; ++i)
-    {
-        v[m] = b[i];
-        e[m] = se[i];
-        ++m;
-    }
-    for (uint32_t i = 1; i < m; ++i) /* sort by value */
-    {
-        uint32_t j = i;
-        while (j > 0u && v[j - 1u] > v[j])
-        {
-            const aenl_real_t tv = v[j], te = e[j];
-            v[j] = v[j - 1u];
-            e[j] = e[j - 1u];
-            v[j - 1u] = tv;
-            e[j - 1u] = te;
-            --j;
-        }
-    }
+    sort_points(q, m); /* by value */
     uint8_t k = 0u;
     for (uint32_t i = 0; i < m; ++i)
     {
         if (k > 0u)
         {
             const aenl_real_t tol =
-                AENL_R(2.0) * aenl_sqrt(e[i] * e[i] + out_se[k - 1u] * out_se[k - 1u]);
-            if (v[i] - out[k - 1u] <= tol)
+                AENL_R(2.0) * aenl_sqrt(q[i].w * q[i].w + out_se[k - 1u] * out_se[k - 1u]);
+            if (q[i].p - out[k - 1u] <= tol)
             {
                 /* inverse-variance mean of the two estimates of one switching point */
                 const aenl_real_t w1 = AENL_R(1.0) / (out_se[k - 1u] * out_se[k - 1u]);
-                const aenl_real_t w2 = AENL_R(1.0) / (e[i] * e[i]);
-                out[k - 1u] = (w1 * out[k - 1u] + w2 * v[i]) / (w1 + w2);
+                const aenl_real_t w2 = AENL_R(1.0) / (q[i].w * q[i].w);
+                out[k - 1u] = (w1 * out[k - 1u] + w2 * q[i].p) / (w1 + w2);
                 out_se[k - 1u] = aenl_sqrt(AENL_R(1.0) / (w1 + w2));
                 continue;
             }
         }
-        out[k] = v[i];
-        out_se[k] = e[i];
+        out[k] = q[i].p;
+        out_se[k] = q[i].w;
         ++k;
     }
     return k;
@@ -848,25 +848,15 @@ static uint32_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
         c->interior[k] = (uint8_t)in;
     }
     /* keep the longest run */
-    uint32_t best_start = 0u, best_len = 0u;
-    for (uint32_t k = 0; k < ng;)
+    uint32_t best_start = 0u, best_len = 0u, run = 0u;
+    for (uint32_t k = 0; k < ng; ++k) /* the longest run, the first of equal ones */
     {
-        if (!c->interior[k])
+        run = c->interior[k] ? run + 1u : 0u;
+        if (run > best_len)
         {
-            ++k;
-            continue;
+            best_len = run;
+            best_start = k + 1u - run;
         }
-        uint32_t e = k;
-        while (e < ng && c->interior[e])
-        {
-            ++e;
-        }
-        if ((uint32_t)(e - k) > best_len)
-        {
-            best_len = (uint32_t)(e - k);
-            best_start = (uint32_t)k;
-        }
-        k = e;
     }
     for (uint32_t k = 0; k < ng; ++k)
     {
@@ -1005,29 +995,29 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
  * a law whose fit failed or whose kink search found nothing (ok[i] zero). Parameters: the law's
  * coefficients (the kinks at KINK_DF each), plus the rising offset of a direction split.
  */
-static void score_laws(aenl_classifier_t *c, const cls_set_t *s, uint32_t n_sets,
-                       const cls_laws_t *l, const int *ok, uint32_t n_laws, aenl_real_t sigma,
-                       aenl_real_t frac, aenl_real_t n_ind, aenl_real_t *b)
+static void score_laws(aenl_classifier_t *c, const cls_data_t *dt, const cls_laws_t *l,
+                       const int *ok, uint32_t n_laws, aenl_real_t sigma, aenl_real_t frac,
+                       aenl_real_t n_ind, aenl_real_t *b)
 {
     static const uint8_t k_params[5] = {2u, 4u, 3u + KINK_DF, 4u + 2u * KINK_DF,
                                         5u + 3u * KINK_DF};
     const cls_spec_t *const sp[5] = {&l->lin, &l->poly, &l->one, &l->two, &l->hy};
     for (uint32_t i = 0; i < n_laws; ++i)
     {
-        b[i] = ok[i] ? criterion(s, c->tab, n_sets, sp[i], sigma, frac, n_ind,
-                                 (uint32_t)(k_params[i] + n_sets - 1u), c->resid)
+        b[i] = ok[i] ? criterion(dt, sp[i], sigma, frac, n_ind,
+                                 (uint32_t)(k_params[i] + dt->n_sets - 1u), c->resid)
                      : AENL_REAL_MAX;
     }
 }
 
 /** Criteria and posterior weights of the all-pairs laws (rss_poly < 0: the polynomial failed). */
-static void all_pairs_scores(aenl_classifier_t *c, const cls_set_t *all, const cls_laws_t *l,
+static void all_pairs_scores(aenl_classifier_t *c, const cls_data_t *dt, const cls_laws_t *l,
                              const cls_frame_t *fr, aenl_real_t sigma, aenl_real_t rss_poly,
                              cls_all_t *ap, aenl_classifier_result_t *r)
 {
     aenl_real_t *b = ap->b;
     const int ok[AENL_CLS_N_MODELS] = {1, rss_poly >= AENL_R(0.0), ap->k1.ok, ap->k2.ok};
-    score_laws(c, all, 1u, l, ok, AENL_CLS_N_MODELS, sigma, fr->frac, fr->n_ind, b);
+    score_laws(c, dt, l, ok, AENL_CLS_N_MODELS, sigma, fr->frac, fr->n_ind, b);
     posterior(b, AENL_CLS_N_MODELS, ap->pm);
     for (unsigned i = 0; i < (unsigned)AENL_CLS_N_MODELS; ++i)
     {
@@ -1049,14 +1039,15 @@ static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
     fr->nc = candidates(c->pt[0], n, c->cand);
     cls_laws_t l;
     laws_init(&l, 0u);
-    search(&all, &c->tab[0], 1u, &l.one, c->cand, fr->nc, 0u, &ap->k1);
-    search(&all, &c->tab[0], 1u, &l.two, c->cand, fr->nc, 0u, &ap->k2);
+    const cls_data_t dt = {&all, c->tab, 1u, c->cand, fr->nc};
+    search(&dt, &l.one, 0u, &ap->k1);
+    search(&dt, &l.two, 0u, &ap->k2);
     l.one.b[0] = ap->k1.b[0];
     l.two.b[0] = ap->k2.b[0];
     l.two.b[1] = ap->k2.b[1];
     aenl_real_t coef[NB_MAX] = {AENL_R(0.0)};
-    const aenl_real_t rss_lin = fit(&all, &c->tab[0], 1u, &l.lin, NULL, NULL);
-    const aenl_real_t rss_poly = fit(&all, &c->tab[0], 1u, &l.poly, coef, NULL);
+    const aenl_real_t rss_lin = fit(&dt, &l.lin, NULL, NULL);
+    const aenl_real_t rss_poly = fit(&dt, &l.poly, coef, NULL);
     const aenl_real_t c3 = coef[3];
     if (rss_lin < AENL_R(0.0))
     {
@@ -1066,11 +1057,11 @@ static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
     const cls_spec_t *const ksp[2] = {&l.one, &l.two};
     const cls_kinks_t *const kk[2] = {&ap->k1, &ap->k2};
     const cls_spec_t *ref = noise_reference(&l, rss_poly, ksp, kk, 2u);
-    (void)fit(&all, &c->tab[0], 1u, ref, NULL, c->resid);
+    (void)fit(&dt, ref, NULL, c->resid);
     const aenl_real_t sigma = noise_scale(c->resid, n, fr->wmax);
-    all_pairs_scores(c, &all, &l, fr, sigma, rss_poly, ap, r);
+    all_pairs_scores(c, &dt, &l, fr, sigma, rss_poly, ap, r);
     r->hardening = (int8_t)((c3 < AENL_R(0.0)) ? 1 : -1);
-    if (ap->k2.ok && fit(&all, &c->tab[0], 1u, &l.two, coef, NULL) >= AENL_R(0.0))
+    if (ap->k2.ok && fit(&dt, &l.two, coef, NULL) >= AENL_R(0.0))
     {
         const aenl_real_t to_phys = fr->ascale / fr->half;
         r->slope[0] = -coef[1] * to_phys;
@@ -1091,31 +1082,21 @@ static int all_pairs(aenl_classifier_t *c, cls_frame_t *fr, cls_all_t *ap,
 static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, const cls_frame_t *fr,
                              uint32_t *nd, aenl_real_t *wmax, cls_dir_t *dir)
 {
-    nd[0] = gather(c, m, AENL_DIR_RISING, fr->centre, AENL_R(1.0) / fr->half,
-                   AENL_R(1.0) / fr->ascale, c->interior, c->pt[1]);
-    nd[1] = gather(c, m, AENL_DIR_FALLING, fr->centre, AENL_R(1.0) / fr->half,
-                   AENL_R(1.0) / fr->ascale, c->interior, c->pt[2]);
+    for (uint32_t d = 0; d < 2u; ++d)
+    {
+        nd[d] = gather(c, m, d ? AENL_DIR_FALLING : AENL_DIR_RISING, fr->centre,
+                       AENL_R(1.0) / fr->half, AENL_R(1.0) / fr->ascale, c->interior, c->pt[1 + d]);
+    }
     dir->nd_ind = (aenl_real_t)(nd[0] + nd[1]) * fr->frac;
     if (nd[0] < c->cfg.min_nodes || nd[1] < c->cfg.min_nodes || !(dir->nd_ind > AENL_R(16.0)))
     {
         return 0;
     }
-    *wmax = AENL_R(0.0);
-    for (uint32_t d = 0; d < 2u; ++d)
-    {
-        sort_points(c->pt[1 + d], nd[d]);
-        for (uint32_t i = 0; i < nd[d]; ++i)
-        {
-            *wmax = (c->pt[1 + d][i].w > *wmax) ? c->pt[1 + d][i].w : *wmax;
-        }
-    }
-    for (uint32_t d = 0; d < 2u; ++d)
-    {
-        for (uint32_t i = 0; i < nd[d]; ++i)
-        {
-            c->pt[1 + d][i].w /= *wmax;
-        }
-    }
+    sort_points(c->pt[1], nd[0]);
+    sort_points(c->pt[2], nd[1]);
+    *wmax = max_weight(c->pt[2], nd[1], max_weight(c->pt[1], nd[0], AENL_R(0.0)));
+    divide_weights(c->pt[1], nd[0], *wmax);
+    divide_weights(c->pt[2], nd[1], *wmax);
     return 1;
 }
 
@@ -1123,15 +1104,15 @@ static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, cons
  * Criteria of the direction-split laws at noise scale sig_d, the hardening of the shared
  * polynomial and the kinks' standard errors.
  */
-static void direction_scores(aenl_classifier_t *c, const cls_set_t *sets, const cls_laws_t *l,
+static void direction_scores(aenl_classifier_t *c, const cls_data_t *dt, const cls_laws_t *l,
                              const cls_frame_t *fr, aenl_real_t sig_d, cls_dir_t *dir,
                              aenl_classifier_result_t *r)
 {
     const aenl_real_t frac_d = fr->frac;
     const int ok[D_N] = {1, 1, dir->t1.ok, dir->t2.ok, dir->hy.ok};
-    score_laws(c, sets, 2u, l, ok, D_N, sig_d, frac_d, dir->nd_ind, dir->bd);
+    score_laws(c, dt, l, ok, D_N, sig_d, frac_d, dir->nd_ind, dir->bd);
     aenl_real_t cp[NB_MAX];
-    if (fit(sets, c->tab, 2u, &l->poly, cp, NULL) >= AENL_R(0.0))
+    if (fit(dt, &l->poly, cp, NULL) >= AENL_R(0.0))
     {
         r->hardening = (int8_t)((cp[3] < AENL_R(0.0)) ? 1 : -1);
     }
@@ -1162,9 +1143,10 @@ static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const
     build_table(&sets[1], &c->tab[1]);
     cls_laws_t l;
     laws_init(&l, 1u);
-    search(sets, c->tab, 2u, &l.one, c->cand, fr->nc, 0u, &dir->t1);
-    search(sets, c->tab, 2u, &l.two, c->cand, fr->nc, 0u, &dir->t2);
-    search(sets, c->tab, 2u, &l.hy, c->cand, fr->nc, (uint32_t)(fr->nc / 3u), &dir->hy);
+    const cls_data_t dt = {sets, c->tab, 2u, c->cand, fr->nc};
+    search(&dt, &l.one, 0u, &dir->t1);
+    search(&dt, &l.two, 0u, &dir->t2);
+    search(&dt, &l.hy, fr->nc / 3u, &dir->hy);
     l.one.b[0] = dir->t1.b[0];
     l.two.b[0] = dir->t2.b[0];
     l.two.b[1] = dir->t2.b[1];
@@ -1173,15 +1155,15 @@ static void direction_split(aenl_classifier_t *c, const aenl_moments_t *m, const
     l.hy.shift = dir->hy.shift;
     const cls_spec_t *const ksp[3] = {&l.one, &l.two, &l.hy};
     const cls_kinks_t *const kk[3] = {&dir->t1, &dir->t2, &dir->hy};
-    const aenl_real_t rss_poly = fit(sets, c->tab, 2u, &l.poly, NULL, NULL);
+    const aenl_real_t rss_poly = fit(&dt, &l.poly, NULL, NULL);
     const cls_spec_t *ref = noise_reference(&l, rss_poly, ksp, kk, 3u);
-    if (fit(sets, c->tab, 2u, ref, NULL, c->resid) < AENL_R(0.0))
+    if (fit(&dt, ref, NULL, c->resid) < AENL_R(0.0))
     {
         return;
     }
     dir->ok = 1;
     const aenl_real_t sig_d = noise_scale(c->resid, (uint32_t)(nd[0] + nd[1]), wmax);
-    direction_scores(c, sets, &l, fr, sig_d, dir, r);
+    direction_scores(c, &dt, &l, fr, sig_d, dir, r);
 }
 
 /**
@@ -1246,15 +1228,16 @@ static void switching_points(const cls_frame_t *fr, const cls_all_t *ap, const c
     }
     else if (r->cls == AENL_CLASS_HYSTERESIS)
     {
-        aenl_real_t pb[4], ps[4];
+        aenl_cls_point_t q[4]; /* switching point in p, its se in w */
+        memset(q, 0, sizeof(q));
         for (uint32_t j = 0; j < 2u; ++j)
         {
-            pb[j] = centre + (dir->hy.b[j] + AENL_R(0.5) * dir->hy.shift) * half;
-            pb[2u + j] = centre + (dir->hy.b[j] - AENL_R(0.5) * dir->hy.shift) * half;
-            ps[j] = dir->se_hy[j] * half;
-            ps[2u + j] = dir->se_hy[j] * half;
+            q[j].p = centre + (dir->hy.b[j] + AENL_R(0.5) * dir->hy.shift) * half;
+            q[2u + j].p = centre + (dir->hy.b[j] - AENL_R(0.5) * dir->hy.shift) * half;
+            q[j].w = dir->se_hy[j] * half;
+            q[2u + j].w = dir->se_hy[j] * half;
         }
-        r->n_switch = merge_points(pb, ps, 4u, r->switch_points, r->switch_std);
+        r->n_switch = merge_points(q, 4u, r->switch_points, r->switch_std);
     }
 }
 
