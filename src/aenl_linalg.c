@@ -6,20 +6,19 @@
  */
 #include "aenl_linalg.h"
 
-/* C (n x m), C(i, j) = sum_r A(i, r) B(r, j) with A(i, r) = a[i ai + r ar] and
- * B(r, j) = b[r br + j bj]: the products below differ only by these strides. */
-static void mul_strided(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
-                        const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k,
-                        uint32_t m)
+void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
+                  const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k, uint32_t m,
+                  int acc)
 {
     for (size_t i = 0; i < n; ++i)
     {
         for (size_t j = 0; j < m; ++j)
         {
-            aenl_real_t s = AENL_R(0.0);
+            aenl_real_t s = acc ? c[i * ldc + j] : AENL_R(0.0);
             for (size_t r = 0; r < k; ++r)
             {
-                s += a[i * ai + r * ar] * b[r * br + j * bj];
+                const aenl_real_t p = a[i * ai + r * ar] * b[r * br + j * bj];
+                s = (acc < 0) ? s - p : s + p;
             }
             c[i * ldc + j] = s;
         }
@@ -29,25 +28,25 @@ static void mul_strided(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, size
 void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
                  const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
-    mul_strided(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m);
+    aenl_la_gemm(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m, 0);
 }
 
 void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
                     const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
-    mul_strided(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m);
+    aenl_la_gemm(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m, 0);
 }
 
 void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
                     const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
 {
-    mul_strided(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m);
+    aenl_la_gemm(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m, 0);
 }
 
 void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda, const aenl_real_t *x,
                 uint32_t n, uint32_t m)
 {
-    mul_strided(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u);
+    aenl_la_gemm(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u, 0);
 }
 
 void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n)

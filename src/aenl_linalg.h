@@ -11,6 +11,15 @@
 
 #include "aenl/aenl_types.h"
 
+/**
+ * C (n x m) = A B (acc 0), C + A B (acc > 0) or C - A B (acc < 0), with A(i, r) = a[i ai + r ar]
+ * and B(r, j) = b[r br + j bj] (a transposed or strided view costs nothing); each entry is summed
+ * in ascending r, from C(i, j) or from zero. C must not alias A or B.
+ */
+void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
+                  const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k, uint32_t m,
+                  int acc);
+
 /** C (n x m) = A (n x k) * B (k x m). */
 void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
                  const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);

@@ -309,35 +309,15 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu, ae
     }
     aenl_la_solve_lower_t(&w->S[0][0], LDZ, nu, u, 1u, 1u);
     /* K' = S^-1 C P_p (in CP); x = x_p + P_p C' S^-1 e = x_p + (C P_p)' u. */
-    for (uint32_t i = 0; i < nx; ++i)
-    {
-        aenl_real_t s = w->xp[i];
-        for (uint32_t r = 0; r < nu; ++r)
-        {
-            s += w->CP[r][i] * u[r];
-        }
-        x_out[i] = s;
-    }
+    memcpy(x_out, w->xp, sizeof(w->xp));
+    aenl_la_gemm(x_out, 1u, &w->CP[0][0], 1u, LDX, u, 1u, 0u, nx, nu, 1u, 1);
     /* C P_p into the first rows of T (T is free), then K' = S^-1 C P_p in CP. */
-    for (uint32_t r = 0; r < nu; ++r)
-    {
-        memcpy(w->T[r], w->CP[r], sizeof(w->T[r]));
-    }
+    memcpy(w->T, w->CP, nu * sizeof(w->T[0]));
     aenl_la_chol_solve(&w->S[0][0], LDZ, nu, &w->CP[0][0], LDX, nx);
     /* Joseph form (I - K C) P_p (I - K C)' + K R K', with I - K C applied as a rank-nu
      * correction instead of an nx x nx product: first P_out = (I - K C) P_p = P_p - K (C P_p). */
-    for (uint32_t i = 0; i < nx; ++i)
-    {
-        for (uint32_t j = 0; j < nx; ++j)
-        {
-            aenl_real_t acc = w->Pp[i][j];
-            for (uint32_t r = 0; r < nu; ++r)
-            {
-                acc -= w->CP[r][i] * w->T[r][j];
-            }
-            P_out[(size_t)i * LDX + j] = acc;
-        }
-    }
+    memcpy(P_out, w->Pp, sizeof(w->Pp));
+    aenl_la_gemm(P_out, LDX, &w->CP[0][0], 1u, LDX, &w->T[0][0], LDX, 1u, nx, nu, nx, -1);
     /* V = P_out C' (nx x nu) into T's first columns: P_out (I - K C)' = P_out - V K'. */
     aenl_la_mul_nt(&w->T[0][0], LDX, P_out, LDX, &w->Cu[0][0], LDX, nx, nx, nu);
     /* R_u K' into Cu (C rows no longer needed) */
