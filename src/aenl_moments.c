@@ -192,22 +192,22 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
     }
     memset(m, 0, sizeof(*m));
     m->cfg = *cfg;
-    for (uint32_t i = cfg->n_lags; i < AENL_MOMENTS_MAX_LAGS; ++i)
+    for (uint32_t i = 0; i < AENL_MOMENTS_MAX_LAGS; ++i)
     {
-        m->cfg.lags[i] = 0u; /* unused entries: defined, never read */
+        if (i >= cfg->n_lags)
+        {
+            m->cfg.lags[i] = 0u; /* unused entries: defined, never read */
+        }
+        else if (cfg->lags[i] > m->max_lag)
+        {
+            m->max_lag = cfg->lags[i];
+        }
     }
     m->dx = (cfg->x_max - cfg->x_min) / (aenl_real_t)(cfg->n_grid - 1u);
     m->inv_dx = AENL_R(1.0) / m->dx;
     m->inv_h = AENL_R(1.0) / cfg->bandwidth;
     m->inv_lambda = AENL_R(1.0) / cfg->forgetting;
     m->n_dir = cfg->direction_split ? 2u : 1u;
-    for (uint32_t i = 0; i < cfg->n_lags; ++i)
-    {
-        if (cfg->lags[i] > m->max_lag)
-        {
-            m->max_lag = cfg->lags[i];
-        }
-    }
     aenl_moments_reset(m);
     return AENL_OK;
 }
@@ -288,24 +288,29 @@ static int32_t node_floor(aenl_real_t v, uint32_t n_grid)
 /* Scale every weight-carrying sum (W, M2 by 2^-20, W2 by 2^-40; not the means) and the scale. */
 static void renormalise(aenl_moments_t *m)
 {
-    const uint32_t n_series = aenl_moments_n_series(m);
-    for (uint32_t ls = 0; ls < n_series; ++ls)
+    const uint32_t n = active_sums(m);
+#if AENL_MOMENTS_COMPENSATED
+    const uint32_t n_w = 2u * m->n_dir * m->cfg.n_grid; /* (W, W2) of each group, then cells */
+    for (uint32_t i = 0; i < n; i += 2u)
     {
-        for (uint32_t dir = 0; dir < m->n_dir; ++dir)
+        if (i < n_w)
         {
-            for (uint32_t k = 0; k < m->cfg.n_grid; ++k)
-            {
-                uint32_t iw, im;
-                cell_index(m, ls, dir, k, &iw, &im);
-                if (!AENL_MOMENTS_COMPENSATED || ls == 0u) /* shared sums: once */
-                {
-                    m->sum[iw] *= SCALE_SHRINK;
-                    m->sum[iw + W2_OFF] *= SCALE_SHRINK * SCALE_SHRINK;
-                }
-                m->sum[im + 1u] *= SCALE_SHRINK;
-            }
+            m->sum[i] *= SCALE_SHRINK;
+            m->sum[i + 1u] *= SCALE_SHRINK * SCALE_SHRINK;
+        }
+        else
+        {
+            m->sum[i + 1u] *= SCALE_SHRINK; /* M2 after the mean */
         }
     }
+#else
+    for (uint32_t i = 0; i < n; i += 4u) /* W, mean, M2, W2 of each cell */
+    {
+        m->sum[i] *= SCALE_SHRINK;
+        m->sum[i + 2u] *= SCALE_SHRINK;
+        m->sum[i + 3u] *= SCALE_SHRINK * SCALE_SHRINK;
+    }
+#endif
     m->scale *= SCALE_SHRINK;
     if (m->n_renorm < UINT32_MAX)
     {
@@ -398,10 +403,12 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         for (uint32_t ls = 0; ls < n_series; ++ls) /* ls >= n_lags: backward series X_{c-L} */
         {
             const uint32_t pr = response(m, ls);
+#if !AENL_MOMENTS_COMPENSATED /* compensated, every response is present (checked above) */
             if (!m->valid[pr])
             {
                 continue;
             }
+#endif
             const aenl_real_t y = m->hist[pr];
             cell_index(m, ls, dir, (uint32_t)k, &iw, &im);
             const aenl_real_t w_old = sum_get(m, iw);
@@ -476,8 +483,12 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
         }
         w2 = a[3] + b[3];
     }
+    const aenl_real_t x = aenl_moments_node_x(m, node);
+#if AENL_MOMENTS_COMPENSATED
+    mean += x; /* kept relative to the node */
+#endif
     memset(out, 0, sizeof(*out));
-    out->x = aenl_moments_node_x(m, node);
+    out->x = x;
     if (!(w > AENL_R(0.0)) || !(w2 > AENL_R(0.0)))
     {
         return AENL_E_EMPTY;
@@ -494,9 +505,6 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     /* Kernel weight sum sum phi_h = sum (1 - |d|/h) / h, saturating (a bandwidth near the
      * smallest real could push it past the largest one; mean and variance do not need it). */
     const aenl_real_t weight = (w / m->scale) * m->inv_h;
-#if AENL_MOMENTS_COMPENSATED
-    mean += out->x;
-#endif
     out->mean = mean;
     out->var = var;
     out->weight = aenl_is_finite(weight) ? weight : AENL_REAL_MAX;
