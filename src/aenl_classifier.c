@@ -106,10 +106,11 @@ void aenl_classifier_cfg_default(aenl_classifier_cfg_t *cfg)
 
 aenl_status_t aenl_classifier_init(aenl_classifier_t *c, const aenl_classifier_cfg_t *cfg)
 {
+    /* the range tests reject NaN (every comparison false) and Inf */
     if (c == NULL || cfg == NULL || cfg->taylor_order < 2u ||
-        cfg->taylor_order > AENL_MOMENTS_TAYLOR_MAX_ORDER || !aenl_is_finite(cfg->trim) ||
-        cfg->trim < AENL_R(0.0) || cfg->trim >= AENL_R(0.25) || !aenl_is_finite(cfg->min_n_eff) ||
-        cfg->min_n_eff < AENL_R(1.0) || cfg->min_nodes < 8u ||
+        cfg->taylor_order > AENL_MOMENTS_TAYLOR_MAX_ORDER ||
+        !(cfg->trim >= AENL_R(0.0) && cfg->trim < AENL_R(0.25)) ||
+        !(cfg->min_n_eff >= AENL_R(1.0) && cfg->min_n_eff <= AENL_REAL_MAX) || cfg->min_nodes < 8u ||
         cfg->min_nodes > AENL_CLASSIFIER_MAX_NODES || cfg->use_noise_acf > 1u)
     {
         return AENL_E_ARG;
@@ -650,18 +651,30 @@ static aenl_real_t kink_se(aenl_real_t curv, aenl_real_t sigma, aenl_real_t frac
     return (aenl_is_finite(se) && se < AENL_R(4.0) * fallback) ? se : fallback;
 }
 
+/** The scaled frame of the points and how many of them are independent. */
+typedef struct cls_frame
+{
+    aenl_real_t centre, half; /**< p = centre + u half */
+    aenl_real_t ascale;       /**< acceleration scale: a and v are divided by it */
+    aenl_real_t frac;         /**< independent share of the nodes */
+    aenl_real_t n_ind;        /**< independent points of all pairs */
+    aenl_real_t wmax;         /**< divisor of the all-pairs weights */
+    uint32_t n;               /**< points of all pairs */
+    uint32_t nc;              /**< candidate kink positions */
+} cls_frame_t;
+
 /**
- * Gather the usable nodes of one direction into pt[], scaled: p -> (p - centre) * inv_half, a and
- * v times inv_ascale, weight 1 / se_a^2 (scaled).
+ * Gather the usable nodes of one direction into pt[], scaled in the frame fr:
+ * p -> (p - centre) / half, a and v times inv_ascale, weight 1 / se_a^2 (scaled).
  */
 static uint32_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t dir,
-                       aenl_real_t centre, aenl_real_t inv_half, aenl_real_t inv_ascale,
-                       const uint8_t *interior, aenl_cls_point_t *pt)
+                       const cls_frame_t *fr, aenl_real_t inv_ascale, aenl_cls_point_t *pt)
 {
+    const aenl_real_t centre = fr->centre, inv_half = AENL_R(1.0) / fr->half;
     uint32_t n = 0u;
     for (uint32_t k = 0; k < m->cfg.n_grid; ++k)
     {
-        if (!interior[k])
+        if (!c->interior[k])
         {
             continue;
         }
@@ -878,17 +891,6 @@ enum
     D_N
 };
 
-/** The scaled frame of the points and how many of them are independent. */
-typedef struct cls_frame
-{
-    aenl_real_t centre, half; /**< p = centre + u half */
-    aenl_real_t ascale;       /**< acceleration scale: a and v are divided by it */
-    aenl_real_t frac;         /**< independent share of the nodes */
-    aenl_real_t n_ind;        /**< independent points of all pairs */
-    aenl_real_t wmax;         /**< divisor of the all-pairs weights */
-    uint32_t n;               /**< points of all pairs */
-    uint32_t nc;              /**< candidate kink positions */
-} cls_frame_t;
 
 /** The laws one fit compares; the kinked ones take their kinks from the searches. */
 typedef struct cls_laws
@@ -974,8 +976,7 @@ static int prepare_points(aenl_classifier_t *c, const aenl_moments_t *m, cls_fra
     {
         fr->centre = AENL_R(0.5) * (x_lo + x_hi);
         fr->half = AENL_R(0.5) * (x_hi - x_lo);
-        fr->n = gather(c, m, AENL_DIR_ALL, fr->centre, AENL_R(1.0) / fr->half, AENL_R(1.0),
-                       c->interior, c->pt[0]);
+        fr->n = gather(c, m, AENL_DIR_ALL, fr, AENL_R(1.0), c->pt[0]);
     }
     fr->n_ind = (aenl_real_t)fr->n * fr->frac;
     fr->ascale = (fr->n > 0u) ? accel_rms(c->pt[0], fr->n) : AENL_R(0.0);
@@ -1084,8 +1085,8 @@ static int gather_directions(aenl_classifier_t *c, const aenl_moments_t *m, cons
 {
     for (uint32_t d = 0; d < 2u; ++d)
     {
-        nd[d] = gather(c, m, d ? AENL_DIR_FALLING : AENL_DIR_RISING, fr->centre,
-                       AENL_R(1.0) / fr->half, AENL_R(1.0) / fr->ascale, c->interior, c->pt[1 + d]);
+        nd[d] = gather(c, m, d ? AENL_DIR_FALLING : AENL_DIR_RISING, fr, AENL_R(1.0) / fr->ascale,
+                       c->pt[1 + d]);
     }
     dir->nd_ind = (aenl_real_t)(nd[0] + nd[1]) * fr->frac;
     if (nd[0] < c->cfg.min_nodes || nd[1] < c->cfg.min_nodes || !(dir->nd_ind > AENL_R(16.0)))

@@ -25,30 +25,6 @@ void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, s
     }
 }
 
-void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                 const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
-{
-    aenl_la_gemm(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m, 0);
-}
-
-void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
-{
-    aenl_la_gemm(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m, 0);
-}
-
-void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m)
-{
-    aenl_la_gemm(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m, 0);
-}
-
-void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda, const aenl_real_t *x,
-                uint32_t n, uint32_t m)
-{
-    aenl_la_gemm(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u, 0);
-}
-
 void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n)
 {
     for (uint32_t i = 0; i < n; ++i)
@@ -111,18 +87,6 @@ void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, a
             b[i * ldb + c] = s / t[i * (ti + tj)];
         }
     }
-}
-
-void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
-                         uint32_t ldb, uint32_t m)
-{
-    aenl_la_solve_tri(l, ldl, 1u, n, b, ldb, m, 0);
-}
-
-void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
-                           uint32_t ldb, uint32_t m)
-{
-    aenl_la_solve_tri(l, 1u, ldl, n, b, ldb, m, 1);
 }
 
 void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,

@@ -20,21 +20,38 @@ void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, s
                   const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k, uint32_t m,
                   int acc);
 
+/* The products below are views of aenl_la_gemm (inline: no code of their own). */
+
 /** C (n x m) = A (n x k) * B (k x m). */
-void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                 const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
+static inline void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                               const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k,
+                               uint32_t m)
+{
+    aenl_la_gemm(c, ldc, a, lda, 1u, b, ldb, 1u, n, k, m, 0);
+}
 
 /** C (n x m) = A (n x k) * B' with B (m x k). */
-void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
+static inline void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a,
+                                  uint32_t lda, const aenl_real_t *b, uint32_t ldb, uint32_t n,
+                                  uint32_t k, uint32_t m)
+{
+    aenl_la_gemm(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m, 0);
+}
 
 /** C (n x m) = A' * B with A (k x n), B (k x m). */
-void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
-                    const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k, uint32_t m);
+static inline void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a,
+                                  uint32_t lda, const aenl_real_t *b, uint32_t ldb, uint32_t n,
+                                  uint32_t k, uint32_t m)
+{
+    aenl_la_gemm(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m, 0);
+}
 
 /** y (n) = A (n x m) x (m). y must not alias x. */
-void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda, const aenl_real_t *x,
-                uint32_t n, uint32_t m);
+static inline void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda,
+                              const aenl_real_t *x, uint32_t n, uint32_t m)
+{
+    aenl_la_gemm(y, 1u, a, lda, 1u, x, 1u, 0u, n, m, 1u, 0);
+}
 
 /** A = (A + A') / 2 in place (n x n). */
 void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n);
@@ -56,12 +73,18 @@ void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, a
                        size_t ldb, uint32_t m, int upper);
 
 /** Solve L X = B in place (B n x m), L lower with a nonzero diagonal. */
-void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
-                         uint32_t ldb, uint32_t m);
+static inline void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n,
+                                       aenl_real_t *b, uint32_t ldb, uint32_t m)
+{
+    aenl_la_solve_tri(l, ldl, 1u, n, b, ldb, m, 0);
+}
 
 /** Solve L' X = B in place (B n x m). */
-void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
-                           uint32_t ldb, uint32_t m);
+static inline void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uint32_t n,
+                                         aenl_real_t *b, uint32_t ldb, uint32_t m)
+{
+    aenl_la_solve_tri(l, 1u, ldl, n, b, ldb, m, 1);
+}
 
 /** Solve (L L') X = B in place, L from aenl_la_chol. */
 void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,

@@ -104,13 +104,11 @@ static uint32_t active_sums(const aenl_moments_t *m)
                                     : 4u * aenl_moments_n_series(m) * n_groups;
 }
 
-static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
+/* Validate cfg; on success *dx is the grid spacing. */
+static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg, aenl_real_t *dx)
 {
-    if (!aenl_is_finite(cfg->x_min) || !aenl_is_finite(cfg->x_max) || !(cfg->x_max > cfg->x_min))
-    {
-        return AENL_E_ARG;
-    }
-    if (!aenl_is_finite(cfg->x_max - cfg->x_min))
+    const aenl_real_t ends[3] = {cfg->x_min, cfg->x_max, cfg->x_max - cfg->x_min};
+    if (!aenl_la_all_finite(ends, 0u, 1u, 3u) || !(cfg->x_max > cfg->x_min))
     {
         return AENL_E_ARG;
     }
@@ -122,7 +120,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
     {
         return AENL_E_DIM;
     }
-    if (!aenl_is_finite(cfg->bandwidth) || !(cfg->bandwidth > AENL_R(0.0)))
+    if (!(cfg->bandwidth > AENL_R(0.0) && cfg->bandwidth <= AENL_REAL_MAX)) /* NaN, Inf fail */
     {
         return AENL_E_ARG;
     }
@@ -152,8 +150,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
             }
         }
     }
-    if (!aenl_is_finite(cfg->forgetting) || !(cfg->forgetting >= AENL_MOMENTS_MIN_FORGETTING) ||
-        cfg->forgetting > AENL_R(1.0))
+    if (!(cfg->forgetting >= AENL_MOMENTS_MIN_FORGETTING && cfg->forgetting <= AENL_R(1.0)))
     {
         return AENL_E_ARG;
     }
@@ -170,8 +167,8 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg)
         return AENL_E_DIM;
     }
     /* The spacing and the bandwidth must be representable relative to the grid. */
-    const aenl_real_t dx = (cfg->x_max - cfg->x_min) / (aenl_real_t)(cfg->n_grid - 1u);
-    if (!(dx > AENL_R(0.0)) || !aenl_is_finite(AENL_R(1.0) / dx) ||
+    *dx = (cfg->x_max - cfg->x_min) / (aenl_real_t)(cfg->n_grid - 1u);
+    if (!(*dx > AENL_R(0.0)) || !aenl_is_finite(AENL_R(1.0) / *dx) ||
         !aenl_is_finite(AENL_R(1.0) / cfg->bandwidth))
     {
         return AENL_E_ARG;
@@ -185,7 +182,8 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
     {
         return AENL_E_ARG;
     }
-    const aenl_status_t st = check_cfg(cfg);
+    aenl_real_t dx;
+    const aenl_status_t st = check_cfg(cfg, &dx);
     if (st != AENL_OK)
     {
         return st;
@@ -203,7 +201,7 @@ aenl_status_t aenl_moments_init(aenl_moments_t *m, const aenl_moments_cfg_t *cfg
             m->max_lag = cfg->lags[i];
         }
     }
-    m->dx = (cfg->x_max - cfg->x_min) / (aenl_real_t)(cfg->n_grid - 1u);
+    m->dx = dx;
     m->inv_dx = AENL_R(1.0) / m->dx;
     m->inv_h = AENL_R(1.0) / cfg->bandwidth;
     m->inv_lambda = AENL_R(1.0) / cfg->forgetting;
@@ -497,8 +495,8 @@ aenl_status_t aenl_moments_query(const aenl_moments_t *m, uint16_t lag_index, ui
     const aenl_real_t n_eff = (w / w2) * w;
     const aenl_real_t se = aenl_sqrt(var / n_eff);
     /* m2 itself is checked: a NaN m2 (Inf - Inf in the compensated sums) would read as var 0. */
-    if (!aenl_is_finite(mean) || !aenl_is_finite(m2) || !aenl_is_finite(var) ||
-        !aenl_is_finite(n_eff) || !aenl_is_finite(se))
+    const aenl_real_t all[5] = {mean, m2, var, n_eff, se};
+    if (!aenl_la_all_finite(all, 0u, 1u, 5u))
     {
         return AENL_E_NUMERIC; /* the statistics overflowed: never a silent Inf/NaN */
     }
@@ -630,7 +628,7 @@ aenl_status_t aenl_moments_taylor_ex(const aenl_moments_t *m, uint16_t node, aen
     const aenl_real_t s1 = inv_lmax, s2 = inv_lmax * inv_lmax;
     memset(out, 0, sizeof(*out));
     out->x = aenl_moments_node_x(m, node);
-    if (!aenl_is_finite(c[0]) || !aenl_is_finite(c[1]) || !aenl_is_finite(c[2]))
+    if (!aenl_la_all_finite(c, 0u, 1u, 3u)) /* position, velocity, acceleration */
     {
         return AENL_E_NUMERIC;
     }

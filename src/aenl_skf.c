@@ -391,7 +391,8 @@ static aenl_status_t step_threshold(aenl_skf_t *f, const aenl_real_t *z, uint32_
     aenl_real_t nis, ll;
     aenl_status_t st = mode_step(f, s, 0u, x, &f->P[cur][0][0][0], z, nu, &nis, &ll);
     /* A finite estimate can still come with an innovation whose square overflows. */
-    if (st == AENL_OK && (!aenl_is_finite(nis) || !aenl_is_finite(ll)))
+    const aenl_real_t fit[2] = {nis, ll};
+    if (st == AENL_OK && !aenl_la_all_finite(fit, 0u, 1u, 2u))
     {
         st = AENL_E_NUMERIC;
     }
@@ -529,7 +530,8 @@ static aenl_status_t step_imm(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu, 
         w->cbar[j] = (w->lik[j] > -AENL_REAL_MAX) ? aenl_exp(w->lik[j] - lmax) : AENL_R(0.0);
         sum += w->cbar[j];
     }
-    if (!(sum > AENL_R(0.0)) || !aenl_is_finite(sum) || !aenl_is_finite(lmax))
+    const aenl_real_t norm[2] = {sum, lmax};
+    if (!(sum > AENL_R(0.0)) || !aenl_la_all_finite(norm, 0u, 1u, 2u))
     {
         return AENL_E_NUMERIC;
     }
