@@ -2,8 +2,10 @@
 # SPDX-License-Identifier: MIT
 # Cortex-M4F gate: cross-build aenl_core_f32 with arm-none-eabi-gcc,
 # then (1) every undefined symbol must be on the allow-list (float libm, mem*, integer EABI helpers:
-# no heap, no stdio, no double-precision helper), (2) print arm-none-eabi-size of the core,
-# (3) print the state sizes and (4) the largest stack frames from -fstack-usage (limit 768 B),
+# no heap, no stdio, no double-precision helper), (2) print arm-none-eabi-size of the core
+# (budget: 16 384 B of text in all),
+# (3) print the state sizes (budget: aenl_moments_t <= 8 192 B in the default configuration) and
+# (4) the largest stack frames from -fstack-usage (limit 768 B),
 # (5) run the core's float32 unit tests on an emulated Cortex-M4F (QEMU) and (6) print the
 # instructions per sample of the streaming calls there.
 set -euo pipefail
@@ -36,6 +38,12 @@ fi
 echo "m4f: allow-list ok"
 echo "m4f: arm-none-eabi-size of the core (float32, -Os):"
 arm-none-eabi-size -t "$lib"
+text_budget=16384
+text=$(arm-none-eabi-size -t "$lib" | awk '/\(TOTALS\)/ {print $1}')
+if [[ -z $text ]] || ((text > text_budget)); then
+  echo "m4f: FAIL: the core's text is ${text:-unknown} B (budget $text_budget B)"; exit 1
+fi
+echo "m4f: core text $text B (budget $text_budget B)"
 
 probe="$build/m4f_sizeof.o"
 arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -std=c99 -Os \
@@ -44,6 +52,14 @@ echo "m4f: state sizes (float32, default aenl_config.h):"
 arm-none-eabi-nm -S "$probe" | while read -r _addr size _kind name; do
   [[ $name == aenl_sizeof_* ]] && echo "  sizeof(aenl_${name#aenl_sizeof_}_t) = $((16#$size)) B"
 done
+moments_budget=8192
+moments=$(arm-none-eabi-nm -S "$probe" | awk '$4 == "aenl_sizeof_moments" {print $2}')
+if [[ -z $moments ]] || (((16#$moments) > moments_budget)); then
+  echo "m4f: FAIL: sizeof(aenl_moments_t) is $((16#${moments:-0})) B in the standard configuration" \
+       "(budget $moments_budget B)"
+  exit 1
+fi
+echo "m4f: sizeof(aenl_moments_t) $((16#$moments)) B (budget $moments_budget B)"
 
 arm-none-eabi-gcc -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -std=c99 -Os \
   -DAENL_MOMENTS_COMPENSATED=0 -I"$root/include" -c "$root/tools/scripts/m4f_sizeof.c" -o "$probe"
