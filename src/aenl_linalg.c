@@ -15,10 +15,19 @@ void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, s
         for (size_t j = 0; j < m; ++j)
         {
             aenl_real_t s = acc ? c[i * ldc + j] : AENL_R(0.0);
-            for (size_t r = 0; r < k; ++r)
+            if (acc < 0) /* the test outside the loop: it runs per product otherwise */
             {
-                const aenl_real_t p = a[i * ai + r * ar] * b[r * br + j * bj];
-                s = (acc < 0) ? s - p : s + p;
+                for (size_t r = 0; r < k; ++r)
+                {
+                    s -= a[i * ai + r * ar] * b[r * br + j * bj];
+                }
+            }
+            else
+            {
+                for (size_t r = 0; r < k; ++r)
+                {
+                    s += a[i * ai + r * ar] * b[r * br + j * bj];
+                }
             }
             c[i * ldc + j] = s;
         }
