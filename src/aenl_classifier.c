@@ -232,18 +232,18 @@ static uint32_t basis(const cls_spec_t *sp, uint32_t d, const aenl_cls_point_t *
 /**
  * Add row col of a kinked law's normal equations (lower triangle): e holds its products with
  * 1, u, v, itself and a; the rising offset's product equals the one with 1. Columns iv
- * (velocity) and idr (rising offset) are added when they lie left of col (NB_MAX: absent).
+ * (velocity) and idr (rising offset) lie left of col, or are 0 when absent.
  */
 static void add_column(aenl_real_t g[NB_MAX][NB_MAX], aenl_real_t *r, uint32_t col,
                        const aenl_real_t *e, uint32_t iv, uint32_t idr)
 {
     g[col][0] += e[0];
     g[col][1] += e[1];
-    if (iv < col)
+    if (iv != 0u)
     {
         g[col][iv] += e[2];
     }
-    if (idr < col)
+    if (idr != 0u)
     {
         g[col][idr] += e[0];
     }
@@ -280,10 +280,10 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
         return;
     }
     const cls_sums_t *tot = &t->row[0];
-    /* rows of the velocity and of the rising offset (NB_MAX: not in this law or set) */
-    const uint32_t iv = sp->use_v ? 2u : NB_MAX, idr = 2u + sp->use_v;
+    /* columns of the velocity and of the rising offset (0: not in this law or set) */
+    const uint32_t iv = sp->use_v ? 2u : 0u, idr = 2u + sp->use_v;
     const uint32_t h0 = 2u + sp->use_v + sp->dir_term;
-    const uint32_t own = (sp->dir_term && d == 0u) ? idr : NB_MAX;
+    const uint32_t own = (sp->dir_term && d == 0u) ? idr : 0u;
     g[0][0] += tot->s0;
     g[1][0] += tot->s1;
     g[1][1] += tot->s2;
@@ -292,12 +292,12 @@ static void accumulate(const cls_set_t *s, const cls_table_t *t, const cls_spec_
     if (sp->use_v)
     {
         const aenl_real_t e[5] = {tot->v0, tot->v1, AENL_R(0.0), t->wvv, t->wva};
-        add_column(g, r, iv, e, iv, NB_MAX);
+        add_column(g, r, iv, e, 0u, 0u);
     }
-    if (own < NB_MAX)
+    if (own != 0u)
     {
         const aenl_real_t e[5] = {tot->s0, tot->s1, tot->v0, tot->s0, tot->t0};
-        add_column(g, r, own, e, iv, NB_MAX);
+        add_column(g, r, own, e, iv, 0u);
     }
     for (uint32_t j = 0; j < sp->n_k; ++j)
     {

@@ -64,9 +64,12 @@ static void sum_add(aenl_moments_t *m, uint32_t i, aenl_real_t v)
     const aenl_real_t y = v - (aenl_real_t)m->sum_lo[i] * (aenl_fabs(s) * LO_UNIT);
     const aenl_real_t t = s + y;
     const aenl_real_t k = ((t - s) - y) / (aenl_fabs(t) * LO_UNIT);
-    m->sum_lo[i] = (k >= -LO_MAX && k <= LO_MAX)
-                       ? (int16_t)((k >= AENL_R(0.0)) ? k + AENL_R(0.5) : k - AENL_R(0.5))
-                       : (int16_t)0;
+    int32_t lo = 0;
+    if (k >= -LO_MAX && k <= LO_MAX)
+    {
+        lo = (int32_t)((k >= AENL_R(0.0)) ? k + AENL_R(0.5) : k - AENL_R(0.5)); /* to nearest */
+    }
+    m->sum_lo[i] = (int16_t)lo;
     m->sum[i] = t;
 #else
     m->sum[i] += v;
