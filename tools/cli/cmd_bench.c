@@ -274,7 +274,7 @@ int aenl_cmd_bench(int argc, char **argv)
             "                           [--unknown-gusts] [--method test]\n"
             "                                         (identification suite; minutes)\n"
             "       aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
-            "                       [--force-given]\n"
+            "                       [--force-given] [--impulsive]\n"
             "                                         (level of identify, the test; minutes)\n"
             "Each kind's own --help (aenl bench null --help, ...) says more.\n"
             "       aenl bench stream [N] [--plain]   (float32 core over N = 10^9 samples vs "
