@@ -2266,11 +2266,13 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
  * linear structure driven by sparse jumps is not a linear Gaussian process: a Gaussian process
  * noise fitted through the jumps holds their energy at every sample, the filter then follows
  * the measurement noise between them too closely, and its misprediction, which grows and fades
- * with the motion, reads as a law. Without an impulse the record's test stands. */
+ * with the motion, reads as a law. *applied says whether it was done: without an impulse the
+ * caller tests the record against em as fitted. */
 static aenl_status_t impulsive_pass(const double *ys, const double *in, run_t *rn,
                                     unsigned char *flag, int stats_only, aenl_em_result_t *em,
-                                    aenl_nlt_result_t *res, aenl_err_t *err)
+                                    aenl_nlt_result_t *res, int *applied, aenl_err_t *err)
 {
+    *applied = 0;
     aenl_em_result_t ej;
     memset(&ej, 0, sizeof(ej));
     aenl_status_t st = aenl_em_model_copy(&ej.model, &em->model, err);
@@ -2313,6 +2315,7 @@ static aenl_status_t impulsive_pass(const double *ys, const double *in, run_t *r
             aenl_em_result_free(em);
             *em = ej;
             memset(&ej, 0, sizeof(ej));
+            *applied = 1;
         }
     }
     aenl_em_result_free(&ej);
@@ -2384,13 +2387,16 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
         res->ch[j].dithered = dithered[j];
         res->n_dithered += dithered[j] ? 1u : 0u;
     }
-    if (st == AENL_OK)
-    {
-        st = test_pass(&rn, &em, &kf, stats_only, res, err);
-    }
+    /* declared impulsive, the record is tested against its jump model; without an impulse, or
+     * not declared, against the linear model as fitted */
+    int applied = 0;
     if (st == AENL_OK && opts->impulsive)
     {
-        st = impulsive_pass(ys, in, &rn, flag, stats_only, &em, res, err);
+        st = impulsive_pass(ys, in, &rn, flag, stats_only, &em, res, &applied, err);
+    }
+    if (st == AENL_OK && !applied)
+    {
+        st = test_pass(&rn, &em, &kf, stats_only, res, err);
     }
     free(flag);
     free(ys);
