@@ -683,9 +683,9 @@ static void test_moments_taylor_rejects_bad_arguments(void)
  * of a double accumulation of the same pairs (checked at a spread of nodes, all lags, both
  * directions). The reference sums y - 1000 (an exact shift), so it loses nothing to cancellation.
  */
-#ifdef AENL_TEST_EMULATED
+#if defined(AENL_TEST_EMULATED) || defined(AENL_TEST_SANITIZED)
 #define LONG_N                                                                                     \
-    1000000u /* on the emulated Cortex-M4F, a hundredth: the host runs the whole length */
+    1000000u /* emulated or sanitized, a hundredth: the plain host build runs the whole length */
 #else
 #define LONG_N 100000000u
 #endif
@@ -769,8 +769,9 @@ static void test_moments_float32_long_stream(void)
  * samples of 1000 + AR(1) (more contributions per cell than the standard configuration gets from
  * 10^9 samples). Mean, variance, weight and n_eff stay within 1e-4 relative of a double
  * accumulation of the same pairs (the float32 mean's own rounding at 1000, 3e-5, is the floor). */
-#ifdef AENL_TEST_EMULATED
-#define DEEP_N 1000000u /* on the emulated Cortex-M4F a sixtieth: the host runs the whole length */
+#if defined(AENL_TEST_EMULATED) || defined(AENL_TEST_SANITIZED)
+#define DEEP_N 1000000u /* emulated or sanitized, a sixtieth: the plain host build runs it whole   \
+                         */
 #else
 #define DEEP_N 60000000u
 #endif

@@ -519,7 +519,7 @@ aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size
      * interval). So the peaks are taken largest first, none inside the window of one taken
      * already (this run's or an earlier run's), and the filter is widened over the window: the
      * interval, and at least the h samples either side of the peak. */
-    const size_t h = windows ? (nx + nz - 1u) / nz : 0u;
+    const size_t h = (windows && nz > 0) ? (nx + nz - 1u) / nz : 0u;
     size_t n_peaks = 0;
     for (size_t t = 0; t < n; ++t)
     {
@@ -533,15 +533,17 @@ aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
-    for (size_t t = 0, i = 0; t < n && i < n_peaks; ++t)
+    size_t n_found = 0;
+    for (size_t t = 0; t < n && n_found < n_peaks; ++t)
     {
         const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
         if (k->used[t] && peak && q[t] > thr && !flag[t])
         {
-            pk[i].q = q[t];
-            pk[i++].t = t;
+            pk[n_found].q = q[t];
+            pk[n_found++].t = t;
         }
     }
+    n_peaks = n_found;
     if (n_peaks > 1)
     {
         qsort(pk, n_peaks, sizeof(peak_t), peak_cmp);

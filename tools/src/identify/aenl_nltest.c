@@ -2227,12 +2227,13 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
     memset(rn->crit, 0, sizeof(rn->crit));
     memset(rn->compared, 0, sizeof(rn->compared));
     rn->G_nn = NULL;
-    rn->loss = (double *)malloc(rn->nz * rn->n * AENL_NLT_N_LAWS * sizeof(double));
+    const size_t n_loss = rn->nz * rn->n * AENL_NLT_N_LAWS;
+    rn->loss = n_loss > 0 ? (double *)malloc(n_loss * sizeof(double)) : NULL;
     aenl_status_t st = AENL_OK;
     if (rn->loss == NULL)
     {
-        aenl_err_set(err, "out of memory");
-        st = AENL_E_DIM;
+        aenl_err_set(err, n_loss > 0 ? "out of memory" : "aenl_nltest: an empty record");
+        st = n_loss > 0 ? AENL_E_DIM : AENL_E_ARG;
     }
     result_header(res, rn, em->loglik_final);
     res->n_impulses = n_impulses;
