@@ -322,17 +322,19 @@ static aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu, ae
     aenl_la_mul_nt(&w->T[0][0], LDX, P_out, LDX, &w->Cu[0][0], LDX, nx, nx, nu);
     /* R_u K' into Cu (C rows no longer needed) */
     aenl_la_mul(&w->Cu[0][0], LDX, &ru[0][0], LDZ, &w->CP[0][0], LDX, nu, nu, nx);
-    /* P_out - V K' + K (R_u K') */
+    /* P_out - V K' + K (R_u K'), a row at a time: each entry still adds its nu terms in ascending
+     * r, but the innermost loop runs along rows (vectorised on the host, K and V read once per
+     * row on the Cortex-M4F). */
     for (uint32_t i = 0; i < nx; ++i)
     {
-        for (uint32_t j = 0; j < nx; ++j)
+        aenl_real_t *pi = &P_out[(size_t)i * LDX];
+        for (uint32_t r = 0; r < nu; ++r)
         {
-            aenl_real_t acc = P_out[(size_t)i * LDX + j];
-            for (uint32_t r = 0; r < nu; ++r)
+            const aenl_real_t kir = w->CP[r][i], vir = w->T[i][r];
+            for (uint32_t j = 0; j < nx; ++j)
             {
-                acc += w->CP[r][i] * w->Cu[r][j] - w->T[i][r] * w->CP[r][j];
+                pi[j] += kir * w->Cu[r][j] - vir * w->CP[r][j];
             }
-            P_out[(size_t)i * LDX + j] = acc;
         }
     }
     aenl_la_symmetrise(P_out, LDX, nx);
