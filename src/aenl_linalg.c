@@ -6,33 +6,14 @@
  */
 #include "aenl_linalg.h"
 
+#if !AENL_LA_INLINE
 void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
                   const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k, uint32_t m,
                   int acc)
 {
-    for (size_t i = 0; i < n; ++i)
-    {
-        for (size_t j = 0; j < m; ++j)
-        {
-            aenl_real_t s = acc ? c[i * ldc + j] : AENL_R(0.0);
-            if (acc < 0) /* the test outside the loop: it runs per product otherwise */
-            {
-                for (size_t r = 0; r < k; ++r)
-                {
-                    s -= a[i * ai + r * ar] * b[r * br + j * bj];
-                }
-            }
-            else
-            {
-                for (size_t r = 0; r < k; ++r)
-                {
-                    s += a[i * ai + r * ar] * b[r * br + j * bj];
-                }
-            }
-            c[i * ldc + j] = s;
-        }
-    }
+    aenl_la_gemm_loop(c, ldc, a, ai, ar, b, br, bj, n, k, m, acc);
 }
+#endif
 
 void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n)
 {
@@ -80,23 +61,13 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n)
     return AENL_OK;
 }
 
+#if !AENL_LA_INLINE
 void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, aenl_real_t *b,
                        size_t ldb, uint32_t m, int upper)
 {
-    for (size_t c = 0; c < m; ++c)
-    {
-        for (size_t step = 0; step < n; ++step)
-        {
-            const size_t i = upper ? n - 1u - step : step;
-            aenl_real_t s = b[i * ldb + c];
-            for (size_t j = upper ? i + 1u : 0u; j < (upper ? n : i); ++j)
-            {
-                s -= t[i * ti + j * tj] * b[j * ldb + c];
-            }
-            b[i * ldb + c] = s / t[i * (ti + tj)];
-        }
-    }
+    aenl_la_solve_tri_loop(t, ti, tj, n, b, ldb, m, upper);
 }
+#endif
 
 void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
                         uint32_t ldb, uint32_t m)

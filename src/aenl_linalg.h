@@ -11,14 +11,93 @@
 
 #include "aenl/aenl_types.h"
 
+/*
+ * Where the strided kernels (aenl_la_gemm, aenl_la_solve_tri) are compiled. 1: static inline,
+ * here, so that a speed-optimising build specialises every call for its constant strides and
+ * accumulate mode (the host SKF step spends most of its time in them); 0: one out-of-line copy
+ * shared by every view, the smallest code (a -Os build: the budgeted Cortex-M4F text). Either way
+ * the same loop below, so the same sums in the same order. -DAENL_LA_INLINE=0/1 overrides.
+ */
+#ifndef AENL_LA_INLINE
+#ifdef __OPTIMIZE_SIZE__
+#define AENL_LA_INLINE 0
+#else
+#define AENL_LA_INLINE 1
+#endif
+#endif
+
 /**
  * C (n x m) = A B (acc 0), C + A B (acc > 0) or C - A B (acc < 0), with A(i, r) = a[i ai + r ar]
  * and B(r, j) = b[r br + j bj] (a transposed or strided view costs nothing); each entry is summed
  * in ascending r, from C(i, j) or from zero. C must not alias A or B.
  */
+static inline void aenl_la_gemm_loop(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai,
+                                     size_t ar, const aenl_real_t *b, size_t br, size_t bj,
+                                     uint32_t n, uint32_t k, uint32_t m, int acc)
+{
+    for (size_t i = 0; i < n; ++i)
+    {
+        for (size_t j = 0; j < m; ++j)
+        {
+            aenl_real_t s = acc ? c[i * ldc + j] : AENL_R(0.0);
+            if (acc < 0) /* the test outside the loop: it runs per product otherwise */
+            {
+                for (size_t r = 0; r < k; ++r)
+                {
+                    s -= a[i * ai + r * ar] * b[r * br + j * bj];
+                }
+            }
+            else
+            {
+                for (size_t r = 0; r < k; ++r)
+                {
+                    s += a[i * ai + r * ar] * b[r * br + j * bj];
+                }
+            }
+            c[i * ldc + j] = s;
+        }
+    }
+}
+
+#if AENL_LA_INLINE
+/* With B's rows contiguous (bj == 1), four entries of a row of C at a time, which the compiler
+ * keeps in vector registers: each is still its own sum in ascending r (s - p is s + (-a) b
+ * exactly), so the results are those of the loop; the columns left over go through the loop. */
+static inline void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai,
+                                size_t ar, const aenl_real_t *b, size_t br, size_t bj, uint32_t n,
+                                uint32_t k, uint32_t m, int acc)
+{
+    const size_t m4 = (bj == 1u) ? m & ~3u : 0u;
+    const aenl_real_t sg = (acc < 0) ? AENL_R(-1.0) : AENL_R(1.0);
+    for (size_t i = 0; i < n; ++i)
+    {
+        aenl_real_t *ci = c + i * ldc;
+        for (size_t j = 0; j < m4; j += 4u)
+        {
+            aenl_real_t s0 = acc ? ci[j] : AENL_R(0.0), s1 = acc ? ci[j + 1u] : AENL_R(0.0),
+                        s2 = acc ? ci[j + 2u] : AENL_R(0.0), s3 = acc ? ci[j + 3u] : AENL_R(0.0);
+            for (size_t r = 0; r < k; ++r)
+            {
+                const aenl_real_t air = sg * a[i * ai + r * ar];
+                const aenl_real_t *brow = b + r * br + j;
+                s0 += air * brow[0];
+                s1 += air * brow[1];
+                s2 += air * brow[2];
+                s3 += air * brow[3];
+            }
+            ci[j] = s0;
+            ci[j + 1u] = s1;
+            ci[j + 2u] = s2;
+            ci[j + 3u] = s3;
+        }
+    }
+    aenl_la_gemm_loop(c + m4, ldc, a, ai, ar, b + m4 * bj, br, bj, n, k, (uint32_t)(m - m4), acc);
+}
+#else
 void aenl_la_gemm(aenl_real_t *c, size_t ldc, const aenl_real_t *a, size_t ai, size_t ar,
                   const aenl_real_t *b, size_t br, size_t bj, uint32_t n, uint32_t k, uint32_t m,
                   int acc);
+#endif
 
 /* The products below are views of aenl_la_gemm (inline: no code of their own). */
 
@@ -69,8 +148,34 @@ aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n);
  * (forward substitution) or, with upper, upper (backward). Each row subtracts its known terms in
  * ascending j.
  */
+static inline void aenl_la_solve_tri_loop(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n,
+                                          aenl_real_t *b, size_t ldb, uint32_t m, int upper)
+{
+    for (size_t c = 0; c < m; ++c)
+    {
+        for (size_t step = 0; step < n; ++step)
+        {
+            const size_t i = upper ? n - 1u - step : step;
+            aenl_real_t s = b[i * ldb + c];
+            for (size_t j = upper ? i + 1u : 0u; j < (upper ? n : i); ++j)
+            {
+                s -= t[i * ti + j * tj] * b[j * ldb + c];
+            }
+            b[i * ldb + c] = s / t[i * (ti + tj)];
+        }
+    }
+}
+
+#if AENL_LA_INLINE
+static inline void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n,
+                                     aenl_real_t *b, size_t ldb, uint32_t m, int upper)
+{
+    aenl_la_solve_tri_loop(t, ti, tj, n, b, ldb, m, upper);
+}
+#else
 void aenl_la_solve_tri(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n, aenl_real_t *b,
                        size_t ldb, uint32_t m, int upper);
+#endif
 
 /** Solve L X = B in place (B n x m), L lower with a nonzero diagonal. */
 static inline void aenl_la_solve_lower(const aenl_real_t *l, uint32_t ldl, uint32_t n,
