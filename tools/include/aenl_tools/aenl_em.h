@@ -130,7 +130,7 @@ typedef struct aenl_em_opts
                               the filter (and smoother) covariance has converged to this relative
                               tolerance, the remaining steps reuse it instead of recomputing it
                               (default AENL_EM_STEADY_TOL; 0: the full recursion at every step) */
-    const unsigned char *jump; /**< n flags or NULL: jump[k] = 1 when the transition k-1 -> k
+    const unsigned char *jump; /**< n flags or NULL: jump[k] != 0 when the transition k-1 -> k
                               carries a state jump (an impulse) beyond the process noise. Its
                               prediction covariance gains P_jump, and it is left out of the
                               M-step's transition statistics (A, b, B, Q): the jump is a free

@@ -1990,8 +1990,10 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
  * its misprediction would grow and fade with the motion, which the test reads as a law. */
 static aenl_status_t refit_with_jumps(const double *ys, const double *in, size_t n_in,
                                       const run_t *rn, const unsigned char *flag,
-                                      const double *P_imp, aenl_em_result_t *em, aenl_err_t *err)
+                                      const double *P_imp, aenl_em_result_t *em, int *refitted,
+                                      aenl_err_t *err)
 {
+    *refitted = 0;
     aenl_em_opts_t eo;
     aenl_em_opts_default(&eo);
     eo.u = n_in > 0 ? in : NULL;
@@ -2019,14 +2021,18 @@ static aenl_status_t refit_with_jumps(const double *ys, const double *in, size_t
         aenl_em_model_free(&em->model);
         em->model = trial;
         em->loglik_final = ll[it];
+        *refitted = 1;
     }
     else
     {
-        /* a refit that fails (a noise covariance at its boundary) keeps the model it started
-         * from: the impulses are still widened in the filter */
+        /* a fit that fails (a noise covariance at its boundary) keeps the model it started
+         * from, whose impulses are still widened in the filter; out of memory is a failure */
         aenl_em_model_free(&trial);
-        aenl_err_clear(err);
-        st = AENL_OK;
+        if (st != AENL_E_DIM)
+        {
+            aenl_err_clear(err);
+            st = AENL_OK;
+        }
     }
     free(ll);
     return st;
@@ -2063,8 +2069,9 @@ static aenl_status_t filter_with_impulses(const double *ys, const aenl_em_result
  * more so as the refitted noise is smaller. *n_impulses receives their number. */
 static aenl_status_t jump_model(const double *ys, const double *in, const run_t *rn,
                                 aenl_em_result_t *em, kf_t *kf, unsigned char *flag,
-                                size_t *n_impulses, aenl_err_t *err)
+                                size_t *n_impulses, int *refitted, aenl_err_t *err)
 {
+    *refitted = 0;
     const size_t n = rn->n;
     unsigned char *prev = (unsigned char *)malloc(n);
     if (prev == NULL)
@@ -2079,7 +2086,9 @@ static aenl_status_t jump_model(const double *ys, const double *in, const run_t 
     {
         nlt_state_range(kf, P_imp);
         memcpy(prev, flag, n);
-        st = refit_with_jumps(ys, in, rn->n_in, rn, flag, P_imp, em, err);
+        int ok = 0;
+        st = refit_with_jumps(ys, in, rn->n_in, rn, flag, P_imp, em, &ok, err);
+        *refitted |= ok;
         nlt_kf_clear_run(kf);
         if (st == AENL_OK)
         {
@@ -2258,6 +2267,8 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
     rn->loss = NULL;
     free(rn->G_nn);
     rn->G_nn = NULL;
+    rn->kf = NULL; /* the caller's: they need not outlive this pass */
+    rn->m = NULL;
     return st;
 }
 
@@ -2267,8 +2278,8 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
  * linear structure driven by sparse jumps is not a linear Gaussian process: a Gaussian process
  * noise fitted through the jumps holds their energy at every sample, the filter then follows
  * the measurement noise between them too closely, and its misprediction, which grows and fades
- * with the motion, reads as a law. *applied says whether it was done: without an impulse the
- * caller tests the record against em as fitted. */
+ * with the motion, reads as a law. *applied says whether it was done: without an impulse, or
+ * when no refit succeeded, the caller tests the record against em as fitted. */
 static aenl_status_t impulsive_pass(const double *ys, const double *in, run_t *rn,
                                     unsigned char *flag, int stats_only, aenl_em_result_t *em,
                                     aenl_nlt_result_t *res, int *applied, aenl_err_t *err)
@@ -2296,11 +2307,12 @@ static aenl_status_t impulsive_pass(const double *ys, const double *in, run_t *r
         memset(flag, 0, rn->n);
         st = nlt_impulses(&kj, 1, flag, &nj, err);
     }
+    int refitted = 0;
     if (st == AENL_OK && nj > 0)
     {
-        st = jump_model(ys, in, rn, &ej, &kj, flag, &nj, err);
+        st = jump_model(ys, in, rn, &ej, &kj, flag, &nj, &refitted, err);
     }
-    if (st == AENL_OK && nj > 0)
+    if (st == AENL_OK && nj > 0 && refitted)
     {
         for (size_t j = 0; j < rn->nz; ++j)
         {
