@@ -110,8 +110,9 @@ aenl_status_t aenl_classifier_init(aenl_classifier_t *c, const aenl_classifier_c
     if (c == NULL || cfg == NULL || cfg->taylor_order < 2u ||
         cfg->taylor_order > AENL_MOMENTS_TAYLOR_MAX_ORDER ||
         !(cfg->trim >= AENL_R(0.0) && cfg->trim < AENL_R(0.25)) ||
-        !(cfg->min_n_eff >= AENL_R(1.0) && cfg->min_n_eff <= AENL_REAL_MAX) || cfg->min_nodes < 8u ||
-        cfg->min_nodes > AENL_CLASSIFIER_MAX_NODES || cfg->use_noise_acf > 1u)
+        !(cfg->min_n_eff >= AENL_R(1.0) && cfg->min_n_eff <= AENL_REAL_MAX) ||
+        cfg->min_nodes < 8u || cfg->min_nodes > AENL_CLASSIFIER_MAX_NODES ||
+        cfg->use_noise_acf > 1u)
     {
         return AENL_E_ARG;
     }
@@ -378,12 +379,12 @@ static aenl_real_t fit(const cls_data_t *dt, const cls_spec_t *sp, aenl_real_t *
 
 /* ---- kink search ------------------------------------------------------------------------- */
 
-/** RSS of sp with kink j moved to b, or -1 when the kinks are then out of order or the fit fails. */
+/** RSS of sp with kink j moved to b, or -1 when the kinks are then out of order or the fit fails.
+ */
 static aenl_real_t fit_kink(const cls_data_t *dt, cls_spec_t *sp, uint32_t j, aenl_real_t b)
 {
     sp->b[j] = b;
-    return (sp->n_k == 2u && !(sp->b[0] < sp->b[1])) ? AENL_R(-1.0)
-                                                     : fit(dt, sp, NULL, NULL);
+    return (sp->n_k == 2u && !(sp->b[0] < sp->b[1])) ? AENL_R(-1.0) : fit(dt, sp, NULL, NULL);
 }
 
 /**
@@ -481,8 +482,7 @@ static void scan_box(const cls_data_t *dt, const cls_spec_t *base, aenl_real_t d
     }
 }
 
-static void search(const cls_data_t *dt, const cls_spec_t *base, uint32_t n_shift,
-                   cls_kinks_t *k)
+static void search(const cls_data_t *dt, const cls_spec_t *base, uint32_t n_shift, cls_kinks_t *k)
 {
     const aenl_real_t *cand = dt->cand;
     const uint32_t n_cand = dt->n_cand;
@@ -679,7 +679,8 @@ static uint32_t gather(aenl_classifier_t *c, const aenl_moments_t *m, aenl_dir_t
             continue;
         }
         aenl_moments_point_t q;
-        if (aenl_moments_query(m, 0u, (uint16_t)k, dir, &q) != AENL_OK || q.n_eff < c->cfg.min_n_eff)
+        if (aenl_moments_query(m, 0u, (uint16_t)k, dir, &q) != AENL_OK ||
+            q.n_eff < c->cfg.min_n_eff)
         {
             continue;
         }
@@ -744,8 +745,7 @@ static uint32_t candidates(const aenl_cls_point_t *pt, uint32_t n, aenl_real_t *
 
 /** Merge the switching points q[0..m) (value in p, standard error in w; sorted here) into
  *  distinct ones (closer than 2 combined se merge); m <= AENL_CLASSIFIER_MAX_SWITCH. */
-static uint8_t merge_points(aenl_cls_point_t *q, uint32_t m, aenl_real_t *out,
-                            aenl_real_t *out_se)
+static uint8_t merge_points(aenl_cls_point_t *q, uint32_t m, aenl_real_t *out, aenl_real_t *out_se)
 {
     sort_points(q, m); /* by value */
     uint8_t k = 0u;
@@ -828,8 +828,9 @@ static uint32_t mark_interior(aenl_classifier_t *c, const aenl_moments_t *m, aen
     for (uint32_t k = 0; k < ng; ++k)
     {
         aenl_moments_point_t q;
-        const aenl_real_t w =
-            (aenl_moments_query(m, 0u, (uint16_t)k, AENL_DIR_ALL, &q) == AENL_OK) ? q.weight : AENL_R(0.0);
+        const aenl_real_t w = (aenl_moments_query(m, 0u, (uint16_t)k, AENL_DIR_ALL, &q) == AENL_OK)
+                                  ? q.weight
+                                  : AENL_R(0.0);
         c->cand[k] = w; /* borrowed as scratch until the kink search */
         total += w;
         aenl_moments_taylor_t tx;
@@ -890,7 +891,6 @@ enum
     D_HYST,
     D_N
 };
-
 
 /** The laws one fit compares; the kinked ones take their kinks from the searches. */
 typedef struct cls_laws
@@ -1000,8 +1000,7 @@ static void score_laws(aenl_classifier_t *c, const cls_data_t *dt, const cls_law
                        const int *ok, uint32_t n_laws, aenl_real_t sigma, aenl_real_t frac,
                        aenl_real_t n_ind, aenl_real_t *b)
 {
-    static const uint8_t k_params[5] = {2u, 4u, 3u + KINK_DF, 4u + 2u * KINK_DF,
-                                        5u + 3u * KINK_DF};
+    static const uint8_t k_params[5] = {2u, 4u, 3u + KINK_DF, 4u + 2u * KINK_DF, 5u + 3u * KINK_DF};
     const cls_spec_t *const sp[5] = {&l->lin, &l->poly, &l->one, &l->two, &l->hy};
     for (uint32_t i = 0; i < n_laws; ++i)
     {

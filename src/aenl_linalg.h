@@ -110,17 +110,17 @@ static inline void aenl_la_mul(aenl_real_t *c, uint32_t ldc, const aenl_real_t *
 }
 
 /** C (n x m) = A (n x k) * B' with B (m x k). */
-static inline void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a,
-                                  uint32_t lda, const aenl_real_t *b, uint32_t ldb, uint32_t n,
-                                  uint32_t k, uint32_t m)
+static inline void aenl_la_mul_nt(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                                  const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k,
+                                  uint32_t m)
 {
     aenl_la_gemm(c, ldc, a, lda, 1u, b, 1u, ldb, n, k, m, 0);
 }
 
 /** C (n x m) = A' * B with A (k x n), B (k x m). */
-static inline void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a,
-                                  uint32_t lda, const aenl_real_t *b, uint32_t ldb, uint32_t n,
-                                  uint32_t k, uint32_t m)
+static inline void aenl_la_mul_tn(aenl_real_t *c, uint32_t ldc, const aenl_real_t *a, uint32_t lda,
+                                  const aenl_real_t *b, uint32_t ldb, uint32_t n, uint32_t k,
+                                  uint32_t m)
 {
     aenl_la_gemm(c, ldc, a, 1u, lda, b, ldb, 1u, n, k, m, 0);
 }

@@ -40,8 +40,8 @@
 #include "aenl_linalg.h"
 
 #define RING_LEN     ((uint16_t)(2 * AENL_MOMENTS_MAX_LAG + 2))
-#define SCALE_LIMIT  AENL_R(1048576.0)          /* 2^20 */
-#define SCALE_SHRINK AENL_R(9.5367431640625e-7) /* 2^-20 */
+#define SCALE_LIMIT  AENL_R(1048576.0)                 /* 2^20 */
+#define SCALE_SHRINK AENL_R(9.5367431640625e-7)        /* 2^-20 */
 #define LO_UNIT      (AENL_REAL_EPS / AENL_R(32768.0)) /* compensation unit relative to |s| */
 #define LO_MAX       AENL_R(32767.0)
 
@@ -163,8 +163,8 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg, aenl_real_t *dx)
     }
     const uint32_t groups = (uint32_t)cfg->n_grid * (cfg->direction_split ? 2u : 1u);
     const uint32_t series = (uint32_t)cfg->n_lags * (cfg->symmetric ? 2u : 1u);
-    const uint32_t sums = AENL_MOMENTS_COMPENSATED ? 2u * (series + 1u) * groups
-                                                   : 4u * series * groups;
+    const uint32_t sums =
+        AENL_MOMENTS_COMPENSATED ? 2u * (series + 1u) * groups : 4u * series * groups;
     if (series * groups > AENL_MOMENTS_MAX_CELLS || sums > (uint32_t)AENL_MOMENTS_MAX_SUMS)
     {
         return AENL_E_DIM;

@@ -146,7 +146,8 @@ static aenl_status_t check_model(const aenl_skf_model_t *m)
         }
     }
     if (!matrix_ok(&m->C[0][0], LDX, m->n_z, nx, 0u) ||
-        !matrix_ok(&m->R[0][0], LDZ, m->n_z, m->n_z, CHK_SYM) || !matrix_ok(m->x0, LDX, 1u, nx, 0u) ||
+        !matrix_ok(&m->R[0][0], LDZ, m->n_z, m->n_z, CHK_SYM) ||
+        !matrix_ok(m->x0, LDX, 1u, nx, 0u) ||
         !matrix_ok(&m->P0[0][0], LDX, nx, nx, CHK_SYM | CHK_PSD))
     {
         return AENL_E_ARG;

@@ -92,8 +92,8 @@ typedef struct aenl_moments
     uint32_t n_samples;     /**< finite samples accepted (saturating) */
     uint32_t n_missing;     /**< NaN/Inf samples received (saturating) */
     uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
-    aenl_real_t hist[2 * AENL_MOMENTS_MAX_LAG + 2];   /**< sample history ring */
-    uint8_t valid[2 * AENL_MOMENTS_MAX_LAG + 2];      /**< 0 marks a missing sample */
+    aenl_real_t hist[2 * AENL_MOMENTS_MAX_LAG + 2]; /**< sample history ring */
+    uint8_t valid[2 * AENL_MOMENTS_MAX_LAG + 2];    /**< 0 marks a missing sample */
     /** Running sums, active part only. Plain: per (lag series, direction, node) cell its weight
      *  sum W, weighted mean, weighted second central moment M2 and sum of squared weights W2.
      *  Compensated: first W and W2 of every (direction, node), which the lags share, then

@@ -647,10 +647,11 @@ static void test_cli_identify_method_test_bad_usage(void)
     const char *too_short[] = {"identify", csv, "--method", "test", NULL};
     const char *level_alone[] = {"identify", csv, "--method", "moments", "--level", "0.05", NULL};
     const char *impulsive[] = {"identify", csv, "--method", "moments", "--impulsive", NULL};
-    const char *const *cases[] = {with_plot, bad_method, bad_level, too_short, level_alone,
-                                  impulsive};
-    const char *const words[] = {"belong to the moments", "not a method", "not a test level",
-                                 "too few", "belongs to the test", "--impulsive belongs to"};
+    const char *const *cases[] = {with_plot, bad_method,  bad_level,
+                                  too_short, level_alone, impulsive};
+    const char *const words[] = {"belong to the moments", "not a method",
+                                 "not a test level",      "too few",
+                                 "belongs to the test",   "--impulsive belongs to"};
     for (size_t i = 0; i < 6; ++i)
     {
         cli_result_t r;

@@ -770,8 +770,9 @@ static void test_moments_float32_long_stream(void)
  * 10^9 samples). Mean, variance, weight and n_eff stay within 1e-4 relative of a double
  * accumulation of the same pairs (the float32 mean's own rounding at 1000, 3e-5, is the floor). */
 #if defined(AENL_TEST_EMULATED) || defined(AENL_TEST_SANITIZED)
-#define DEEP_N 1000000u /* emulated or sanitized, a sixtieth: the plain host build runs it whole   \
-                         */
+#define DEEP_N                                                                                     \
+    1000000u /* emulated or sanitized, a sixtieth: the plain host build runs it whole              \
+              */
 #else
 #define DEEP_N 60000000u
 #endif

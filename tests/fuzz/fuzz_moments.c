@@ -185,7 +185,8 @@ static aenl_moments_t g_before;
 /* The sums in use: two per (direction, node) and two per (lag series, direction, node). */
 static size_t active_sums(const aenl_moments_t *m)
 {
-    return 2u * (1u + aenl_moments_n_series(m)) * m->cfg.n_grid * (m->cfg.direction_split ? 2u : 1u);
+    return 2u * (1u + aenl_moments_n_series(m)) * m->cfg.n_grid *
+           (m->cfg.direction_split ? 2u : 1u);
 }
 
 /* AENL_FUZZ_TRACE=1 in the environment prints the configuration and every push (for replaying

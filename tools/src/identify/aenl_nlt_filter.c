@@ -398,6 +398,14 @@ static double chi2_quantile_upper(double alpha, double k)
     return 0.5 * (lo + hi);
 }
 
+/* Whether sample t of run k is a peak of the jump statistic q beyond thr, not flagged yet. */
+static int new_peak(const kf_t *k, const double *q, const unsigned char *flag, double thr, size_t t)
+{
+    const size_t n = k->n;
+    const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
+    return k->used[t] && peak && q[t] > thr && !flag[t];
+}
+
 /* A peak of the jump statistic: its value and sample. */
 typedef struct
 {
@@ -523,8 +531,7 @@ aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size
     size_t n_peaks = 0;
     for (size_t t = 0; t < n; ++t)
     {
-        const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
-        n_peaks += (k->used[t] && peak && q[t] > thr && !flag[t]) ? 1u : 0u;
+        n_peaks += new_peak(k, q, flag, thr, t) ? 1u : 0u;
     }
     peak_t *pk = n_peaks > 0 ? (peak_t *)malloc(n_peaks * sizeof(peak_t)) : NULL;
     if (n_peaks > 0 && pk == NULL)
@@ -536,8 +543,7 @@ aenl_status_t nlt_impulses(const kf_t *k, int windows, unsigned char *flag, size
     size_t n_found = 0;
     for (size_t t = 0; t < n && n_found < n_peaks; ++t)
     {
-        const int peak = (t == 0 || q[t] >= q[t - 1u]) && (t + 1u == n || q[t] > q[t + 1u]);
-        if (k->used[t] && peak && q[t] > thr && !flag[t])
+        if (new_peak(k, q, flag, thr, t))
         {
             pk[n_found].q = q[t];
             pk[n_found++].t = t;

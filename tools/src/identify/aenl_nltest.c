@@ -2229,7 +2229,6 @@ static aenl_status_t hand_over(aenl_status_t st, kept_t *keep, aenl_em_result_t 
 static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t *kf,
                                int stats_only, aenl_nlt_result_t *res, aenl_err_t *err)
 {
-    const size_t n_impulses = res->n_impulses;
     rn->nx = em->model.n_x;
     rn->kf = kf;
     rn->m = &em->model;
@@ -2245,7 +2244,6 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
         st = n_loss > 0 ? AENL_E_DIM : AENL_E_ARG;
     }
     result_header(res, rn, em->loglik_final);
-    res->n_impulses = n_impulses;
     rn->lnrows = log(fmax((double)kf->rows, 2.0));
     double pmin = 1.0;
     if (st == AENL_OK)
