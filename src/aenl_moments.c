@@ -44,6 +44,13 @@
 #define SCALE_SHRINK AENL_R(9.5367431640625e-7)        /* 2^-20 */
 #define LO_UNIT      (AENL_REAL_EPS / AENL_R(32768.0)) /* compensation unit relative to |s| */
 #define LO_MAX       AENL_R(32767.0)
+/* 1.5 2^mantissa bits: its ulp is 1, so adding it to a value of magnitude below 2^(bits-1) leaves
+ * no fraction bit, and subtracting it again gives the value rounded to an integer */
+#if AENL_USE_DOUBLE
+#define ROUND_MAGIC AENL_R(6755399441055744.0)
+#else
+#define ROUND_MAGIC AENL_R(12582912.0)
+#endif
 
 /* Value of sum i (file comment: compensation). */
 static aenl_real_t sum_get(const aenl_moments_t *m, uint32_t i)
@@ -67,7 +74,11 @@ static void sum_add(aenl_moments_t *m, uint32_t i, aenl_real_t v)
     int32_t lo = 0;
     if (k >= -LO_MAX && k <= LO_MAX)
     {
-        lo = (int32_t)((k >= AENL_R(0.0)) ? k + AENL_R(0.5) : k - AENL_R(0.5)); /* to nearest */
+        /* to nearest, without a branch on the sign of k: that sign is random, a branch on it is
+         * mispredicted half the time, and on the host that makes the compensated push several
+         * times slower (an evaluation wider than the build's precision rounds toward zero
+         * instead, within one unit) */
+        lo = (int32_t)((k + ROUND_MAGIC) - ROUND_MAGIC);
     }
     m->sum_lo[i] = (int16_t)lo;
     m->sum[i] = t;
