@@ -14,15 +14,15 @@
 
 /* ---- regressions on the innovations' sensitivities ------------------------------------------- */
 
-/* One step of the sensitivities: Dn = F D + the inputs of sample t, then D and Dn swap. */
-static void design_step(const design_t *d, const double *F, size_t t, size_t nx, double **D,
-                        double **Dn)
+/* One step of the sensitivities of the series s0.. (nc columns): Dn = F D + the inputs of
+ * sample t, then D and Dn swap. */
+static void design_step(const design_t *d, size_t s0, size_t nc, const double *F, size_t t,
+                        size_t nx, double **D, double **Dn)
 {
-    const size_t nc = d->ncols;
     double *out = *Dn;
     aenl_dense_mul(out, F, *D, nx, nx, nc);
     size_t c = 0;
-    for (size_t s = 0; s < d->n_series; ++s)
+    for (size_t s = s0; s < d->n_series; ++s)
     {
         const double gt = d->g[s][t];
         if (d->full[s])
@@ -50,22 +50,43 @@ static void design_step(const design_t *d, const double *F, size_t t, size_t nx,
  * whitened innovations' sensitivities to the design's columns) and the whitened innovations e. */
 typedef void (*design_visit_fn)(void *ctx, const double *R, const double *e);
 
+/* The series that the columns 0..nk-1 are (nk a whole number of series' columns). */
+static size_t series_of_columns(const design_t *d, size_t nx, size_t nk)
+{
+    size_t s = 0;
+    for (size_t c = 0; c < nk && s < d->n_series; ++s)
+    {
+        c += d->full[s] ? nx : 1u;
+    }
+    return s;
+}
+
 /* One pass over the record: D_{t+1} = F_t D_t + the columns' inputs of sample t, from D_0 = 0,
- * and R = WC_t D_t handed to visit at every sample the filter used. */
+ * and R = WC_t D_t handed to visit at every sample the filter used. The first n_known columns'
+ * R comes from d->R_known when it is given (the same values: every entry of a product is
+ * summed in the same order whatever the other columns), and only the others are walked. */
 static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_fn visit, void *ctx,
                                  aenl_err_t *err)
 {
     const size_t nx = k->nx;
     const size_t nz = k->nz;
     const size_t nc = d->ncols;
-    double *D = (double *)calloc(nx * nc, sizeof(double));
-    double *Dn = (double *)calloc(nx * nc, sizeof(double));
+    const size_t nk = d->R_known != NULL ? d->n_known : 0u;
+    const size_t nw = nc - nk; /* columns walked */
+    const size_t s0 = series_of_columns(d, nx, nk);
+    double *D = (double *)calloc(nx * nw + 1u, sizeof(double));
+    double *Dn = (double *)calloc(nx * nw + 1u, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));
-    if (D == NULL || Dn == NULL || R == NULL)
+    double *Rw = nk > 0 ? (double *)calloc(nz * nw + 1u, sizeof(double)) : R;
+    if (D == NULL || Dn == NULL || R == NULL || Rw == NULL)
     {
         free(D);
         free(Dn);
         free(R);
+        if (nk > 0)
+        {
+            free(Rw);
+        }
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
@@ -74,23 +95,38 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
         const double *F = k->F + k->slot[t] * nx * nx;
         if (k->used[t])
         {
-            aenl_dense_mul(R, k->WC + k->slot[t] * nz * nx, D, nz, nx, nc);
+            aenl_dense_mul(Rw, k->WC + k->slot[t] * nz * nx, D, nz, nx, nw);
+            for (size_t j = 0; nk > 0 && j < nz; ++j)
+            {
+                memcpy(R + j * nc, d->R_known + (t * nz + j) * nk, nk * sizeof(double));
+                memcpy(R + j * nc + nk, Rw + j * nw, nw * sizeof(double));
+            }
+            if (d->R_save != NULL)
+            {
+                memcpy(d->R_save + t * nz * nc, R, nz * nc * sizeof(double));
+            }
             visit(ctx, R, k->eps + t * nz);
         }
-        design_step(d, F, t, nx, &D, &Dn);
+        design_step(d, s0, nw, F, t, nx, &D, &Dn);
     }
     free(D);
     free(Dn);
     free(R);
+    if (nk > 0)
+    {
+        free(Rw);
+    }
     return AENL_OK;
 }
 
-/* G (nc x nc) += Rt Rt' over m rows, Rt (nc lines of ld >= m) holding one column of the rows per
- * line; the upper triangle and the diagonal 4 x 4 tiles are right (the caller mirrors the upper
- * triangle), except the 4 x 4 tiles wholly inside the first `known` columns, which are skipped.
- * Sixteen sums in registers per 4 x 4 tile make it several times faster than adding each row's
- * outer product to G, which streams the whole of G through the cache for every row. */
-static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, size_t ld, size_t m,
+/* G (nc x nc) += X' X over the m rows of X (m x nc, row-major); the upper triangle and the
+ * diagonal 4 x 4 tiles are right (the caller mirrors the upper triangle), except the 4 x 4 tiles
+ * wholly inside the first `known` columns, which are skipped. Sixteen sums in registers per 4 x 4
+ * tile make it several times faster than adding each row's outer product to G, which streams the
+ * whole of G through the cache for every row; a tile's four columns are adjacent in a row, so
+ * the sums of a row go two or four at a time in vector registers, each still summed in row
+ * order. */
+static void syrk_rows(double *restrict G, size_t nc, const double *restrict X, size_t m,
                       size_t known)
 {
     for (size_t i0 = 0; i0 < nc; i0 += 4u)
@@ -104,59 +140,26 @@ static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, 
             }
             if (j0 + 4u <= nc) /* then i0 + 4 <= nc too */
             {
-                const double *x0 = Rt + i0 * ld;
-                const double *x1 = x0 + ld;
-                const double *x2 = x1 + ld;
-                const double *x3 = x2 + ld;
-                const double *y0 = Rt + j0 * ld;
-                const double *y1 = y0 + ld;
-                const double *y2 = y1 + ld;
-                const double *y3 = y2 + ld;
-                double s00 = 0.0, s01 = 0.0, s02 = 0.0, s03 = 0.0;
-                double s10 = 0.0, s11 = 0.0, s12 = 0.0, s13 = 0.0;
-                double s20 = 0.0, s21 = 0.0, s22 = 0.0, s23 = 0.0;
-                double s30 = 0.0, s31 = 0.0, s32 = 0.0, s33 = 0.0;
+                double s[4][4] = {{0.0}};
                 for (size_t q = 0; q < m; ++q)
                 {
-                    const double u0 = x0[q], u1 = x1[q], u2 = x2[q], u3 = x3[q];
-                    const double v0 = y0[q], v1 = y1[q], v2 = y2[q], v3 = y3[q];
-                    s00 += u0 * v0;
-                    s01 += u0 * v1;
-                    s02 += u0 * v2;
-                    s03 += u0 * v3;
-                    s10 += u1 * v0;
-                    s11 += u1 * v1;
-                    s12 += u1 * v2;
-                    s13 += u1 * v3;
-                    s20 += u2 * v0;
-                    s21 += u2 * v1;
-                    s22 += u2 * v2;
-                    s23 += u2 * v3;
-                    s30 += u3 * v0;
-                    s31 += u3 * v1;
-                    s32 += u3 * v2;
-                    s33 += u3 * v3;
+                    const double *x = X + q * nc + i0;
+                    const double *y = X + q * nc + j0;
+                    for (size_t a = 0; a < 4u; ++a)
+                    {
+                        for (size_t b = 0; b < 4u; ++b)
+                        {
+                            s[a][b] += x[a] * y[b];
+                        }
+                    }
                 }
-                double *g0 = G + i0 * nc + j0;
-                double *g1 = g0 + nc;
-                double *g2 = g1 + nc;
-                double *g3 = g2 + nc;
-                g0[0] += s00;
-                g0[1] += s01;
-                g0[2] += s02;
-                g0[3] += s03;
-                g1[0] += s10;
-                g1[1] += s11;
-                g1[2] += s12;
-                g1[3] += s13;
-                g2[0] += s20;
-                g2[1] += s21;
-                g2[2] += s22;
-                g2[3] += s23;
-                g3[0] += s30;
-                g3[1] += s31;
-                g3[2] += s32;
-                g3[3] += s33;
+                for (size_t a = 0; a < 4u; ++a)
+                {
+                    for (size_t b = 0; b < 4u; ++b)
+                    {
+                        G[(i0 + a) * nc + j0 + b] += s[a][b];
+                    }
+                }
                 continue;
             }
             for (size_t i = i0; i < i0 + 4u && i < nc; ++i)
@@ -166,7 +169,7 @@ static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, 
                     double acc = 0.0;
                     for (size_t q = 0; q < m; ++q)
                     {
-                        acc += Rt[i * ld + q] * Rt[j * ld + q];
+                        acc += X[q * nc + i] * X[q * nc + j];
                     }
                     G[i * nc + j] += acc;
                 }
@@ -175,11 +178,11 @@ static void syrk_rows(double *restrict G, size_t nc, const double *restrict Rt, 
     }
 }
 
-/* The cross-products' accumulator: each sample's rows wait in Rt for a block's G update. */
+/* The cross-products' accumulator: each sample's rows wait in X for a block's G update. */
 typedef struct
 {
     design_t *d;
-    double *Rt;   /* ncols lines of m_blk */
+    double *X;    /* m_blk rows of ncols */
     size_t m_blk; /* rows a block holds */
     size_t rows;  /* rows waiting */
     size_t nz;
@@ -195,15 +198,14 @@ static void accumulate_rows(void *ctx, const double *R, const double *e)
         const double *rj = R + j * nc;
         for (size_t i = 0; i < nc; ++i)
         {
-            a->Rt[i * a->m_blk + a->rows] = rj[i];
             a->d->r[i] += rj[i] * e[j];
         }
+        memcpy(a->X + a->rows * nc, rj, nc * sizeof(double));
         a->rows++;
     }
     if (a->rows == a->m_blk)
     {
-        syrk_rows(a->d->G, nc, a->Rt, a->m_blk, a->rows,
-                  a->d->G_known != NULL ? a->d->n_known : 0u);
+        syrk_rows(a->d->G, nc, a->X, a->rows, a->d->G_known != NULL ? a->d->n_known : 0u);
         a->rows = 0;
     }
 }
@@ -224,11 +226,11 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
         return AENL_E_ARG;
     }
     accum_t a = {d, NULL, NLT_ROW_BLOCK * nz, 0, nz};
-    a.Rt = (double *)calloc(nc * a.m_blk, sizeof(double));
+    a.X = (double *)calloc(nc * a.m_blk, sizeof(double));
     d->G = (double *)calloc(nc * nc, sizeof(double));
     d->r = (double *)calloc(nc, sizeof(double));
     aenl_status_t st = AENL_E_DIM;
-    if (a.Rt == NULL || d->G == NULL || d->r == NULL)
+    if (a.X == NULL || d->G == NULL || d->r == NULL)
     {
         aenl_err_set(err, "out of memory");
     }
@@ -238,9 +240,9 @@ aenl_status_t nlt_design_accumulate(design_t *d, const kf_t *k, aenl_err_t *err)
     }
     if (st == AENL_OK && a.rows > 0)
     {
-        syrk_rows(d->G, nc, a.Rt, a.m_blk, a.rows, d->G_known != NULL ? d->n_known : 0u);
+        syrk_rows(d->G, nc, a.X, a.rows, d->G_known != NULL ? d->n_known : 0u);
     }
-    free(a.Rt);
+    free(a.X);
     for (size_t i = 0; st == AENL_OK && d->G_known != NULL && i < d->n_known; ++i)
     {
         for (size_t j = i; j < d->n_known; ++j)

@@ -24,6 +24,7 @@
 #define NLT_DITHER_SEED   0x5EEDu /* the dither's noise: fixed, so a run is repeatable */
 #define NLT_ROW_BLOCK     32      /* samples whose regression rows update G together */
 #define NLT_NUIS_MAX      (1 + NLT_MAX_X + AENL_EM_MAX_U) /* nuisance series: offset, states, inputs */
+#define NLT_R_KEEP_MAX    ((size_t)128 << 20) /* bytes of the nuisance's sensitivities kept */
 
 typedef struct
 {
@@ -57,6 +58,12 @@ typedef struct
      * once and copied in instead of summed again. */
     const double *G_known;
     size_t n_known;
+    /* The whitened sensitivities of those first n_known columns when they are known already
+     * (n samples x nz x n_known, at the samples the filter used; NULL: none): a pass then walks
+     * the sensitivities of the other columns only. R_save (n x nz x ncols, NULL: none) receives a
+     * pass's sensitivities, to be handed to later designs as R_known. */
+    const double *R_known;
+    double *R_save;
 } design_t;
 
 /* Columns of the directed series, residualised on the nuisance columns 0..nn-1: Gt (ns x ns),

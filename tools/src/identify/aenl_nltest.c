@@ -374,6 +374,7 @@ typedef struct
     double crit[AENL_NLT_MAX_CH][AENL_NLT_N_LAWS];
     int compared[AENL_NLT_MAX_CH]; /* 1: channel j's laws were fitted */
     double *G_nn; /* the nuisance's cross-products, the same in every design (n_nuis nx square) */
+    double *R_nn; /* the nuisance's whitened sensitivities (design_t.R_known), NULL: walked again */
 } run_t;
 
 /* The direction of motion of u: +1 rising, -1 falling, 0 at rest. */
@@ -480,7 +481,7 @@ static aenl_status_t stage1_regress(const run_t *rn, s1_fit_t *f, aenl_err_t *er
     {
         full[i] = 1;
     }
-    design_t d = {ns, g, full, NULL, 0, NULL, NULL, rn->G_nn, f->n_nuis * nx};
+    design_t d = {ns, g, full, NULL, 0, NULL, NULL, rn->G_nn, f->n_nuis * nx, rn->R_nn, NULL};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st != AENL_OK)
     {
@@ -714,7 +715,9 @@ static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const 
                   NULL,
                   NULL,
                   rn->G_nn,
-                  n_nuis * rn->nx};
+                  n_nuis * rn->nx,
+                  rn->R_nn,
+                  NULL};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st == AENL_OK)
     {
@@ -995,7 +998,7 @@ static aenl_status_t law_comparison(run_t *rn, size_t j, const double *dir, doub
         nuis[n_nuis + i] = buf + i * n;
         full[n_nuis + i] = 0;
     }
-    design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL, rn->G_nn, nn};
+    design_t d = {n_nuis + V_LAWCOLS, nuis, full, dir, 0, NULL, NULL, rn->G_nn, nn, rn->R_nn, NULL};
     aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     double red[AENL_NLT_N_LAWS + 1] = {0}; /* each fit's reduction, the nuisance alone's last */
     for (size_t l = 0; l <= AENL_NLT_N_LAWS && st == AENL_OK; ++l)
@@ -1822,13 +1825,24 @@ static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
     {
         full[i] = 1;
     }
-    design_t d = {ns, g, full, NULL, 0, NULL, NULL, NULL, 0};
+    design_t d = {ns, g, full, NULL, 0, NULL, NULL, NULL, 0, NULL, NULL};
+    /* their sensitivities are kept for the later designs when they fit in NLT_R_KEEP_MAX bytes:
+     * those then walk only their own columns (at 12 states, 156 of the 160 to 260 columns of a
+     * design are the nuisance's); otherwise each design walks them again */
+    const size_t keep = rn->n * rn->nz * ns * rn->nx;
+    if (keep <= NLT_R_KEEP_MAX / sizeof(double))
+    {
+        d.R_save = (double *)malloc(keep * sizeof(double));
+    }
     const aenl_status_t st = nlt_design_accumulate(&d, rn->kf, err);
     if (st == AENL_OK)
     {
         rn->G_nn = d.G;
         d.G = NULL;
+        rn->R_nn = d.R_save;
+        d.R_save = NULL;
     }
+    free(d.R_save);
     nlt_design_free(&d);
     free(one);
     return st;
@@ -2235,6 +2249,7 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
     memset(rn->crit, 0, sizeof(rn->crit));
     memset(rn->compared, 0, sizeof(rn->compared));
     rn->G_nn = NULL;
+    rn->R_nn = NULL;
     const size_t n_loss = rn->nz * rn->n * AENL_NLT_N_LAWS;
     rn->loss = n_loss > 0 ? (double *)malloc(n_loss * sizeof(double)) : NULL;
     aenl_status_t st = AENL_OK;
@@ -2265,6 +2280,8 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
     rn->loss = NULL;
     free(rn->G_nn);
     rn->G_nn = NULL;
+    free(rn->R_nn);
+    rn->R_nn = NULL;
     rn->kf = NULL; /* the caller's: they need not outlive this pass */
     rn->m = NULL;
     return st;
