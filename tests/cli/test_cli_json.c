@@ -196,6 +196,34 @@ static void test_json_identify_test_with_input_and_controls(void)
     cJSON_Delete(check_output("identify-test", clean, "\"dithered\""));
 }
 
+/* A train of pitch kicks (19 after the start, SNR 10) declared driven by impulses: the document
+ * says that the test ran on the jump model, with one impulse for each kick, and the record is
+ * linear; undeclared, the same record's document has no such member. */
+static void test_json_identify_test_impulsive(void)
+{
+    const char *ini = cli_file("j_kicks.ini", "[model]\ntype = airfoil2dof\nustar = 4\n\n"
+                                              "[excitation]\ntype = kicks\ndof = pitch\n"
+                                              "every = 150\nrate = 0.002\nrate_max = 0.003\n"
+                                              "sign = random\nseed = 11\n\n[run]\n"
+                                              "duration = 3000\ndt = 0.5\n\n[noise]\nsnr = 10\n"
+                                              "seed = 12\n");
+    const char *rec = simulated(ini, "j_kicks.csv");
+    const char *declared[] = {"identify", rec, "--impulsive", "--json", NULL};
+    cJSON *doc = check_output("identify-test", declared, "\"jumps\"");
+    const cJSON *model = cJSON_GetObjectItemCaseSensitive(doc, "model");
+    TEST_ASSERT_TRUE(cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(model, "jumps")));
+    const int imp = cJSON_GetObjectItemCaseSensitive(model, "impulses")->valueint;
+    TEST_ASSERT_TRUE_MESSAGE(imp >= 17 && imp <= 21, "one impulse per kick");
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(doc, "verdict");
+    TEST_ASSERT_EQUAL_STRING("linear", cJSON_GetObjectItemCaseSensitive(v, "class")->valuestring);
+    cJSON_Delete(doc);
+    const char *plain[] = {"identify", rec, "--json", NULL};
+    doc = check_output("identify-test", plain, NULL);
+    model = cJSON_GetObjectItemCaseSensitive(doc, "model");
+    TEST_ASSERT_NULL(cJSON_GetObjectItemCaseSensitive(model, "jumps"));
+    cJSON_Delete(doc);
+}
+
 static void test_json_fit_and_diagnose(void)
 {
     const char *rec = simulated(EXAMPLES "paper_polynomial_pitch.ini", "j_poly.csv");
@@ -263,6 +291,7 @@ int main(void)
     RUN_TEST(test_schema_check_rejects);
     RUN_TEST(test_json_identify_and_flutter);
     RUN_TEST(test_json_identify_test_with_input_and_controls);
+    RUN_TEST(test_json_identify_test_impulsive);
     RUN_TEST(test_json_fit_and_diagnose);
     return UNITY_END();
 }

@@ -671,6 +671,9 @@ static void test_cli_bench_identify_method_test(void)
                               "1",     "--rows",   "2000",     NULL};
     const char *bad_method[] = {"bench", "identify", "--method", "magic", NULL};
     const char *with_model[] = {"bench", "identify", "--method", "test", "--model", NULL};
+    const char *impulsive[] = {"bench", "identify", "--method", "test",        "--cases",
+                               "1",     "--rows",   "2000",     "--impulsive", NULL};
+    const char *impulsive_alone[] = {"bench", "identify", "--impulsive", NULL};
     cli_result_t r;
     cli_run(&r, run_args);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
@@ -686,6 +689,14 @@ static void test_cli_bench_identify_method_test(void)
     TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
     TEST_ASSERT_EQUAL_size_t(0, r.n_out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "does not combine"), r.err);
+    /* the first case is a decay (a kick train): declared driven by impulses, and said so */
+    cli_run(&r, impulsive);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "declared driven by impulses"), r.out);
+    cli_run(&r, impulsive_alone);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, "--impulsive needs --method test"), r.err);
 }
 
 /* The level bench: two records run and the table is printed; a bad option is refused. */

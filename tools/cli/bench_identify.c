@@ -107,6 +107,7 @@ typedef struct args
     long rows;               /* --rows: each record's first rows (0 all) */
     long from;               /* --from: the first case index run */
     int method_test;         /* --method test: identify --method test instead of the pipeline */
+    int impulsive;           /* --impulsive: the kick trains (decays) declared driven by impulses */
     size_t samples;          /* samples x channels identified (for the cost per value) */
     aenl_eval_options_t sim; /* --rk4, --dryden */
 } args_t;
@@ -116,7 +117,8 @@ static void usage(void)
     printf(
         "usage: aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
         "                           [--verbose] [--regime R] [--rows N] [--model] [--from K]\n"
-        "                           [--unknown-gusts] [--method moments|test] [--jobs N]\n\n"
+        "                           [--unknown-gusts] [--method moments|test] [--jobs N]\n"
+        "                           [--impulsive]\n\n"
         "The identification evaluation suite: N cases (default 240: every stratum\n"
         "of class x DOF x model x regime x SNR once) generated from seed S (default 1) with\n"
         "the simulators, each identified by the `aenl identify` pipeline. --rk4 integrates\n"
@@ -136,7 +138,10 @@ static void usage(void)
         "--method test identifies each record with `identify --method test` (the likelihood-\n"
         "based test on the record alone) instead; its undetermined verdicts are the 'undet'\n"
         "column, and its cost per value (samples x channels) is printed with the thread setting\n"
-        "(--jobs N, 1..64, default one per processor; --jobs 1 for the one-core figure).\n",
+        "(--jobs N, 1..64, default one per processor; --jobs 1 for the one-core figure).\n"
+        "--impulsive (with --method test): the decay cases, each a train of releases by\n"
+        "kicks, are declared driven by impulses, as `identify --impulsive` declares a record\n"
+        "(the other regimes are run as without it).\n",
         AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
@@ -152,6 +157,7 @@ static int parse_args(int argc, char **argv, args_t *a)
     a->rows = 0;
     a->from = 0;
     a->method_test = 0;
+    a->impulsive = 0;
     a->samples = 0;
     memset(&a->sim, 0, sizeof(a->sim));
     for (int i = 1; i < argc; ++i)
@@ -173,6 +179,10 @@ static int parse_args(int argc, char **argv, args_t *a)
         else if (strcmp(s, "--model") == 0)
         {
             a->model = 1;
+        }
+        else if (strcmp(s, "--impulsive") == 0)
+        {
+            a->impulsive = 1;
         }
         else if (strcmp(s, "--unknown-gusts") == 0)
         {
@@ -925,6 +935,7 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
     const size_t nc = c.n_channels;
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);
+    opts.impulsive = a->impulsive && c.stratum.regime == AENL_EVAL_DECAY;
     aenl_nlt_result_t res;
     aenl_err_clear(&err);
     double t0 = aenl_now_s();
@@ -1066,6 +1077,11 @@ int aenl_bench_identify(int argc, char **argv)
         aenl_cli_error(k_cmd, "--method test does not combine with --model or --write");
         return AENL_EXIT_USAGE;
     }
+    if (a.impulsive && !a.method_test)
+    {
+        aenl_cli_error(k_cmd, "--impulsive needs --method test");
+        return AENL_EXIT_USAGE;
+    }
     if (a.write_dir != NULL)
     {
         char path[1200];
@@ -1086,9 +1102,11 @@ int aenl_bench_identify(int argc, char **argv)
         k_cls_short[0] = "undet";
     }
     printf("identification evaluation suite: %ld cases, seed %llu (aenl_evalsuite.h); %s, "
-           "default options\n",
+           "%s\n",
            a.cases, a.seed,
-           a.method_test ? "identify --method test (aenl_nlt_run)" : "pipeline aenl_identify_run");
+           a.method_test ? "identify --method test (aenl_nlt_run)" : "pipeline aenl_identify_run",
+           a.impulsive ? "the decays (kick trains) declared driven by impulses (--impulsive)"
+                       : "default options");
     if (a.regime >= 0 || a.rows > 0 || a.model)
     {
         if (a.regime >= 0)

@@ -271,7 +271,7 @@ int aenl_cmd_bench(int argc, char **argv)
             "                                         (hidden-effect matrix; minutes)\n"
             "       aenl bench identify [--cases N] [--seed S] [--rk4] [--dryden] [--write DIR]\n"
             "                           [--verbose] [--regime R] [--rows N] [--from K] [--model]\n"
-            "                           [--unknown-gusts] [--method test]\n"
+            "                           [--unknown-gusts] [--method test [--impulsive]]\n"
             "                                         (identification suite; minutes)\n"
             "       aenl bench null [--records N] [--from K] [--level A] [--verbose]\n"
             "                       [--force-given] [--impulsive]\n"
