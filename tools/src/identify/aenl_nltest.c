@@ -1830,7 +1830,7 @@ static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
      * those then walk only their own columns (at 12 states, 156 of the 160 to 260 columns of a
      * design are the nuisance's); otherwise each design walks them again */
     const size_t keep = rn->n * rn->nz * ns * rn->nx;
-    if (keep <= NLT_R_KEEP_MAX / sizeof(double))
+    if (keep > 0 && keep <= NLT_R_KEEP_MAX / sizeof(double))
     {
         d.R_save = (double *)malloc(keep * sizeof(double));
     }
