@@ -8,16 +8,17 @@
  *     W' = W + w,  d = y - mean,  mean' = mean + d w / W',  M2' = M2 + w d (y - mean'),
  *     W2' = W2 + w^2.
  * Every lag is conditioned on the same samples (lockstep), so W and W2 are the same for all lags
- * of a (direction, node) and are kept once there; each (lag series, direction, node) cell keeps
- * its mean and M2. Forgetting: rather than multiplying every cell by lambda at every sample
- * (O(grid)), the newest sample's weight is multiplied by scale = lambda^-n; ratios (mean, M2/W,
- * W^2/W2) are unchanged. When the scale reaches 2^20 all active sums are multiplied by 2^-20
- * (exact in binary floating point) and the scale divided by 2^20, so nothing overflows and no
- * rounding is added. The cells accumulate the kernel weight without its constant factor 1/h
- * (1 - |d|/h, at most 1 times the scale): the factor cancels in the mean, the variance and n_eff,
- * and leaving it out keeps W and W2 bounded by the sample count whatever the bandwidth (with 1/h
- * inside, a bandwidth of 1e-20 in float32 overflowed W2 = sum w^2 at the first pair). Query
- * applies it to `weight`.
+ * of a (direction, node) and are kept once there, and w / W' is divided out once for them; each
+ * (lag series, direction, node) cell keeps its mean and M2, the cells of a (direction, node)
+ * side by side, so a push walks its sums in order. Forgetting: rather than multiplying every cell
+ * by lambda at every sample (O(grid)), the newest sample's weight is multiplied by scale =
+ * lambda^-n; ratios (mean, M2/W, W^2/W2) are unchanged. When the scale reaches 2^20 all active sums
+ * are multiplied by 2^-20 (exact in binary floating point) and the scale divided by 2^20, so
+ * nothing overflows and no rounding is added. The cells accumulate the kernel weight without its
+ * constant factor 1/h (1 - |d|/h, at most 1 times the scale): the factor cancels in the mean, the
+ * variance and n_eff, and leaving it out keeps W and W2 bounded by the sample count whatever the
+ * bandwidth (with 1/h inside, a bandwidth of 1e-20 in float32 overflowed W2 = sum w^2 at the first
+ * pair). Query applies it to `weight`.
  *
  * Compensation (AENL_MOMENTS_COMPENSATED): each sum s is a Kahan sum whose compensation c, the
  * rounding error of its last addition (|c| <= ulp(s)/2 <= |s| eps/2), is stored as the integer
@@ -87,35 +88,25 @@ static void sum_add(aenl_moments_t *m, uint32_t i, aenl_real_t v)
 #endif
 }
 
-/* Where the sums of a cell are: its weight sum W at *iw and W2 at *iw + W2_OFF, its mean (S1
- * when compensated) at *im and M2 at *im + 1. Compensated, W and W2 are kept once per (direction,
- * node), which every lag series shares, ahead of every cell's pair; plain, each cell holds its own
- * four sums (W, mean, M2, W2). */
-#if AENL_MOMENTS_COMPENSATED
+/* Where the sums of a cell are: its weight sum W at *iw and W2 at *iw + W2_OFF, kept once per
+ * (direction, node) and shared by every lag series, all of them ahead of the cells; its mean
+ * (relative to the node when compensated) at *im and M2 at *im + 1, the cells of the lag series
+ * of a (direction, node) next to each other. */
 #define W2_OFF 1u
-#else
-#define W2_OFF 3u
-#endif
 
 static void cell_index(const aenl_moments_t *m, uint32_t series, uint32_t dir, uint32_t node,
                        uint32_t *iw, uint32_t *im)
 {
-    const uint32_t cell = (series * m->n_dir + dir) * m->cfg.n_grid + node;
-#if AENL_MOMENTS_COMPENSATED
+    const uint32_t cell = (dir * m->cfg.n_grid + node) * aenl_moments_n_series(m) + series;
     *iw = 2u * (dir * m->cfg.n_grid + node);
     *im = 2u * ((uint32_t)m->n_dir * m->cfg.n_grid + cell);
-#else
-    *iw = 4u * cell;
-    *im = *iw + 1u;
-#endif
 }
 
 /* Sums in use (see cell_index). */
 static uint32_t active_sums(const aenl_moments_t *m)
 {
     const uint32_t n_groups = (uint32_t)m->n_dir * m->cfg.n_grid;
-    return AENL_MOMENTS_COMPENSATED ? 2u * (1u + aenl_moments_n_series(m)) * n_groups
-                                    : 4u * aenl_moments_n_series(m) * n_groups;
+    return 2u * (1u + aenl_moments_n_series(m)) * n_groups;
 }
 
 /* Validate cfg; on success *dx is the grid spacing. */
@@ -174,8 +165,7 @@ static aenl_status_t check_cfg(const aenl_moments_cfg_t *cfg, aenl_real_t *dx)
     }
     const uint32_t groups = (uint32_t)cfg->n_grid * (cfg->direction_split ? 2u : 1u);
     const uint32_t series = (uint32_t)cfg->n_lags * (cfg->symmetric ? 2u : 1u);
-    const uint32_t sums =
-        AENL_MOMENTS_COMPENSATED ? 2u * (series + 1u) * groups : 4u * series * groups;
+    const uint32_t sums = 2u * (series + 1u) * groups;
     if (series * groups > AENL_MOMENTS_MAX_CELLS || sums > (uint32_t)AENL_MOMENTS_MAX_SUMS)
     {
         return AENL_E_DIM;
@@ -301,7 +291,6 @@ static int32_t node_floor(aenl_real_t v, uint32_t n_grid)
 static void renormalise(aenl_moments_t *m)
 {
     const uint32_t n = active_sums(m);
-#if AENL_MOMENTS_COMPENSATED
     const uint32_t n_w = 2u * m->n_dir * m->cfg.n_grid; /* (W, W2) of each group, then cells */
     for (uint32_t i = 0; i < n; i += 2u)
     {
@@ -315,14 +304,6 @@ static void renormalise(aenl_moments_t *m)
             m->sum[i + 1u] *= SCALE_SHRINK; /* M2 after the mean */
         }
     }
-#else
-    for (uint32_t i = 0; i < n; i += 4u) /* W, mean, M2, W2 of each cell */
-    {
-        m->sum[i] *= SCALE_SHRINK;
-        m->sum[i + 2u] *= SCALE_SHRINK;
-        m->sum[i + 3u] *= SCALE_SHRINK * SCALE_SHRINK;
-    }
-#endif
     m->scale *= SCALE_SHRINK;
     if (m->n_renorm < UINT32_MAX)
     {
@@ -386,7 +367,6 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
     }
     const uint32_t n_series = aenl_moments_n_series(m);
-#if AENL_MOMENTS_COMPENSATED
     /* The lags share W and W2: X_c pairs at every lag or, one response missing, at none. */
     for (uint32_t ls = 0; ls < n_series; ++ls)
     {
@@ -395,7 +375,6 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
             return AENL_OK;
         }
     }
-#endif
     /* The nodes within h of u, found once for all lags. */
     const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
     const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
@@ -411,35 +390,24 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         }
         /* 1/h is left out of the stored weight and applied at query time (file comment). */
         const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
-        uint32_t iw = 0u, im;
-        for (uint32_t ls = 0; ls < n_series; ++ls) /* ls >= n_lags: backward series X_{c-L} */
+        /* the lag series share the node's weight sum, and their cells follow one another */
+        uint32_t iw, im;
+        cell_index(m, 0u, dir, (uint32_t)k, &iw, &im);
+        const aenl_real_t r = w / (sum_get(m, iw) + w);      /* w / W' */
+        for (uint32_t ls = 0; ls < n_series; ++ls, im += 2u) /* ls >= n_lags: X_{c-L} */
         {
-            const uint32_t pr = response(m, ls);
-#if !AENL_MOMENTS_COMPENSATED /* compensated, every response is present (checked above) */
-            if (!m->valid[pr])
-            {
-                continue;
-            }
-#endif
-            const aenl_real_t y = m->hist[pr];
-            cell_index(m, ls, dir, (uint32_t)k, &iw, &im);
-            const aenl_real_t w_old = sum_get(m, iw);
-            const aenl_real_t r = w / (w_old + w); /* w / W' */
+            const aenl_real_t y = m->hist[response(m, ls)]; /* present (checked above) */
 #if AENL_MOMENTS_COMPENSATED
             const aenl_real_t dy = (y - xk) - sum_get(m, im); /* mean relative to x_k */
 #else
             const aenl_real_t dy = y - sum_get(m, im);
-            sum_add(m, iw, w);
-            sum_add(m, iw + W2_OFF, w * w);
 #endif
             const aenl_real_t step = dy * r;
             sum_add(m, im, step);
             sum_add(m, im + 1u, w * dy * (dy - step));
         }
-#if AENL_MOMENTS_COMPENSATED
         sum_add(m, iw, w); /* once for all lag series */
         sum_add(m, iw + W2_OFF, w * w);
-#endif
     }
     return AENL_OK;
 }

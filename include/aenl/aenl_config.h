@@ -55,9 +55,9 @@
  * 1: every running sum carries a 16-bit compensation term (the part of a sum s that float
  * rounding lost, in units of |s| 2^-38), so a float32 estimator keeps its accuracy past 2^24
  * contributions per cell (10^9 samples without forgetting; the stored sums then have about 40
- * significant bits), and the lags share their weight sums (a conditioning sample then pairs at
- * every lag or at none: see aenl_moments_push). 0: plain Welford, four sums per cell; fine in
- * double, and in float32 with a forgetting factor < 1 or fewer than ~10^7 contributions per cell.
+ * significant bits). 0: plain Welford sums; fine in double, and in float32 with a forgetting
+ * factor < 1 or fewer than ~10^7 contributions per cell. Either way the lags share their weight
+ * sums (a conditioning sample pairs at every lag or at none: see aenl_moments_push).
  * Default: on for float, off for double.
  */
 #ifndef AENL_MOMENTS_COMPENSATED
@@ -84,17 +84,12 @@
 #endif
 
 /**
- * Running sums. Plain: 4 per cell (weight, mean, M2, squared weights), 4 B each in float32.
- * Compensated: 2 per cell (mean, M2) plus 2 per node and direction (the weight sums, shared by
- * the lags), 6 B each in float32; the default then holds MAX_CELLS cells of 3 or more lag series,
- * 2/3 of them with one lag series (one lag, not symmetric) and 8/9 with two.
+ * Running sums: 2 per cell (mean, M2) plus 2 per node and direction (the weight sums, shared by
+ * the lags), 4 B each in float32 (6 B compensated); the default then holds MAX_CELLS cells of 3 or
+ * more lag series, 2/3 of them with one lag series (one lag, not symmetric) and 8/9 with two.
  */
 #ifndef AENL_MOMENTS_MAX_SUMS
-#if AENL_MOMENTS_COMPENSATED
 #define AENL_MOMENTS_MAX_SUMS (2 * AENL_MOMENTS_MAX_CELLS + 2 * ((AENL_MOMENTS_MAX_CELLS + 2) / 3))
-#else
-#define AENL_MOMENTS_MAX_SUMS (4 * AENL_MOMENTS_MAX_CELLS)
-#endif
 #endif
 #if (AENL_MOMENTS_MAX_SUMS < 8) || (AENL_MOMENTS_MAX_SUMS > 4194304)
 #error "AENL_MOMENTS_MAX_SUMS must be in [8, 4194304]"

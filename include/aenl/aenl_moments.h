@@ -134,9 +134,8 @@ void aenl_moments_reset(aenl_moments_t *m);
  * @return AENL_OK; AENL_E_ARG for NULL (nothing changed); AENL_E_NUMERIC for a NaN/Inf sample,
  *         which is a *missing* sample: the statistics stay byte-identical, the history records the
  *         gap (no pair is formed across it, time alignment is kept) and n_missing counts it.
- *         With AENL_MOMENTS_COMPENSATED, whose lags share their weight sums, a conditioning
- *         sample X_c forms pairs at every lag or at none (at none when one of its responses is
- *         missing); without it, at the lags whose response is present.
+ *         The lags share their weight sums, so a conditioning sample X_c forms pairs at every
+ *         lag or at none (at none when one of its responses is missing).
  * @note O(n_lags * min(n_grid, 2h/dx + 1)) per sample, no loop over the grid (the node range is
  *       found once per sample for all lags). With forgetting < 1,
  *       one push in every ~(14 / -ln(lambda)) also rescales all active cells (O(cells)).

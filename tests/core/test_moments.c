@@ -386,15 +386,14 @@ static void test_moments_no_pair_across_a_gap(void)
     c.lags[0] = 1;
     c.lags[1] = 2;
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_init(&g_m, &c));
-    /* a, gap, b: lag 1 sees (a,gap) and (gap,b): no pair; lag 2 sees (a, b): one pair, unless
-     * the lags share their weight sums (compensated): a conditioning sample then pairs at every
-     * lag or at none, and a's lag-1 response is missing. */
+    /* a, gap, b: lag 1 sees (a,gap) and (gap,b): no pair; lag 2 sees (a, b), but the lags share
+     * their weight sums, so a conditioning sample pairs at every lag or at none, and a's lag-1
+     * response is missing: no pair at either lag. */
     aenl_moments_push(&g_m, AENL_R(0.0));
     aenl_moments_push(&g_m, (aenl_real_t)NAN);
     aenl_moments_push(&g_m, AENL_R(0.5));
     aenl_moments_point_t p;
     TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 0, 5, AENL_DIR_ALL, &p));
-#if AENL_MOMENTS_COMPENSATED
     TEST_ASSERT_EQUAL_INT(AENL_E_EMPTY, aenl_moments_query(&g_m, 1, 5, AENL_DIR_ALL, &p));
     /* Then 0, 0.25, 0.5: the conditioning samples 0.5 (weight 1/6 at node 5, x = 0, h = 0.6) and
      * 0 (weight 1) pair at both lags. */
@@ -407,11 +406,6 @@ static void test_moments_no_pair_across_a_gap(void)
     TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 1, 5, AENL_DIR_ALL, &p));
     TEST_ASSERT_REAL_WITHIN(AENL_R(1e-5), (aenl_real_t)((0.25 / 6.0 + 0.5) / (7.0 / 6.0)), p.mean);
     TEST_ASSERT_REAL_WITHIN(AENL_R(1e-5), (aenl_real_t)(49.0 / 37.0), p.n_eff);
-#else
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_moments_query(&g_m, 1, 5, AENL_DIR_ALL, &p));
-    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(0.5), p.mean);
-    TEST_ASSERT_REAL_WITHIN(AENL_R(1e-6), AENL_R(1.0), p.n_eff);
-#endif
 }
 
 static void test_moments_query_rejects_bad_arguments(void)
