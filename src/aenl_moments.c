@@ -77,8 +77,8 @@ static void sum_add(aenl_moments_t *m, uint32_t i, aenl_real_t v)
     {
         /* to nearest, without a branch on the sign of k: that sign is random, a branch on it is
          * mispredicted half the time, and on the host that makes the compensated push several
-         * times slower (an evaluation wider than the build's precision rounds toward zero
-         * instead, within one unit) */
+         * times slower (an evaluation wider than the build's precision, or -ffast-math folding
+         * the two additions, rounds toward zero instead, within one unit) */
         lo = (int32_t)((k + ROUND_MAGIC) - ROUND_MAGIC);
     }
     m->sum_lo[i] = (int16_t)lo;
@@ -383,13 +383,15 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
     for (int32_t k = k0; k <= k1; ++k)
     {
         const aenl_real_t xk = aenl_moments_node_x(m, (uint16_t)k);
+        /* 1/h is left out of the stored weight and applied at query time (file comment). A
+         * distance just below h can round the weight to 0, which would make w / W' 0/0 at an
+         * empty node, so the weight itself is tested. */
         const aenl_real_t d = aenl_fabs(xk - u);
-        if (!(d < m->cfg.bandwidth))
+        const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
+        if (!(d < m->cfg.bandwidth) || !(w > AENL_R(0.0)))
         {
             continue;
         }
-        /* 1/h is left out of the stored weight and applied at query time (file comment). */
-        const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
         /* the lag series share the node's weight sum, and their cells follow one another */
         uint32_t iw, im;
         cell_index(m, 0u, dir, (uint32_t)k, &iw, &im);

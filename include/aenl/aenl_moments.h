@@ -13,11 +13,11 @@
  * mean of (X_n - m)^2. All lags are conditioned on the same samples (lockstep): the pairs are
  * (X_c, X_{c+L}) for c = 0 .. N-1-L_max (from 1 with the direction split), L_max the largest lag,
  * so lag curves differ only by the lag, never by which part of the record they saw. Each (lag,
- * node[, direction]) cell holds the weight sum, the weighted mean and the weighted second central
- * moment M2 updated in Welford form, so there is no sum(x^2) - sum(x)^2 cancellation; with
+ * node[, direction]) cell holds the weighted mean and the weighted second central moment M2
+ * updated in Welford form, so there is no sum(x^2) - sum(x)^2 cancellation; the lags share one
+ * weight sum (and sum of squared weights) per (node[, direction]). With
  * AENL_MOMENTS_COMPENSATED (default in float32) every sum also carries a compensation term, so a
- * float32 estimator stays accurate past 10^9 samples, and the lags share one weight sum per
- * (node[, direction]) (which halves the state).
+ * float32 estimator stays accurate past 10^9 samples.
  *
  * Options: an exponential forgetting factor lambda (weight of a sample of age a is lambda^a), for
  * non-stationary conditions; and a direction split, which accumulates separately for a rising
@@ -94,10 +94,10 @@ typedef struct aenl_moments
     uint32_t n_renorm;      /**< forgetting-scale renormalisations (saturating) */
     aenl_real_t hist[2 * AENL_MOMENTS_MAX_LAG + 2]; /**< sample history ring */
     uint8_t valid[2 * AENL_MOMENTS_MAX_LAG + 2];    /**< 0 marks a missing sample */
-    /** Running sums, active part only. Plain: per (lag series, direction, node) cell its weight
-     *  sum W, weighted mean, weighted second central moment M2 and sum of squared weights W2.
-     *  Compensated: first W and W2 of every (direction, node), which the lags share, then
-     *  sum w (y - x_node) and M2 of every cell. */
+    /** Running sums, active part only: first the weight sum W and the sum of squared weights W2
+     *  of every (direction, node), which the lags share, then the weighted mean (relative to the
+     *  node when compensated) and the weighted second central moment M2 of every cell, a
+     *  (direction, node)'s cells of the lag series side by side. */
     aenl_real_t sum[AENL_MOMENTS_MAX_SUMS];
 #if AENL_MOMENTS_COMPENSATED
     int16_t sum_lo[AENL_MOMENTS_MAX_SUMS]; /**< compensation of each sum (aenl_config.h) */

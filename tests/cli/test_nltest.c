@@ -673,12 +673,12 @@ static void test_cli_identify_method_test_bad_usage(void)
  * the cost per value is printed; a wrong method or a combination it does not take is refused. */
 static void test_cli_bench_identify_method_test(void)
 {
-    const char *run_args[] = {"bench", "identify", "--method", "test", "--cases",
-                              "1",     "--rows",   "2000",     NULL};
+    const char *run_args[] = {"bench", "identify", "--method", "test",      "--cases",
+                              "1",     "--rows",   "2000",     "--verbose", NULL};
     const char *bad_method[] = {"bench", "identify", "--method", "magic", NULL};
     const char *with_model[] = {"bench", "identify", "--method", "test", "--model", NULL};
-    const char *impulsive[] = {"bench", "identify", "--method", "test",        "--cases",
-                               "1",     "--rows",   "2000",     "--impulsive", NULL};
+    const char *impulsive[] = {"bench",  "identify", "--method",    "test",      "--cases", "1",
+                               "--rows", "2000",     "--impulsive", "--verbose", NULL};
     const char *impulsive_alone[] = {"bench", "identify", "--impulsive", NULL};
     cli_result_t r;
     cli_run(&r, run_args);
@@ -688,13 +688,17 @@ static void test_cli_bench_identify_method_test(void)
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "s per million values"), r.out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "identification: "), r.out);
     TEST_ASSERT_NULL_MESSAGE(strstr(r.out, "failures\n  case"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, " imp "), r.out);
+    TEST_ASSERT_NULL_MESSAGE(strstr(r.out, " jumps"), r.out);
     refused(bad_method, "--method");
     refused(with_model, "does not combine");
     refused(impulsive_alone, "--impulsive needs --method test");
-    /* the first case is a decay (a kick train): declared driven by impulses, and said so */
+    /* the first case is a decay (a kick train): declared driven by impulses, it is tested on the
+     * jump model (undeclared above, not), and said so */
     cli_run(&r, impulsive);
     TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, "declared driven by impulses"), r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, " jumps"), r.out);
 }
 
 /* The level bench: two records run and the table is printed; a bad option is refused. */

@@ -141,7 +141,8 @@ static void usage(void)
         "(--jobs N, 1..64, default one per processor; --jobs 1 for the one-core figure).\n"
         "--impulsive (with --method test): the decay cases, each a train of releases by\n"
         "kicks, are declared driven by impulses, as `identify --impulsive` declares a record\n"
-        "(the other regimes are run as without it).\n",
+        "(the other regimes are run as without it). --verbose gives each case's impulses\n"
+        "('imp') and says 'jumps' where the test ran on the jump model.\n",
         AENL_EVAL_RK4_STEPS, AENL_EVAL_RK4_STEPS);
 }
 
@@ -953,7 +954,7 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
     if (a->verbose)
     {
         printf("  %4zu %-11s %-11s %-6s %-10s SNR %-3s truth %-10s %-6s -> %-12s %-6s conf %.3f "
-               "p %.2e%s\n",
+               "p %.2e imp %zu%s%s\n",
                i, aenl_eval_variant_name(c.stratum.variant),
                c.stratum.model == 0 ? "airfoil2dof" : "section3dof",
                aenl_eval_dof_name(c.stratum.dof), aenl_eval_regime_name(c.stratum.regime),
@@ -962,6 +963,7 @@ static int run_case_test(args_t *a, size_t i, tally_t *t)
                sti == AENL_OK ? aenl_nlt_class_name(res.verdict_class, res.undetermined) : "failed",
                sti == AENL_OK && res.verdict >= 0 ? c.names[res.verdict] : "-", o.confidence,
                sti == AENL_OK && res.verdict >= 0 ? res.ch[res.verdict].p : 1.0,
+               sti == AENL_OK ? res.n_impulses : 0u, sti == AENL_OK && res.jumps ? " jumps" : "",
                o.class_ok && o.channel_ok ? "" : "  MISS");
     }
     aenl_eval_case_free(&c);

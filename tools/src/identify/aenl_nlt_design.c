@@ -50,15 +50,17 @@ static void design_step(const design_t *d, size_t s0, size_t nc, const double *F
  * whitened innovations' sensitivities to the design's columns) and the whitened innovations e. */
 typedef void (*design_visit_fn)(void *ctx, const double *R, const double *e);
 
-/* The series that the columns 0..nk-1 are (nk a whole number of series' columns). */
+/* The number of series that the columns 0..nk-1 are, all of them full; 0 when they are not whole
+ * full series (the known sensitivities then cannot stand for them). */
 static size_t series_of_columns(const design_t *d, size_t nx, size_t nk)
 {
     size_t s = 0;
-    for (size_t c = 0; c < nk && s < d->n_series; ++s)
+    size_t c = 0;
+    for (; c < nk && s < d->n_series && d->full[s]; ++s)
     {
-        c += d->full[s] ? nx : 1u;
+        c += nx;
     }
-    return s;
+    return c == nk ? s : 0u;
 }
 
 /* One pass over the record: D_{t+1} = F_t D_t + the columns' inputs of sample t, from D_0 = 0,
@@ -71,9 +73,9 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
     const size_t nx = k->nx;
     const size_t nz = k->nz;
     const size_t nc = d->ncols;
-    const size_t nk = d->R_known != NULL ? d->n_known : 0u;
+    const size_t s0 = d->R_known != NULL ? series_of_columns(d, nx, d->n_known) : 0u;
+    const size_t nk = s0 > 0 ? d->n_known : 0u;
     const size_t nw = nc - nk; /* columns walked */
-    const size_t s0 = series_of_columns(d, nx, nk);
     double *D = (double *)calloc(nx * nw + 1u, sizeof(double));
     double *Dn = (double *)calloc(nx * nw + 1u, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));

@@ -1804,7 +1804,7 @@ static aenl_status_t test_channel(run_t *rn, size_t j, int stats_only, aenl_nlt_
 
 /* The cross-products of the nuisance columns (an offset, every filtered state and every input,
  * each full) into rn->G_nn: they are the same in the regressions of every channel and stage. */
-static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
+static aenl_status_t nuisance_products(run_t *rn, size_t keep_max, aenl_err_t *err)
 {
     double *one = (double *)malloc(rn->n * sizeof(double));
     if (one == NULL)
@@ -1826,11 +1826,11 @@ static aenl_status_t nuisance_products(run_t *rn, aenl_err_t *err)
         full[i] = 1;
     }
     design_t d = {ns, g, full, NULL, 0, NULL, NULL, NULL, 0, NULL, NULL};
-    /* their sensitivities are kept for the later designs when they fit in NLT_R_KEEP_MAX bytes:
-     * those then walk only their own columns (at 12 states, 156 of the 160 to 260 columns of a
-     * design are the nuisance's); otherwise each design walks them again */
+    /* their sensitivities are kept for the later designs when they fit in keep_max bytes: those
+     * then walk only their own columns (at 12 states, 156 of the 160 to 260 columns of a design
+     * are the nuisance's); otherwise each design walks them again */
     const size_t keep = rn->n * rn->nz * ns * rn->nx;
-    if (keep > 0 && keep <= NLT_R_KEEP_MAX / sizeof(double))
+    if (keep > 0 && keep <= keep_max / sizeof(double))
     {
         d.R_save = (double *)malloc(keep * sizeof(double));
     }
@@ -2263,7 +2263,9 @@ static aenl_status_t test_pass(run_t *rn, const aenl_em_result_t *em, const kf_t
     double pmin = 1.0;
     if (st == AENL_OK)
     {
-        st = nuisance_products(rn, err);
+        /* linear controls (stats_only) run as many at once as there are jobs, each its own
+         * pass: they share the memory the record's own pass may take */
+        st = nuisance_products(rn, stats_only ? NLT_R_KEEP_MAX / aenl_jobs() : NLT_R_KEEP_MAX, err);
     }
     if (st == AENL_OK)
     {
