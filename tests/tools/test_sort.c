@@ -3,7 +3,8 @@
  * @file test_sort.c
  * @brief aenl_sort_doubles against the C library's qsort (the reference) on random, repeated,
  *        ordered, reversed, constant and organ-pipe inputs of lengths around the short-run
- *        threshold and up to a record's length; aenl_median_mad on a known set.
+ *        threshold and up to a record's length; aenl_select_doubles and aenl_quantile_select
+ *        against the sorted order on the same inputs; aenl_median_mad on a known set.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -88,6 +89,51 @@ static void test_sort_matches_qsort(void)
     free(b);
 }
 
+/* Selection puts at place k what qsort puts there, nothing larger before it and nothing smaller
+ * after it, and the quantile from it is the sorted quantile's, bit for bit. */
+static void test_select_matches_sorted(void)
+{
+    static const size_t ns[] = {1, 2, 3, 15, 16, 17, 33, 100, 1000, 20000};
+    static const double ps[] = {0.0, 0.001, 0.25, 0.5, 0.7, 0.999, 1.0};
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 12u);
+    double *a = malloc(20000u * sizeof(double));
+    double *b = malloc(20000u * sizeof(double));
+    TEST_ASSERT_NOT_NULL(a);
+    TEST_ASSERT_NOT_NULL(b);
+    for (size_t m = 0; m < sizeof(ns) / sizeof(ns[0]); ++m)
+    {
+        const size_t n = ns[m];
+        for (int p = 0; p < P_COUNT; ++p)
+        {
+            fill(b, n, p, &g);
+            memcpy(a, b, n * sizeof(double));
+            qsort(b, n, sizeof(double), aenl_cmp_double);
+            const size_t ks[] = {0, n / 3u, n / 2u, n - 1u};
+            for (size_t q = 0; q < 4; ++q)
+            {
+                const size_t k = ks[q];
+                aenl_select_doubles(a, n, k);
+                TEST_ASSERT_EQUAL_DOUBLE(b[k], a[k]);
+                for (size_t j = 0; j < n; ++j)
+                {
+                    TEST_ASSERT_TRUE_MESSAGE(j < k ? a[j] <= a[k] : a[j] >= a[k] || j == k,
+                                             "not partitioned about place k");
+                }
+            }
+            for (size_t q = 0; q < sizeof(ps) / sizeof(ps[0]); ++q)
+            {
+                const double want = aenl_quantile_sorted(b, n, ps[q]);
+                const double got = aenl_quantile_select(a, n, ps[q]);
+                TEST_ASSERT_TRUE_MESSAGE(memcmp(&want, &got, sizeof(double)) == 0,
+                                         "quantile differs from the sorted one");
+            }
+        }
+    }
+    free(a);
+    free(b);
+}
+
 /* 1, 2, 3, 4, 100: median 3, absolute deviations 2, 1, 0, 1, 97, their median 1. */
 static void test_median_mad(void)
 {
@@ -102,6 +148,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_sort_matches_qsort);
+    RUN_TEST(test_select_matches_sorted);
     RUN_TEST(test_median_mad);
     return UNITY_END();
 }

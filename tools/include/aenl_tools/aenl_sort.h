@@ -23,6 +23,19 @@ int aenl_cmp_double(const void *a, const void *b);
 void aenl_sort_doubles(double *v, size_t n);
 
 /**
+ * @brief Reorders v[0..n-1] (no NaN expected) so that v[k] is the value a sort puts there, none
+ *        before it larger and none after it smaller (nothing when k >= n). O(n) on average,
+ *        O(n log n) at worst.
+ */
+void aenl_select_doubles(double *v, size_t n, size_t k);
+
+/**
+ * @brief aenl_quantile_sorted's value (the same order statistics, the same interpolation) for
+ *        unsorted v[0..n-1] (n >= 1), which it reorders: O(n) instead of a sort's O(n log n).
+ */
+double aenl_quantile_select(double *v, size_t n, double p);
+
+/**
  * @brief Quantile p in [0, 1] of sorted s[0..n-1] (n >= 1) by linear interpolation between the
  *        order statistics at position (n - 1) p.
  */

@@ -162,6 +162,63 @@ void aenl_sort_doubles(double *v, size_t n)
     }
 }
 
+void aenl_select_doubles(double *v, size_t n, size_t k)
+{
+    if (k >= n)
+    {
+        return;
+    }
+    /* the part holding place k is partitioned until it is short (then sorted), as a sort would
+     * do with that part alone; degraded partitions end in a heapsort, so O(n log n) at worst */
+    unsigned depth = 0;
+    for (size_t m = n; m > 1u; m >>= 1u)
+    {
+        depth += 2u;
+    }
+    while (n > SORT_SHORT && depth > 0u)
+    {
+        --depth;
+        const size_t left = partition(v, n);
+        if (k < left)
+        {
+            n = left;
+        }
+        else
+        {
+            v += left;
+            k -= left;
+            n -= left;
+        }
+    }
+    if (n > SORT_SHORT)
+    {
+        heapsort_doubles(v, n);
+    }
+    else
+    {
+        insertion(v, n);
+    }
+}
+
+double aenl_quantile_select(double *v, size_t n, double p)
+{
+    const double pos = p * (double)(n - 1u);
+    const size_t i = (size_t)pos;
+    if (i + 1u >= n)
+    {
+        aenl_select_doubles(v, n, n - 1u);
+        return v[n - 1u];
+    }
+    aenl_select_doubles(v, n, i);
+    double next = v[i + 1u]; /* the next order statistic: the smallest above place i */
+    for (size_t j = i + 2u; j < n; ++j)
+    {
+        next = v[j] < next ? v[j] : next;
+    }
+    const double f = pos - (double)i;
+    return v[i] + f * (next - v[i]);
+}
+
 double aenl_quantile_sorted(const double *s, size_t n, double p)
 {
     const double pos = p * (double)(n - 1u);
