@@ -65,11 +65,13 @@ static void fill(double *v, size_t n, int pattern, aenl_rng_t *g)
     }
 }
 
-static void test_sort_matches_qsort(void)
+/* Every pattern at lengths around the short-run threshold and up to a record's: a holds the
+ * input, b the same sorted by qsort (the reference), and check looks at them. */
+static void for_each_input(uint64_t seed, void (*check)(double *a, const double *b, size_t n))
 {
     static const size_t ns[] = {0, 1, 2, 3, 15, 16, 17, 33, 100, 1000, 20000};
     aenl_rng_t g;
-    aenl_rng_seed(&g, 11u);
+    aenl_rng_seed(&g, seed);
     double *a = malloc(20000u * sizeof(double));
     double *b = malloc(20000u * sizeof(double));
     TEST_ASSERT_NOT_NULL(a);
@@ -80,61 +82,61 @@ static void test_sort_matches_qsort(void)
         {
             fill(a, ns[k], p, &g);
             memcpy(b, a, ns[k] * sizeof(double));
-            aenl_sort_doubles(a, ns[k]);
             qsort(b, ns[k], sizeof(double), aenl_cmp_double);
-            TEST_ASSERT_TRUE_MESSAGE(ns[k] == 0u || memcmp(a, b, ns[k] * sizeof(double)) == 0,
-                                     "differs from qsort");
+            check(a, b, ns[k]);
         }
     }
     free(a);
     free(b);
 }
 
+static void check_sort(double *a, const double *b, size_t n)
+{
+    aenl_sort_doubles(a, n);
+    TEST_ASSERT_TRUE_MESSAGE(n == 0u || memcmp(a, b, n * sizeof(double)) == 0,
+                             "differs from qsort");
+}
+
+static void test_sort_matches_qsort(void)
+{
+    for_each_input(11u, check_sort);
+}
+
 /* Selection puts at place k what qsort puts there, nothing larger before it and nothing smaller
  * after it, and the quantile from it is the sorted quantile's, bit for bit. */
-static void test_select_matches_sorted(void)
+static void check_select(double *a, const double *b, size_t n)
 {
-    static const size_t ns[] = {1, 2, 3, 15, 16, 17, 33, 100, 1000, 20000};
     static const double ps[] = {0.0, 0.001, 0.25, 0.5, 0.7, 0.999, 1.0};
-    aenl_rng_t g;
-    aenl_rng_seed(&g, 12u);
-    double *a = malloc(20000u * sizeof(double));
-    double *b = malloc(20000u * sizeof(double));
-    TEST_ASSERT_NOT_NULL(a);
-    TEST_ASSERT_NOT_NULL(b);
-    for (size_t m = 0; m < sizeof(ns) / sizeof(ns[0]); ++m)
+    if (n == 0u)
     {
-        const size_t n = ns[m];
-        for (int p = 0; p < P_COUNT; ++p)
+        return;
+    }
+    const size_t ks[] = {0, n / 3u, n / 2u, n - 1u};
+    for (size_t q = 0; q < 4; ++q)
+    {
+        const size_t k = ks[q];
+        aenl_select_doubles(a, n, k);
+        TEST_ASSERT_EQUAL_DOUBLE(b[k], a[k]);
+        for (size_t j = 0; j < n; ++j)
         {
-            fill(b, n, p, &g);
-            memcpy(a, b, n * sizeof(double));
-            qsort(b, n, sizeof(double), aenl_cmp_double);
-            const size_t ks[] = {0, n / 3u, n / 2u, n - 1u};
-            for (size_t q = 0; q < 4; ++q)
-            {
-                const size_t k = ks[q];
-                aenl_select_doubles(a, n, k);
-                TEST_ASSERT_EQUAL_DOUBLE(b[k], a[k]);
-                for (size_t j = 0; j < n; ++j)
-                {
-                    TEST_ASSERT_TRUE_MESSAGE(j < k ? a[j] <= a[k] : a[j] >= a[k] || j == k,
-                                             "not partitioned about place k");
-                }
-            }
-            for (size_t q = 0; q < sizeof(ps) / sizeof(ps[0]); ++q)
-            {
-                const double want = aenl_quantile_sorted(b, n, ps[q]);
-                const double got = aenl_quantile_select(a, n, ps[q]);
-                uint64_t bw, bg; /* bit for bit */
-                memcpy(&bw, &want, sizeof(bw));
-                memcpy(&bg, &got, sizeof(bg));
-                TEST_ASSERT_TRUE_MESSAGE(bw == bg, "quantile differs from the sorted one");
-            }
+            TEST_ASSERT_TRUE_MESSAGE(j < k ? a[j] <= a[k] : a[j] >= a[k] || j == k,
+                                     "not partitioned about place k");
         }
     }
-    free(a);
-    free(b);
+    for (size_t q = 0; q < sizeof(ps) / sizeof(ps[0]); ++q)
+    {
+        const double want = aenl_quantile_sorted(b, n, ps[q]);
+        const double got = aenl_quantile_select(a, n, ps[q]);
+        uint64_t bw, bg; /* bit for bit */
+        memcpy(&bw, &want, sizeof(bw));
+        memcpy(&bg, &got, sizeof(bg));
+        TEST_ASSERT_TRUE_MESSAGE(bw == bg, "quantile differs from the sorted one");
+    }
+}
+
+static void test_select_matches_sorted(void)
+{
+    for_each_input(12u, check_select);
 }
 
 /* 1, 2, 3, 4, 100: median 3, absolute deviations 2, 1, 0, 1, 97, their median 1. */
