@@ -65,9 +65,11 @@ void aenl_cli_note_no_time(const char *cmd, const char *path);
 void aenl_cli_no_time_text(const char *path, char *buf, size_t n);
 /** 1 for the record's time column: the one --time names, else aenl_csv_is_time_name's. */
 int aenl_cli_is_time_column(const char *name);
-/** The message (into err) for a time step that breaks uniform sampling (aenl_time_steps_take). */
-void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
-                              double step, double ref);
+/** Checks time value t of data row `row` (from 1; t_prev the row before's) of column `column`:
+ *  present, increasing and on the record's even step (aenl_time_steps_take, s); 0, or -1 with
+ *  the message naming the file, column and row in err. */
+int aenl_cli_time_value_check(aenl_time_steps_t *s, double t, double t_prev, size_t row,
+                              const char *path, const char *column, aenl_err_t *err);
 /** Column of `channel` (or of the only non-time column when NULL); -1 after printing why. */
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
                            const char *channel);

@@ -107,15 +107,35 @@ static int check_time_column(const char *cmd, const aenl_table_t *t, const char 
     return 0;
 }
 
-void aenl_cli_time_step_error(aenl_err_t *err, const char *path, const char *column, size_t row,
-                              double step, double ref)
+int aenl_cli_time_value_check(aenl_time_steps_t *s, double t, double t_prev, size_t row,
+                              const char *path, const char *column, aenl_err_t *err)
 {
-    aenl_err_set(err,
-                 "%s: column '%s', data row %zu: time step %.6g where the record's step is %.6g "
-                 "(%s): the samples are taken as equally spaced; cut the record there or "
-                 "resample it",
-                 path, column, row, step, ref,
-                 step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
+    if (isnan(t))
+    {
+        aenl_err_set(err, "%s: column '%s', data row %zu: missing time value", path, column, row);
+        return -1;
+    }
+    if (row > 1u && !(t > t_prev))
+    {
+        aenl_err_set(err,
+                     "%s: column '%s', data row %zu: time %.10g does not increase (previous "
+                     "%.10g)",
+                     path, column, row, t, t_prev);
+        return -1;
+    }
+    double step = 0.0;
+    double ref = 0.0;
+    if (!aenl_time_steps_take(s, t, &step, &ref))
+    {
+        aenl_err_set(err,
+                     "%s: column '%s', data row %zu: time step %.6g where the record's step is "
+                     "%.6g (%s): the samples are taken as equally spaced; cut the record there "
+                     "or resample it",
+                     path, column, row, step, ref,
+                     step > AENL_TIME_GAP * ref ? "a gap" : "uneven steps");
+        return -1;
+    }
+    return 0;
 }
 
 long aenl_cli_pick_channel(const char *cmd, const aenl_table_t *t, const char *path,
@@ -167,27 +187,11 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
             memset(&steps, 0, sizeof(steps));
             for (size_t r = 0; r < t->n_rows; ++r)
             {
-                if (isnan(v[r]))
+                aenl_err_t e;
+                aenl_err_clear(&e);
+                if (aenl_cli_time_value_check(&steps, v[r], r > 0 ? v[r - 1u] : 0.0, r + 1u, path,
+                                              t->names[c], &e) != 0)
                 {
-                    aenl_cli_error(cmd, "%s: column '%s', data row %zu: missing time value", path,
-                                   t->names[c], r + 1u);
-                    return -1;
-                }
-                if (r > 0 && !(v[r] > v[r - 1u]))
-                {
-                    aenl_cli_error(cmd,
-                                   "%s: column '%s', data row %zu: time %.10g does not increase "
-                                   "(previous %.10g)",
-                                   path, t->names[c], r + 1u, v[r], v[r - 1u]);
-                    return -1;
-                }
-                double step = 0.0;
-                double ref = 0.0;
-                if (!aenl_time_steps_take(&steps, v[r], &step, &ref))
-                {
-                    aenl_err_t e;
-                    aenl_err_clear(&e);
-                    aenl_cli_time_step_error(&e, path, t->names[c], r + 1u, step, ref);
                     aenl_cli_error(cmd, "%s", e.msg);
                     return -1;
                 }

@@ -211,25 +211,9 @@ static int check_time(checked_t *c, aenl_err_t *err)
     {
         const double t = c->csv->row[c->t_col[i]];
         const char *name = aenl_csv_col_name(csv, c->t_col[i]);
-        if (isnan(t))
+        if (aenl_cli_time_value_check(&c->steps[i], t, c->t_prev[i], c->rows, c->path, name, err) !=
+            0)
         {
-            aenl_err_set(err, "%s: column '%s', data row %zu: missing time value", c->path, name,
-                         c->rows);
-            return -1;
-        }
-        if (c->rows > 1 && !(t > c->t_prev[i]))
-        {
-            aenl_err_set(err,
-                         "%s: column '%s', data row %zu: time %.10g does not increase (previous "
-                         "%.10g)",
-                         c->path, name, c->rows, t, c->t_prev[i]);
-            return -1;
-        }
-        double step = 0.0;
-        double ref = 0.0;
-        if (!aenl_time_steps_take(&c->steps[i], t, &step, &ref))
-        {
-            aenl_cli_time_step_error(err, c->path, name, c->rows, step, ref);
             return -1;
         }
         c->t_prev[i] = t;
