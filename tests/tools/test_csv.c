@@ -931,12 +931,113 @@ static void test_time_steps(void)
     TEST_ASSERT_EQUAL_INT(2, bad);
 }
 
+/* d's bits (the comparison is bit for bit: -0 and +0 differ) */
+static uint64_t bits_of(double d)
+{
+    uint64_t b;
+    memcpy(&b, &d, sizeof(b));
+    return b;
+}
+
+/* The fast decimal path against strtod (the reference): every string it takes converts to
+ * strtod's value bit for bit, over random decimals of 1 to 20 digits with the point anywhere,
+ * leading zeros, signs and exponents from -40 to 40 (some taken, some left to strtod); and the
+ * forms it must leave to strtod are left. */
+static void test_parse_decimal_matches_strtod(void)
+{
+    uint64_t rs = 77u;
+    size_t taken = 0, left = 0;
+    char buf[64];
+    for (int i = 0; i < 200000; ++i)
+    {
+        size_t k = 0;
+        if (test_uniform(&rs) < 0.3)
+        {
+            buf[k++] = test_uniform(&rs) < 0.5 ? '-' : '+';
+        }
+        const int nd = 1 + (int)(20.0 * test_uniform(&rs));
+        const int point = (int)((double)(nd + 1) * test_uniform(&rs)); /* nd: no point */
+        const int zeros = test_uniform(&rs) < 0.2 ? (int)(4.0 * test_uniform(&rs)) : 0;
+        for (int z = 0; z < zeros; ++z)
+        {
+            buf[k++] = '0';
+        }
+        for (int d = 0; d < nd; ++d)
+        {
+            if (d == point)
+            {
+                buf[k++] = '.';
+            }
+            buf[k++] = (char)('0' + (int)(10.0 * test_uniform(&rs)));
+        }
+        if (test_uniform(&rs) < 0.4)
+        {
+            k += (size_t)snprintf(buf + k, sizeof(buf) - k, "%s%d",
+                                  test_uniform(&rs) < 0.5 ? "e" : "E",
+                                  (int)(81.0 * test_uniform(&rs)) - 40);
+        }
+        buf[k] = '\0';
+        double fast = 0.0;
+        char *end = NULL;
+        const double ref = strtod(buf, &end);
+        if (aenl_parse_decimal(buf, &fast))
+        {
+            ++taken;
+            TEST_ASSERT_TRUE_MESSAGE(*end == '\0' && bits_of(fast) == bits_of(ref), buf);
+        }
+        else
+        {
+            ++left;
+        }
+    }
+    printf("fast decimal path: %zu of %zu random decimals taken, the rest left to strtod\n", taken,
+           taken + left);
+    TEST_ASSERT_TRUE(taken > 50000u && left > 50000u);
+    /* exact cases and signed zeros */
+    const char *const same[] = {"0",
+                                "-0",
+                                "-0.000",
+                                "+0e5",
+                                "1",
+                                ".5",
+                                "5.",
+                                "0.1",
+                                "-2.5e-3",
+                                "1e22",
+                                "1E-22",
+                                "123456789012345",
+                                "9007199254740992",
+                                "0.006451612903",
+                                "4.5e+01",
+                                "000123.4500"};
+    for (size_t i = 0; i < sizeof(same) / sizeof(same[0]); ++i)
+    {
+        double fast = 1.0;
+        TEST_ASSERT_TRUE_MESSAGE(aenl_parse_decimal(same[i], &fast), same[i]);
+        TEST_ASSERT_TRUE_MESSAGE(bits_of(fast) == bits_of(strtod(same[i], NULL)), same[i]);
+    }
+    /* not plain decimals, or beyond the exact range: left to strtod, *v untouched */
+    const char *const others[] = {"",      ".",       "-",
+                                  "1e",    "1e+",     "1.2.3",
+                                  "0x1p3", "inf",     "nan",
+                                  "1e23",  "1e-23",   "9007199254740993",
+                                  "1,5",   "1e00001", "12345678901234567890",
+                                  "1 ",    "--1"};
+    for (size_t i = 0; i < sizeof(others) / sizeof(others[0]); ++i)
+    {
+        double v = 42.0;
+        TEST_ASSERT_FALSE_MESSAGE(aenl_parse_decimal(others[i], &v), others[i]);
+        TEST_ASSERT_EQUAL_DOUBLE(42.0, v);
+    }
+}
+
 int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_err_keeps_first_cause);
     RUN_TEST(test_share_path_order_and_error);
     RUN_TEST(test_csv_time_names);
+    RUN_TEST(test_parse_decimal_matches_strtod);
     RUN_TEST(test_time_steps);
     RUN_TEST(test_table_round_trip_is_bit_exact);
     RUN_TEST(test_csv_writer_streams_rows);
