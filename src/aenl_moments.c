@@ -383,12 +383,11 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
     for (int32_t k = k0; k <= k1; ++k)
     {
         const aenl_real_t xk = aenl_moments_node_x(m, (uint16_t)k);
-        /* 1/h is left out of the stored weight and applied at query time (file comment). A
-         * distance just below h can round the weight to 0, which would make w / W' 0/0 at an
-         * empty node, so the weight itself is tested. */
-        const aenl_real_t d = aenl_fabs(xk - u);
-        const aenl_real_t w = m->scale * (AENL_R(1.0) - d * m->inv_h);
-        if (!(d < m->cfg.bandwidth) || !(w > AENL_R(0.0)))
+        /* 1/h is left out of the stored weight and applied at query time (file comment). The
+         * weight itself is tested, not the distance: a distance just below h can round the
+         * weight to 0, which would make w / W' 0/0 at an empty node. */
+        const aenl_real_t w = m->scale * (AENL_R(1.0) - aenl_fabs(xk - u) * m->inv_h);
+        if (!(w > AENL_R(0.0)))
         {
             continue;
         }

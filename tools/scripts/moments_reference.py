@@ -3,7 +3,10 @@
 """The conditional moments of `aenl moments` written with pandas and numpy, as a reference for
 its speed and its numbers (tools/scripts/moments_vs_pandas.sh).
 
-usage: moments_reference.py DATA.csv CHANNEL LAGS XMIN XMAX NODES BANDWIDTH OUT.csv
+usage: moments_reference.py DATA.csv CHANNEL LAGS XMIN XMAX NODES BANDWIDTH OUT.csv [SECS]
+
+SECS, when given, receives the seconds from reading the CSV to writing the output, the
+interpreter's start and the imports left out.
 
 The same estimator as `aenl moments --lags LAGS --grid XMIN:XMAX:NODES --bandwidth BANDWIDTH`
 (direction split on, reported merged) on a record without missing samples: for every lag L and
@@ -14,14 +17,16 @@ weights of all samples at once, summed per node by bincount; the variance in a s
 each node's mean.
 """
 import sys
+import time
 
 import numpy as np
 import pandas as pd
 
 
 def main(argv):
-    if len(argv) != 9:
+    if len(argv) not in (9, 10):
         sys.exit(__doc__)
+    t0 = time.perf_counter()
     path, channel, lags = argv[1], argv[2], [int(v) for v in argv[3].split(",")]
     x_min, x_max, nodes, h = float(argv[4]), float(argv[5]), int(argv[6]), float(argv[7])
     x = pd.read_csv(path, usecols=[channel], dtype={channel: np.float64})[channel].to_numpy()
@@ -66,6 +71,9 @@ def main(argv):
         rows.append(pd.DataFrame({"lag": lag, "x": grid[keep], "mean": mean[keep],
                                   "var": var[keep], "n_eff": n_eff[keep], "se": se[keep]}))
     pd.concat(rows).to_csv(argv[8], index=False, float_format="%.17g")
+    if len(argv) == 10:
+        with open(argv[9], "w") as f:
+            f.write(f"{time.perf_counter() - t0:.3f}\n")
 
 
 if __name__ == "__main__":

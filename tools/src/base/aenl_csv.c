@@ -435,7 +435,10 @@ int aenl_parse_decimal(const char *s, double *v)
     {
         if (*s >= '0' && *s <= '9')
         {
-            ++digits;
+            if (++digits > 400)
+            {
+                return 0; /* a cell of hundreds of leading zeros: strtod's */
+            }
             if (w == 0 && *s == '0')
             {
                 e10 -= dot; /* a leading zero: only its place counts */
