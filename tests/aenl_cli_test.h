@@ -19,6 +19,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "unity.h"
+
 typedef struct
 {
     int status;      /* exit status, or -1 when the process did not exit normally (a crash) */
@@ -135,6 +137,18 @@ static inline int cli_no_file_like(const char *prefix)
     char cmd[1024];
     (void)snprintf(cmd, sizeof(cmd), "ls -a '%s' | grep -q '^%s'", AENL_TEST_TMP_DIR, prefix);
     return system(cmd) != 0; /* NOLINT(cert-env33-c): test helper, fixed command */
+}
+
+/* The command is refused as bad input or usage: exit status 2, nothing on stdout, one line on
+ * stderr, holding needle unless that is NULL. */
+static inline void cli_expect_refused(const char *const *args, const char *needle)
+{
+    static cli_result_t r; /* 73 KB: not on the stack */
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r.err_lines, r.err);
+    TEST_ASSERT_EQUAL_size_t_MESSAGE(0, r.n_out, r.out);
+    TEST_ASSERT_TRUE_MESSAGE(needle == NULL || strstr(r.err, needle) != NULL, r.err);
 }
 
 #endif /* AENL_CLI_TEST_H */

@@ -117,33 +117,21 @@ static void test_diagnose_names_freeplay_and_updates(void)
 }
 
 /* exit 2, exactly one line on stderr containing `want`, nothing on stdout */
-static void expect_usage(const char *const *args, const char *want)
-{
-    cli_result_t *r = malloc(sizeof(*r));
-    TEST_ASSERT_NOT_NULL(r);
-    cli_run(r, args);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r->status, r->err);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r->err_lines, r->err);
-    TEST_ASSERT_EQUAL_size_t(0, r->n_out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r->err, want), r->err);
-    free(r);
-}
-
 static void test_diagnose_bad_input(void)
 {
     make_record();
     const char *base = example("diagnose_base_airfoil2dof.ini");
     const char *no_model[] = {"diagnose", "--measured", "measured2.csv", NULL};
-    expect_usage(no_model, "--model");
+    cli_expect_refused(no_model, "--model");
     const char *unknown[] = {"diagnose", "--measured", "measured2.csv", "--model", base,
                              "--bogus",  NULL};
-    expect_usage(unknown, "--bogus");
+    cli_expect_refused(unknown, "--bogus");
     const char *missing_file[] = {"diagnose", "--measured", "nope.csv", "--model", base, NULL};
-    expect_usage(missing_file, "nope.csv");
+    cli_expect_refused(missing_file, "nope.csv");
     const char *few[] = {"diagnose", "--measured", "measured2.csv",
                          "--model",  base,         "--summary-records",
                          "10",       NULL};
-    expect_usage(few, "--summary-records");
+    cli_expect_refused(few, "--summary-records");
     /* The record of the wrong model: no channel 'h'. */
     const char *wrong_model[] = {"diagnose",
                                  "--measured",
@@ -151,7 +139,7 @@ static void test_diagnose_bad_input(void)
                                  "--model",
                                  example("diagnose_base_section3dof.ini"),
                                  NULL};
-    expect_usage(wrong_model, "no column 'h'");
+    cli_expect_refused(wrong_model, "no column 'h'");
     /* A record at another step than the model's dt. */
     const char *csv = cli_file("short_dt.csv", "t,alpha,xi\n");
     FILE *f = fopen(csv, "a");
@@ -162,11 +150,11 @@ static void test_diagnose_bad_input(void)
     }
     (void)fclose(f);
     const char *wrong_dt[] = {"diagnose", "--measured", "short_dt.csv", "--model", base, NULL};
-    expect_usage(wrong_dt, "dt");
+    cli_expect_refused(wrong_dt, "dt");
     /* --out into a folder that cannot be created: no file anywhere. */
     const char *bad_out[] = {"diagnose",    "--measured", "measured2.csv", "--model", base, "--out",
                              "no/such/dir", "--no-plots", "--refine",      "0",       NULL};
-    expect_usage(bad_out, "no/such/dir");
+    cli_expect_refused(bad_out, "no/such/dir");
     TEST_ASSERT_TRUE(cli_no_file_like("no"));
 }
 

@@ -171,11 +171,7 @@ static void test_cli_fit_json_model_and_header(void)
 
 static void expect_usage_error(const char *const *args, const char *what)
 {
-    cli_result_t r;
-    cli_run(&r, args);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, what);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(1, r.err_lines, r.err);
-    TEST_ASSERT_EQUAL_size_t_MESSAGE(0, r.n_out, what);
+    cli_expect_refused(args, NULL);
     TEST_ASSERT_TRUE_MESSAGE(cli_no_file_like("bad_out"), what);
 }
 

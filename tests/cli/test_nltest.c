@@ -638,17 +638,6 @@ static void test_cli_identify_method_test_json_and_table(void)
     }
 }
 
-/* The command is refused: exit status 2, nothing on stdout, one line on stderr with word. */
-static void refused(const char *const *args, const char *word)
-{
-    cli_result_t r;
-    cli_run(&r, args);
-    TEST_ASSERT_EQUAL_INT_MESSAGE(2, r.status, r.err);
-    TEST_ASSERT_EQUAL_size_t(0, r.n_out);
-    TEST_ASSERT_EQUAL_INT(1, r.err_lines);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.err, word), r.err);
-}
-
 static void test_cli_identify_method_test_bad_usage(void)
 {
     const char *csv = cli_file("nlt_small.csv", "t,a\n0,1\n1,2\n2,1\n3,0\n");
@@ -665,7 +654,7 @@ static void test_cli_identify_method_test_bad_usage(void)
                                  "belongs to the test",   "--impulsive belongs to"};
     for (size_t i = 0; i < 6; ++i)
     {
-        refused(cases[i], words[i]);
+        cli_expect_refused(cases[i], words[i]);
     }
 }
 
@@ -690,9 +679,9 @@ static void test_cli_bench_identify_method_test(void)
     TEST_ASSERT_NULL_MESSAGE(strstr(r.out, "failures\n  case"), r.out);
     TEST_ASSERT_NOT_NULL_MESSAGE(strstr(r.out, " imp "), r.out);
     TEST_ASSERT_NULL_MESSAGE(strstr(r.out, " jumps"), r.out);
-    refused(bad_method, "--method");
-    refused(with_model, "does not combine");
-    refused(impulsive_alone, "--impulsive needs --method test");
+    cli_expect_refused(bad_method, "--method");
+    cli_expect_refused(with_model, "does not combine");
+    cli_expect_refused(impulsive_alone, "--impulsive needs --method test");
     /* the first case is a decay (a kick train): declared driven by impulses, it is tested on the
      * jump model (undeclared above, not), and said so */
     cli_run(&r, impulsive);

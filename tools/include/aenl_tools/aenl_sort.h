@@ -44,7 +44,7 @@ double aenl_quantile_sorted(const double *s, size_t n, double p);
 /**
  * @brief Median of v[0..n-1] (n >= 1) into *median and 1.4826 times its median absolute
  *        deviation into *sd: the standard deviation of a normal spread, unmoved by a few
- *        outliers. v is reordered (it holds the absolute deviations, sorted, on return).
+ *        outliers. v is reordered (it holds the absolute deviations, in no order, on return).
  */
 void aenl_median_mad(double *v, size_t n, double *median, double *sd);
 

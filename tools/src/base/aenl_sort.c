@@ -104,6 +104,17 @@ static size_t partition(double *v, size_t n)
     }
 }
 
+/* Partitions allowed before the heapsort takes over: 2 log2(n), introsort's limit. */
+static unsigned depth_limit(size_t n)
+{
+    unsigned depth = 0;
+    for (size_t k = n; k > 1u; k >>= 1u)
+    {
+        depth += 2u;
+    }
+    return depth;
+}
+
 void aenl_sort_doubles(double *v, size_t n)
 {
     /* Pending parts, the larger side of each partition: the smaller side is taken next, so
@@ -115,11 +126,7 @@ void aenl_sort_doubles(double *v, size_t n)
         unsigned depth;
     } stack[8u * sizeof(size_t)];
     size_t top = 0;
-    unsigned depth = 0;
-    for (size_t k = n; k > 1u; k >>= 1u)
-    {
-        depth += 2u;
-    }
+    unsigned depth = depth_limit(n);
     for (;;)
     {
         while (n > SORT_SHORT && depth > 0u)
@@ -170,11 +177,7 @@ void aenl_select_doubles(double *v, size_t n, size_t k)
     }
     /* the part holding place k is partitioned until it is short (then sorted), as a sort would
      * do with that part alone; degraded partitions end in a heapsort, so O(n log n) at worst */
-    unsigned depth = 0;
-    for (size_t m = n; m > 1u; m >>= 1u)
-    {
-        depth += 2u;
-    }
+    unsigned depth = depth_limit(n);
     while (n > SORT_SHORT && depth > 0u)
     {
         --depth;
@@ -233,13 +236,11 @@ double aenl_quantile_sorted(const double *s, size_t n, double p)
 
 void aenl_median_mad(double *v, size_t n, double *median, double *sd)
 {
-    aenl_sort_doubles(v, n);
-    const double med = aenl_quantile_sorted(v, n, 0.5);
+    const double med = aenl_quantile_select(v, n, 0.5);
     for (size_t k = 0; k < n; ++k)
     {
         v[k] = fabs(v[k] - med);
     }
-    aenl_sort_doubles(v, n);
     *median = med;
-    *sd = 1.482602218505602 * aenl_quantile_sorted(v, n, 0.5); /* 1 / Phi^-1(3/4) */
+    *sd = 1.482602218505602 * aenl_quantile_select(v, n, 0.5); /* 1 / Phi^-1(3/4) */
 }

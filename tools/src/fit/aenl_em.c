@@ -2370,6 +2370,25 @@ static aenl_status_t em_run(ws_t *w, aenl_em_model_t *m, const aenl_em_opts_t *o
     return st;
 }
 
+/* Jumps come with the covariance they add. */
+static aenl_status_t check_jumps(const aenl_em_opts_t *o, aenl_err_t *err)
+{
+    if (o->jump != NULL && o->P_jump == NULL)
+    {
+        aenl_err_set(err, "jumps need their covariance (P_jump)");
+        return AENL_E_ARG;
+    }
+    return AENL_OK;
+}
+
+/* What the E-step takes from the options: the steady-state tolerance and the jumps. */
+static void ws_take_opts(ws_t *w, const aenl_em_opts_t *o)
+{
+    w->steady_tol = o->steady_tol;
+    w->jump = o->jump;
+    w->Pjump = o->P_jump;
+}
+
 static aenl_status_t check_opts(const aenl_em_opts_t *o, size_t n, size_t nz, aenl_err_t *err)
 {
     const size_t nx = o->n_states ? o->n_states : 4 * nz;
@@ -2417,9 +2436,8 @@ static aenl_status_t check_opts(const aenl_em_opts_t *o, size_t n, size_t nz, ae
         aenl_err_set(err, "inputs are estimated with A and b: neither may be frozen");
         return AENL_E_ARG;
     }
-    if (o->jump != NULL && o->P_jump == NULL)
+    if (check_jumps(o, err) != AENL_OK)
     {
-        aenl_err_set(err, "jumps need their covariance (P_jump)");
         return AENL_E_ARG;
     }
     for (size_t k = 0; k < n * o->n_u; ++k)
@@ -2548,9 +2566,7 @@ aenl_status_t aenl_em_fit(const double *y, size_t n, size_t n_z, const aenl_em_o
     {
         st = ws_set_inputs(&w, opts->u, opts->n_u, err);
     }
-    w.steady_tol = opts->steady_tol;
-    w.jump = opts->jump;
-    w.Pjump = opts->P_jump;
+    ws_take_opts(&w, opts);
     double *u = (st == AENL_OK) ? malloc(n * sizeof(double)) : NULL;
     res->loglik = (st == AENL_OK) ? calloc(opts->max_iter + 1, sizeof(double)) : NULL;
     if (st == AENL_OK && (u == NULL || res->loglik == NULL))
@@ -2624,9 +2640,8 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
         aenl_err_set(err, "NULL argument or no data");
         return AENL_E_ARG;
     }
-    if (opts->jump != NULL && opts->P_jump == NULL)
+    if (check_jumps(opts, err) != AENL_OK)
     {
-        aenl_err_set(err, "jumps need their covariance (P_jump)");
         return AENL_E_ARG;
     }
     if (opts->n_u != m->n_u || (m->n_u > 0 && opts->u == NULL))
@@ -2648,9 +2663,7 @@ aenl_status_t aenl_em_iterate(aenl_em_model_t *m, const double *y, size_t n,
     {
         return st;
     }
-    w.steady_tol = opts->steady_tol;
-    w.jump = opts->jump;
-    w.Pjump = opts->P_jump;
+    ws_take_opts(&w, opts);
     set_modes(&w, m->thresholds, y + m->switch_channel, m->n_z);
     double final_ll = 0.0;
     st = em_run(&w, m, opts, opts->max_iter, loglik, n_iter, &final_ll);

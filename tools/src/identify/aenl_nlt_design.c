@@ -79,16 +79,13 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
     double *D = (double *)calloc(nx * nw + 1u, sizeof(double));
     double *Dn = (double *)calloc(nx * nw + 1u, sizeof(double));
     double *R = (double *)calloc(nz * nc, sizeof(double));
-    double *Rw = nk > 0 ? (double *)calloc(nz * nw + 1u, sizeof(double)) : R;
+    double *Rw = nk > 0 ? (double *)calloc(nz * nw + 1u, sizeof(double)) : R; /* walked part */
     if (D == NULL || Dn == NULL || R == NULL || Rw == NULL)
     {
         free(D);
         free(Dn);
         free(R);
-        if (nk > 0)
-        {
-            free(Rw);
-        }
+        free(Rw != R ? Rw : NULL);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
@@ -114,10 +111,7 @@ static aenl_status_t design_walk(const design_t *d, const kf_t *k, design_visit_
     free(D);
     free(Dn);
     free(R);
-    if (nk > 0)
-    {
-        free(Rw);
-    }
+    free(Rw != R ? Rw : NULL);
     return AENL_OK;
 }
 

@@ -2002,16 +2002,15 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
  * Fitted over the whole record, Gaussian process noise would hold the impulses' energy at every
  * sample; the filter would then follow the measurement noise between impulses too closely, and
  * its misprediction would grow and fade with the motion, which the test reads as a law. */
-static aenl_status_t refit_with_jumps(const double *ys, const double *in, size_t n_in,
-                                      const run_t *rn, const unsigned char *flag,
-                                      const double *P_imp, aenl_em_result_t *em, int *refitted,
-                                      aenl_err_t *err)
+static aenl_status_t refit_with_jumps(const double *ys, const double *in, const run_t *rn,
+                                      const unsigned char *flag, const double *P_imp,
+                                      aenl_em_result_t *em, int *refitted, aenl_err_t *err)
 {
     *refitted = 0;
     aenl_em_opts_t eo;
     aenl_em_opts_default(&eo);
-    eo.u = n_in > 0 ? in : NULL;
-    eo.n_u = n_in;
+    eo.u = rn->n_in > 0 ? in : NULL;
+    eo.n_u = rn->n_in;
     eo.max_iter = rn->opts->em_iter;
     eo.tol = 1e-9;
     eo.jump = flag;
@@ -2101,7 +2100,7 @@ static aenl_status_t jump_model(const double *ys, const double *in, const run_t 
         nlt_state_range(kf, P_imp);
         memcpy(prev, flag, n);
         int ok = 0;
-        st = refit_with_jumps(ys, in, rn->n_in, rn, flag, P_imp, em, &ok, err);
+        st = refit_with_jumps(ys, in, rn, flag, P_imp, em, &ok, err);
         *refitted |= ok;
         nlt_kf_clear_run(kf);
         if (st == AENL_OK)

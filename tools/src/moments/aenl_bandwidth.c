@@ -721,7 +721,7 @@ static double median_spacing(const double *v, size_t n, aenl_err_t *err, int *oo
     {
         d[i] = v[i + 1] - v[i];
     }
-    aenl_sort_doubles(d, n - 1);
+    aenl_select_doubles(d, n - 1, (n - 1) / 2);
     med = d[(n - 1) / 2];
     free(d);
     return med;
