@@ -931,6 +931,117 @@ static void test_time_steps(void)
     TEST_ASSERT_EQUAL_INT(2, bad);
 }
 
+/* The check of uniform sampling written out as its definition: every value's decimals found by
+ * trying 0, 1, ... 17, the finest resolution and the most significant digits kept, and the
+ * rounding bound computed at every step. */
+typedef struct
+{
+    double t0, t_prev, q_dec;
+    size_t k;
+    int digits;
+} ref_steps_t;
+
+static double ref_rounding(const ref_steps_t *s, double t)
+{
+    if (!(fabs(t) > 0.0))
+    {
+        return 0.0;
+    }
+    return fmax(s->q_dec, pow(10.0, floor(log10(fabs(t))) - (double)s->digits + 1.0));
+}
+
+static int ref_steps_take(ref_steps_t *s, double t, double *step, double *ref)
+{
+    if (fabs(t) > 0.0)
+    {
+        double p = 1.0;
+        for (int k = 0; k <= 17; ++k)
+        {
+            const double v = t * p;
+            if (fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v)))
+            {
+                const double q = 1.0 / p;
+                s->q_dec = s->q_dec > 0.0 ? fmin(s->q_dec, q) : q;
+                const int d = (int)floor(log10(fabs(t))) - (int)lround(log10(q)) + 1;
+                s->digits = d > s->digits ? d : s->digits;
+                break;
+            }
+            p *= 10.0;
+        }
+    }
+    int ok = 1;
+    if (s->k == 0)
+    {
+        s->t0 = t;
+    }
+    else if (s->k >= 2)
+    {
+        *step = t - s->t_prev;
+        *ref = (s->t_prev - s->t0) / (double)(s->k - 1u);
+        const double rounding = ref_rounding(s, t) + ref_rounding(s, s->t_prev);
+        ok = *step <= AENL_TIME_GAP * *ref &&
+             fabs(*step - *ref) <= fmax(AENL_TIME_STEP_TOL * *ref, rounding);
+    }
+    s->t_prev = t;
+    s->k++;
+    return ok;
+}
+
+/* The check against its definition on 400 records of 3 000 times: rates from 1 Hz to 100 kHz,
+ * starts from -5 s to 10^4 s, printed with 4 to 17 significant digits (%g) or 0 to 9 decimals
+ * (%f), some with jitter of up to 2 % of a step or with a gap; every value's verdict, step and
+ * reference the same. */
+static void test_time_steps_against_definition(void)
+{
+    uint64_t seed = 99u;
+    size_t rejected = 0;
+    for (int rec = 0; rec < 400; ++rec)
+    {
+        const double rate = pow(10.0, 5.0 * test_uniform(&seed));
+        const double t_start = test_uniform(&seed) < 0.3
+                                   ? -5.0 * test_uniform(&seed)
+                                   : pow(10.0, 4.0 * test_uniform(&seed)) - 1.0;
+        const int fixed = test_uniform(&seed) < 0.4;
+        const int prec =
+            fixed ? (int)(10.0 * test_uniform(&seed)) : 4 + (int)(14.0 * test_uniform(&seed));
+        const double jitter = test_uniform(&seed) < 0.3 ? 0.02 * test_uniform(&seed) : 0.0;
+        const int gap_at = test_uniform(&seed) < 0.2 ? (int)(3000.0 * test_uniform(&seed)) : -1;
+        aenl_time_steps_t s;
+        ref_steps_t r;
+        memset(&s, 0, sizeof(s));
+        memset(&r, 0, sizeof(r));
+        for (int k = 0; k < 3000; ++k)
+        {
+            double t = t_start + ((double)k + jitter * (test_uniform(&seed) - 0.5)) / rate;
+            t += (gap_at >= 0 && k >= gap_at) ? 3.0 / rate : 0.0;
+            char txt[64];
+            if (fixed)
+            {
+                (void)snprintf(txt, sizeof(txt), "%.*f", prec, t);
+            }
+            else
+            {
+                (void)snprintf(txt, sizeof(txt), "%.*g", prec, t);
+            }
+            const double v = strtod(txt, NULL);
+            double step = 0.0;
+            double ref = 0.0;
+            double step_r = 0.0;
+            double ref_r = 0.0;
+            const int ok = aenl_time_steps_take(&s, v, &step, &ref);
+            const int ok_r = ref_steps_take(&r, v, &step_r, &ref_r);
+            TEST_ASSERT_EQUAL_INT_MESSAGE(ok_r, ok, txt);
+            TEST_ASSERT_EQUAL_DOUBLE(step_r, step);
+            TEST_ASSERT_EQUAL_DOUBLE(ref_r, ref);
+            TEST_ASSERT_EQUAL_DOUBLE(r.q_dec, s.q_dec);
+            TEST_ASSERT_EQUAL_INT(r.digits, s.digits);
+            rejected += ok ? 0u : 1u;
+        }
+    }
+    printf("time steps: %zu values rejected of 1 200 000, each as the definition does\n", rejected);
+    TEST_ASSERT_TRUE(rejected > 0);
+}
+
 /* d's bits (the comparison is bit for bit: -0 and +0 differ) */
 static uint64_t bits_of(double d)
 {
@@ -1039,6 +1150,7 @@ int main(void)
     RUN_TEST(test_csv_time_names);
     RUN_TEST(test_parse_decimal_matches_strtod);
     RUN_TEST(test_time_steps);
+    RUN_TEST(test_time_steps_against_definition);
     RUN_TEST(test_table_round_trip_is_bit_exact);
     RUN_TEST(test_csv_writer_streams_rows);
     RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);

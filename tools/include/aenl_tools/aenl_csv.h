@@ -68,6 +68,7 @@ typedef struct aenl_time_steps
     double t0, t_prev; /* first and last value seen */
     size_t k;          /* values seen */
     double q_dec;      /* finest decimal resolution seen (0: none yet) */
+    int k_dec;         /* its decimals: q_dec = 10^-k_dec */
     int digits;        /* most significant digits seen */
 } aenl_time_steps_t;
 

@@ -1106,26 +1106,42 @@ int aenl_csv_is_time_name(const char *name)
     return 0;
 }
 
-/* The decimal resolution a time value was written with: 10^-k for the fewest decimals k
- * (0..17) that reproduce it (12.3457 -> 1e-4), 0 for 0 (exact at any resolution). A value that
- * happens to be round (12.3 in a record printed to 1e-4) reads coarser than it was written. */
-static double printed_resolution(double t)
+/* Whether v is a whole number to the printed-resolution test's tolerance. */
+static int near_whole(double v)
+{
+    return fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v));
+}
+
+/* 10^k by repeated multiplication (exact for k <= 22), as the resolution test scales. */
+static double pow10_exact(int k)
+{
+    double p = 1.0;
+    for (int i = 0; i < k; ++i)
+    {
+        p *= 10.0;
+    }
+    return p;
+}
+
+/* The decimals a time value was written with: the fewest k (0..17) whose 10^-k reproduces it
+ * (12.3457 -> 4), -1 for 0 (exact at any resolution) or when none does. A value that happens to
+ * be round (12.3 in a record printed to 1e-4) reads coarser than it was written. */
+static int printed_decimals(double t)
 {
     if (!(fabs(t) > 0.0))
     {
-        return 0.0;
+        return -1;
     }
     double p = 1.0;
     for (int k = 0; k <= 17; ++k)
     {
-        const double v = t * p;
-        if (fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v)))
+        if (near_whole(t * p))
         {
-            return 1.0 / p;
+            return k;
         }
         p *= 10.0;
     }
-    return 0.0;
+    return -1;
 }
 
 /* How far the printed t may be from the time it stands for. The column is written either with
@@ -1142,13 +1158,34 @@ static double rounding_of(const aenl_time_steps_t *s, double t)
     return fmax(s->q_dec, sig);
 }
 
+/* The finest resolution and the most significant digits, with t seen. A value whole at the
+ * fewer of the finest decimals seen and the decimals that the most digits give at its
+ * magnitude changes neither (a value whole at k decimals is whole at more, beyond 1e-9 of
+ * zero): one test instead of the search for its own decimals, which runs only when it
+ * fails. */
 static void note_resolution(aenl_time_steps_t *s, double t)
 {
-    const double q = printed_resolution(t);
-    if (q > 0.0)
+    const double a = fabs(t);
+    if (a > 1e-9 && s->q_dec > 0.0)
     {
-        s->q_dec = (s->q_dec > 0.0) ? fmin(s->q_dec, q) : q;
-        const int d = (int)floor(log10(fabs(t))) - (int)lround(log10(q)) + 1;
+        const int e = (int)floor(log10(a));
+        const int k_dig = s->digits - 1 - e;
+        const int k = k_dig < s->k_dec ? k_dig : s->k_dec;
+        if (k >= 0 && near_whole(t * pow10_exact(k)))
+        {
+            return;
+        }
+    }
+    const int k = printed_decimals(t);
+    if (k >= 0)
+    {
+        const double q = 1.0 / pow10_exact(k);
+        if (!(s->q_dec > 0.0) || q < s->q_dec)
+        {
+            s->q_dec = q;
+            s->k_dec = k;
+        }
+        const int d = (int)floor(log10(a)) - (int)lround(log10(q)) + 1;
         s->digits = d > s->digits ? d : s->digits;
     }
 }
@@ -1165,9 +1202,11 @@ int aenl_time_steps_take(aenl_time_steps_t *s, double t, double *step, double *r
     {
         *step = t - s->t_prev;
         *ref = (s->t_prev - s->t0) / (double)(s->k - 1u);
-        const double rounding = rounding_of(s, t) + rounding_of(s, s->t_prev);
-        ok = *step <= AENL_TIME_GAP * *ref &&
-             fabs(*step - *ref) <= fmax(AENL_TIME_STEP_TOL * *ref, rounding);
+        const double off = fabs(*step - *ref);
+        /* the rounding's bound only when the step is off by more than the tolerance */
+        ok =
+            *step <= AENL_TIME_GAP * *ref && (off <= AENL_TIME_STEP_TOL * *ref ||
+                                              off <= rounding_of(s, t) + rounding_of(s, s->t_prev));
     }
     s->t_prev = t;
     s->k++;
