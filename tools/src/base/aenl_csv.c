@@ -419,6 +419,43 @@ static int looks_like_unit(const char *cell)
             ((cell[0] == '[' && cell[n - 1u] == ']') || (cell[0] == '(' && cell[n - 1u] == ')')));
 }
 
+#if LDBL_MANT_DIG == 64 && (defined(__x86_64__) || defined(__i386__))
+/* w 10^e10 (w > 0, at most 19 digits, |e10| <= 27) in x87 extended precision, whose 64-bit
+ * significand holds w and 10^|e10| exactly, so that one multiplication or division rounds once;
+ * rounding that to a double rounds twice, which differs from rounding once only when the
+ * extended result lies exactly halfway between two doubles (its 11 bits below the double's
+ * last are 10000000000): then 0, and strtod decides. 1 with *x set otherwise. */
+static int parse_extended(uint64_t w, int e10, double *x)
+{
+    static const long double p10[28] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,
+                                        1e7L,  1e8L,  1e9L,  1e10L, 1e11L, 1e12L, 1e13L,
+                                        1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L,
+                                        1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
+    if (e10 > 27 || e10 < -27)
+    {
+        return 0;
+    }
+    const long double lw = (long double)w;
+    const long double r = e10 >= 0 ? lw * p10[e10] : lw / p10[-e10];
+    uint64_t sig = 0;
+    memcpy(&sig, &r, sizeof(sig)); /* the significand, explicit leading bit included */
+    if ((sig & 0x7FFu) == 0x400u)
+    {
+        return 0;
+    }
+    *x = (double)r;
+    return 1;
+}
+#else
+static int parse_extended(uint64_t w, int e10, double *x)
+{
+    (void)w;
+    (void)e10;
+    (void)x;
+    return 0; /* no exact wider type: strtod */
+}
+#endif
+
 int aenl_parse_decimal(const char *s, double *v)
 {
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
@@ -444,9 +481,9 @@ int aenl_parse_decimal(const char *s, double *v)
                 e10 -= dot; /* a leading zero: only its place counts */
                 continue;
             }
-            if (++sig > 16)
+            if (++sig > 19)
             {
-                return 0; /* then w >= 10^16 > 2^53 */
+                return 0; /* then w >= 10^19: beyond 64 bits soon */
             }
             w = 10u * w + (uint64_t)(*s - '0');
             e10 -= dot;
@@ -484,7 +521,7 @@ int aenl_parse_decimal(const char *s, double *v)
         }
         e10 += eneg ? -x : x;
     }
-    if (*s != '\0' || w > ((uint64_t)1 << 53u))
+    if (*s != '\0')
     {
         return 0;
     }
@@ -493,15 +530,15 @@ int aenl_parse_decimal(const char *s, double *v)
     {
         x = 0.0;
     }
-    else if (e10 >= 0 && e10 <= 22)
+    else if (w <= ((uint64_t)1 << 53u) && e10 >= 0 && e10 <= 22)
     {
         x *= p10[e10];
     }
-    else if (e10 < 0 && e10 >= -22)
+    else if (w <= ((uint64_t)1 << 53u) && e10 < 0 && e10 >= -22)
     {
         x /= p10[-e10];
     }
-    else
+    else if (!parse_extended(w, e10, &x))
     {
         return 0;
     }
