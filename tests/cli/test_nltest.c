@@ -219,6 +219,30 @@ static void test_record(double *y, size_t n, aenl_nlt_result_t *r)
 #define NULL_RECORDS      20u
 #define NULL_MAX_REJECTED 2u
 #endif
+/* Linear controls count their own nonlinear verdicts: at level 0.01 the controls of a linear
+ * gust record are linear (at most one of six, a binomial bound); at level 0.5, where each of the
+ * two channels rejects a linear record half the time, some are called nonlinear and some not. */
+static void test_nlt_controls_count_their_verdicts(void)
+{
+    size_t n = 0;
+    double *y = airfoil_record(NULL, 7100u, &n);
+    aenl_nlt_opts_t o;
+    aenl_nlt_opts_default(&o);
+    o.n_controls = 6;
+    aenl_nlt_result_t r;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(6, r.n_controls);
+    TEST_ASSERT_LESS_OR_EQUAL_size_t(1, r.n_controls_nonlinear);
+    o.level = 0.5;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_nlt_run(y, n, 2, &o, &r, &err), err.msg);
+    printf("linear controls called nonlinear at level 0.5: %zu of %zu\n", r.n_controls_nonlinear,
+           r.n_controls);
+    TEST_ASSERT_TRUE(r.n_controls_nonlinear >= 1u && r.n_controls_nonlinear < r.n_controls);
+    free(y);
+}
+
 static void test_nlt_linear_records_hold_the_level(void)
 {
     size_t rejected = 0;
@@ -768,6 +792,7 @@ static void test_cli_identify_with_a_known_input(void)
     TEST_ASSERT_EQUAL_STRING("beta", cJSON_GetObjectItem(v, "channel")->valuestring);
     /* linear controls (the fitted linear model driven by the same force): none reaches beta */
     TEST_ASSERT_EQUAL_INT(2, cJSON_GetObjectItem(root, "controls")->valueint);
+    TEST_ASSERT_TRUE(cJSON_GetObjectItem(root, "controls_nonlinear")->valueint <= 2);
     const cJSON *beta = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "channels"), 2);
     TEST_ASSERT_EQUAL_INT(0, cJSON_GetObjectItem(beta, "control_exceed")->valueint);
     TEST_ASSERT_DOUBLE_WITHIN(1e-12, 1.0 / 3.0,
@@ -852,6 +877,7 @@ int main(void)
     RUN_TEST(test_cli_identify_with_a_known_input);
     RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_cli_bench_null);
+    RUN_TEST(test_nlt_controls_count_their_verdicts);
     RUN_TEST(test_nlt_linear_records_hold_the_level);
     return UNITY_END();
 }

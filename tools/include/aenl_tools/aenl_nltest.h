@@ -165,9 +165,11 @@ typedef struct aenl_nlt_result
                             the model was fitted again without their transitions) */
     size_t n_dithered; /**< channels dithered (see ch[].dithered) */
     size_t n_controls; /**< linear controls tested (those that could not be fitted are left out) */
-    double loglik;     /**< of the linear model */
-    double level;      /**< the level used */
-    double rows;       /**< regression rows (samples x channels) */
+    size_t n_controls_nonlinear; /**< of those, the ones a channel rejects at the level: the
+                                      test's false verdicts on linear records like this one */
+    double loglik;               /**< of the linear model */
+    double level;                /**< the level used */
+    double rows;                 /**< regression rows (samples x channels) */
     aenl_nlt_channel_t ch[AENL_NLT_MAX_CH];
     long verdict; /**< channel of the best (channel, law) model among the rejecting channels,
                        or -1 */

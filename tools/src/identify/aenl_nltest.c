@@ -1477,7 +1477,7 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
 
 /* Linear controls at once: control b (index first + i of a batch) simulated with its own seed
  * into its own buffer and tested (stage 1 only); its statistics go to stat[b][channel], ok[b]
- * says whether its linear model could be fitted. */
+ * says whether its linear model could be fitted, nonlin[b] whether a channel of it rejects. */
 typedef struct
 {
     const aenl_em_model_t *m;
@@ -1489,6 +1489,7 @@ typedef struct
     size_t first;
     double *stat;
     int *ok;
+    int *nonlin;
 } control_job_t;
 
 static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
@@ -1517,9 +1518,11 @@ static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
         aenl_err_clear(&e2);
         c->ok[b] =
             run_core((const double *const *)y, 1, c->n, c->n_ch, c->o, rc, &e2, 1, NULL) == AENL_OK;
+        c->nonlin[b] = 0;
         for (size_t j = 0; c->ok[b] && j < c->n_ch; ++j)
         {
             c->stat[b * AENL_NLT_MAX_CH + j] = rc->ch[j].stat;
+            c->nonlin[b] |= rc->ch[j].nonlinear;
         }
     }
     free(buf);
@@ -1530,8 +1533,9 @@ static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
  * run's scaled inputs), each tested like the record; a channel's control p-value is the share
  * of controls (the record counted among them) whose statistic reaches the record's: the test's
- * null distribution for this record's length, model and inputs, without the asymptotics. A
- * control whose linear model cannot be fitted is left out. */
+ * null distribution for this record's length, model and inputs, without the asymptotics. The
+ * controls that a channel of rejects are counted too: the test's false verdicts on linear
+ * records like this one. A control whose linear model cannot be fitted is left out. */
 static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
                                      const double *const *in_col, size_t n, size_t n_ch,
                                      const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
@@ -1548,13 +1552,15 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     aenl_nlt_opts_t o = *opts;
     o.n_controls = 0;
     o.input = m->n_u > 0 ? in_col : NULL; /* the record's inputs: their first n_input series */
-    control_job_t job = {m, in, Lq, Lr, n, n_ch, &o, opts->control_seed, 0, NULL, NULL};
+    control_job_t job = {m, in, Lq, Lr, n, n_ch, &o, opts->control_seed, 0, NULL, NULL, NULL};
     job.stat = (double *)malloc(opts->n_controls * AENL_NLT_MAX_CH * sizeof(double));
     job.ok = (int *)malloc(opts->n_controls * sizeof(int));
-    if (job.stat == NULL || job.ok == NULL)
+    job.nonlin = (int *)malloc(opts->n_controls * sizeof(int));
+    if (job.stat == NULL || job.ok == NULL || job.nonlin == NULL)
     {
         free(job.stat);
         free(job.ok);
+        free(job.nonlin);
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
@@ -1575,6 +1581,7 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
             continue;
         }
         res->n_controls++;
+        res->n_controls_nonlinear += job.nonlin[b] ? 1u : 0u;
         for (size_t j = 0; j < n_ch; ++j)
         {
             res->ch[j].control_exceed +=
@@ -1583,6 +1590,7 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     }
     free(job.stat);
     free(job.ok);
+    free(job.nonlin);
     for (size_t j = 0; j < n_ch; ++j)
     {
         res->ch[j].control_p =

@@ -259,6 +259,8 @@ aenl_status_t aenl_nlt_print_json(FILE *out, const aenl_nlt_result_t *r, const c
         if (r->n_controls > 0)
         {
             bad |= aenl_json_add(root, "controls", cJSON_CreateNumber((double)r->n_controls));
+            bad |= aenl_json_add(root, "controls_nonlinear",
+                                 cJSON_CreateNumber((double)r->n_controls_nonlinear));
         }
         bad |= aenl_json_add(root, "verdict", json_verdict(r, names));
         for (size_t j = 0; j < r->n_channels && !bad; ++j)
@@ -353,6 +355,13 @@ void aenl_nlt_print_table(FILE *out, const aenl_nlt_result_t *r, const char *con
                           c->control_p);
         }
         (void)fprintf(out, "\n");
+    }
+    if (r->n_controls > 0)
+    {
+        (void)fprintf(out,
+                      "linear controls (the fitted linear model, driven as the record was) called "
+                      "nonlinear: %lu of %lu\n",
+                      (unsigned long)r->n_controls_nonlinear, (unsigned long)r->n_controls);
     }
     (void)fprintf(out, "\nverdict: %s", aenl_nlt_class_name(r->verdict_class, r->undetermined));
     if (r->verdict >= 0)
