@@ -21,6 +21,7 @@
 #include "aenl_cli_test.h"
 #include "aenl_nlt_internal.h"
 #include "aenl_test_rand.h"
+#include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_tools/aenl_sim.h"
 #include "aenl_tools/aenl_stats.h"
@@ -762,6 +763,76 @@ static const char *multisine_csv(const char *stem, int freeplay)
     return out;
 }
 
+/* --write-control: the flap-freeplay multisine's linear control is a record of the same
+ * length with the time and force columns as recorded and the channels simulated from the
+ * fitted linear model; identified with the force given it is linear. A folder that does not
+ * exist is refused before the run, and the moments method does not take the option. */
+static void test_cli_identify_writes_a_linear_control(void)
+{
+    const char *fp = multisine_csv("ms_freeplay", 1);
+    const char *args[] = {"identify",        fp,           "--input", "f_pitch",
+                          "--write-control", "ms_ctl.csv", NULL};
+    cli_result_t r;
+    cli_run(&r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    char rec_path[700];
+    char ctl_path[700];
+    (void)snprintf(rec_path, sizeof(rec_path), "%s/%s", AENL_TEST_TMP_DIR, fp);
+    (void)snprintf(ctl_path, sizeof(ctl_path), "%s/ms_ctl.csv", AENL_TEST_TMP_DIR);
+    aenl_table_t rec;
+    aenl_table_t ctl;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(rec_path, &rec, &err), err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(ctl_path, &ctl, &err), err.msg);
+    TEST_ASSERT_EQUAL_size_t(rec.n_rows, ctl.n_rows);
+    TEST_ASSERT_EQUAL_size_t(rec.n_cols, ctl.n_cols);
+    const char *const same[] = {"t", "f_pitch"};
+    for (size_t k = 0; k < 2; ++k)
+    {
+        const long a = aenl_table_find(&rec, same[k]);
+        const long b = aenl_table_find(&ctl, same[k]);
+        TEST_ASSERT_TRUE_MESSAGE(a >= 0 && b >= 0, same[k]);
+        TEST_ASSERT_EQUAL_MEMORY(rec.data + (size_t)a * rec.n_rows,
+                                 ctl.data + (size_t)b * ctl.n_rows, rec.n_rows * sizeof(double));
+    }
+    const long ba = aenl_table_find(&rec, "beta");
+    const long bb = aenl_table_find(&ctl, "beta");
+    TEST_ASSERT_TRUE(ba >= 0 && bb >= 0);
+    double diff = 0.0;
+    double var = 0.0;
+    double var_c = 0.0;
+    for (size_t i = 0; i < rec.n_rows; ++i)
+    {
+        const double x = rec.data[(size_t)ba * rec.n_rows + i];
+        const double y = ctl.data[(size_t)bb * ctl.n_rows + i];
+        diff += (x - y) * (x - y);
+        var += x * x;
+        var_c += y * y;
+    }
+    /* simulated, not copied; of the record's size (its linear model's) */
+    TEST_ASSERT_TRUE(diff > 0.01 * var);
+    TEST_ASSERT_TRUE(var_c > 0.1 * var && var_c < 10.0 * var);
+    aenl_table_free(&rec);
+    aenl_table_free(&ctl);
+    const char *again[] = {"identify", "ms_ctl.csv", "--input", "f_pitch", "--json", NULL};
+    cli_run(&r, again);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r.status, r.err);
+    cJSON *root = cJSON_Parse(r.out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r.out);
+    printf("the flap freeplay's linear control, the force given: %s\n",
+           cJSON_GetObjectItem(cJSON_GetObjectItem(root, "verdict"), "class")->valuestring);
+    TEST_ASSERT_EQUAL_STRING(
+        "linear", cJSON_GetObjectItem(cJSON_GetObjectItem(root, "verdict"), "class")->valuestring);
+    cJSON_Delete(root);
+    const char *no_dir[] = {"identify",          fp,  "--input", "f_pitch", "--write-control",
+                            "no_such_dir/c.csv", NULL};
+    cli_expect_refused(no_dir, "cannot create");
+    const char *moments[] = {"identify",        fp,      "--method", "moments",
+                             "--write-control", "c.csv", NULL};
+    cli_expect_refused(moments, "--write-control");
+}
+
 static void test_cli_identify_with_a_known_input(void)
 {
     const char *lin = multisine_csv("ms_linear", 0);
@@ -875,6 +946,7 @@ int main(void)
     RUN_TEST(test_cli_identify_method_test_json_and_table);
     RUN_TEST(test_cli_identify_method_test_bad_usage);
     RUN_TEST(test_cli_identify_with_a_known_input);
+    RUN_TEST(test_cli_identify_writes_a_linear_control);
     RUN_TEST(test_cli_bench_identify_method_test);
     RUN_TEST(test_cli_bench_null);
     RUN_TEST(test_nlt_controls_count_their_verdicts);

@@ -133,12 +133,22 @@ int aenl_cmd_fit(int argc, char **argv);
 int aenl_bench_fit(int argc, char **argv);
 /** `aenl identify` (tools/cli/cmd_identify.c). */
 int aenl_cmd_identify(int argc, char **argv);
-/** `aenl identify` by its default method on `path` (only `channel` when not NULL; JSON when
- *  json): the likelihood-based test at family-wise `level`, with `inputs` (comma-separated
- *  column names, or NULL), n_controls linear controls, the record taken as driven by impulses
- *  when impulsive, and its figures in plot_dir when not NULL (tools/cli/cmd_identify_test.c). */
-int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level, size_t n_controls, int impulsive, const char *plot_dir);
+/** What `aenl identify` by its default method was asked for. */
+typedef struct
+{
+    const char *channel;      /**< only this channel, or NULL: all */
+    const char *inputs;       /**< comma-separated column names, or NULL */
+    int json;                 /**< JSON instead of the table */
+    double level;             /**< family-wise level */
+    size_t n_controls;        /**< linear controls tested */
+    int impulsive;            /**< the record is driven by impulses */
+    const char *plot_dir;     /**< the figures' folder, or NULL */
+    const char *control_path; /**< a linear control's record is written here, or NULL */
+} aenl_identify_test_req_t;
+
+/** `aenl identify` by its default method, the likelihood-based test, on `path` as req asks
+ *  (tools/cli/cmd_identify_test.c); the exit status. */
+int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req);
 /** `aenl identify --method moments` on `path` (only `channel` when not NULL) with opts, against
  *  the baseline INI `model` when not NULL, as JSON when json, its figures in plot_dir when not
  *  NULL (tools/cli/cmd_identify.c); the exit status. */

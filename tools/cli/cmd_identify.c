@@ -26,7 +26,8 @@ static const char *const k_cmd = "identify";
 static void help(void)
 {
     printf("usage: aenl identify DATA.csv [--channel C] [--json] [--plot DIR] [--level A]\n"
-           "                     [--input COL[,COL]] [--controls N] [--impulsive]\n"
+           "                     [--input COL[,COL]] [--controls N] [--write-control FILE]\n"
+           "                     [--impulsive]\n"
            "       aenl identify DATA.csv --method moments [--channel C] [--json] [--plot DIR]\n"
            "                     [--bandwidth H] [--no-prefilter] [--forced] [--model BASE.ini]\n"
            "       (either form: [--time COL] [--jobs N])\n\n"
@@ -58,7 +59,12 @@ static void help(void)
            "--controls N    also test N linear controls: records simulated from the fitted\n"
            "                linear model, driven by the same inputs, with its noise; per\n"
            "                channel, how many reach the record's statistic and the p-value that\n"
-           "                gives (each control costs about one more run)\n"
+           "                gives, and how many are called nonlinear (each control costs about\n"
+           "                one more run)\n"
+           "--write-control FILE  write one such linear control as a CSV record: the time\n"
+           "                column, the channels tested (simulated, in their units) and the\n"
+           "                inputs (as recorded); identify it, with or without --input, to see\n"
+           "                what a linear structure driven the same way reads\n"
            "--impulsive     the record is driven by impulses (taps, kicks, a rap test): the\n"
            "                linear model is fitted again with them as state jumps, its noise\n"
            "                estimated without them, and the test runs on that model; without it\n"
@@ -287,9 +293,10 @@ typedef struct
     int moments_only; /* an option that only the moments method takes was given */
     double level;     /* --level */
     int level_given;
-    const char *input; /* --input COL[,COL] */
-    long controls;     /* --controls N */
-    int impulsive;     /* --impulsive */
+    const char *input;        /* --input COL[,COL] */
+    long controls;            /* --controls N */
+    int impulsive;            /* --impulsive */
+    const char *control_path; /* --write-control FILE */
     aenl_identify_opts_t opts;
 } args_t;
 
@@ -332,6 +339,13 @@ static int parse_value_option(const char *o, int argc, char **argv, int *i, args
             return -1;
         }
         aenl_set_jobs((unsigned)jobs);
+    }
+    else if (strcmp(o, "--write-control") == 0)
+    {
+        if ((a->control_path = aenl_cli_value(k_cmd, argc, argv, i)) == NULL)
+        {
+            return -1;
+        }
     }
     else if (strcmp(o, "--input") == 0)
     {
@@ -436,13 +450,15 @@ static int check_args(args_t *a)
         aenl_cli_error(k_cmd, "the record is read twice: give a file, not '-' (standard input)");
         return -1;
     }
-    if (!a->by_test && (a->level_given || a->controls > 0 || a->input != NULL || a->impulsive))
+    if (!a->by_test && (a->level_given || a->controls > 0 || a->input != NULL || a->impulsive ||
+                        a->control_path != NULL))
     {
         aenl_cli_error(k_cmd, "%s belongs to the test, not to the moments method (%s)",
-                       a->level_given     ? "--level"
-                       : a->controls > 0  ? "--controls"
-                       : a->input != NULL ? "--input"
-                                          : "--impulsive",
+                       a->level_given            ? "--level"
+                       : a->controls > 0         ? "--controls"
+                       : a->input != NULL        ? "--input"
+                       : a->control_path != NULL ? "--write-control"
+                                                 : "--impulsive",
                        a->method_given ? "--method moments"
                                        : "which --model, --bandwidth, --no-prefilter or --forced "
                                          "chose");
@@ -451,8 +467,9 @@ static int check_args(args_t *a)
     if (a->by_test && a->moments_only)
     {
         aenl_cli_error(k_cmd, "--method test takes --channel, --json, --plot, --level, --input, "
-                              "--controls and --impulsive only (--model, --bandwidth, "
-                              "--no-prefilter and --forced belong to the moments method)");
+                              "--controls, --write-control and --impulsive only (--model, "
+                              "--bandwidth, --no-prefilter and --forced belong to the moments "
+                              "method)");
         return -1;
     }
     if (a->model != NULL && a->channel != NULL)
@@ -775,8 +792,10 @@ int aenl_cmd_identify(int argc, char **argv)
     }
     if (a.by_test)
     {
-        return aenl_identify_by_test(a.data, a.channel, a.input, a.json, a.level,
-                                     (size_t)a.controls, a.impulsive, a.plot_dir);
+        const aenl_identify_test_req_t req = {
+            a.channel,          a.input,     a.json,     a.level,
+            (size_t)a.controls, a.impulsive, a.plot_dir, a.control_path};
+        return aenl_identify_by_test(a.data, &req);
     }
     return by_moments(&a);
 }

@@ -135,9 +135,70 @@ static int print_json(const aenl_table_t *t, const aenl_nlt_result_t *res, const
                : -1;
 }
 
-int aenl_identify_by_test(const char *path, const char *channel, const char *inputs, int json,
-                          double level, size_t n_controls, int impulsive, const char *plot_dir)
+/* The control's record (ctl: n x nz, row-major) through w, opened with the columns of
+ * control_columns: the time column as recorded, the channels as simulated, the inputs as
+ * recorded; then committed. */
+typedef struct
 {
+    const aenl_table_t *t;
+    long time_col; /* -1: none */
+    const char *const *names;
+    size_t nz;
+    const size_t *in;
+    size_t n_in;
+} control_layout_t;
+
+/* The control record's column names into names (at most 1 + nz + n_in); their count. */
+static size_t control_columns(const control_layout_t *l, const char **names)
+{
+    size_t k = 0;
+    if (l->time_col >= 0)
+    {
+        names[k++] = l->t->names[l->time_col];
+    }
+    for (size_t j = 0; j < l->nz; ++j)
+    {
+        names[k++] = l->names[j];
+    }
+    for (size_t p = 0; p < l->n_in; ++p)
+    {
+        names[k++] = l->t->names[l->in[p]];
+    }
+    return k;
+}
+
+static aenl_status_t write_control(aenl_csv_writer_t *w, const control_layout_t *l,
+                                   const double *ctl, aenl_err_t *err)
+{
+    const size_t n = l->t->n_rows;
+    double row[1 + AENL_NLT_MAX_CH + AENL_NLT_MAX_INPUT];
+    aenl_status_t st = AENL_OK;
+    for (size_t r = 0; r < n && st == AENL_OK; ++r)
+    {
+        size_t k = 0;
+        if (l->time_col >= 0)
+        {
+            row[k++] = l->t->data[(size_t)l->time_col * n + r];
+        }
+        for (size_t j = 0; j < l->nz; ++j)
+        {
+            row[k++] = ctl[r * l->nz + j];
+        }
+        for (size_t p = 0; p < l->n_in; ++p)
+        {
+            row[k++] = l->t->data[l->in[p] * n + r];
+        }
+        st = aenl_csv_writer_row(w, row, err);
+    }
+    return st == AENL_OK ? aenl_csv_writer_commit(w, err) : st;
+}
+
+int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
+{
+    const char *channel = req->channel;
+    const char *inputs = req->inputs;
+    const int json = req->json;
+    const char *plot_dir = req->plot_dir;
     aenl_err_t err;
     aenl_err_clear(&err);
     aenl_table_t t;
@@ -201,13 +262,40 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
         aenl_table_free(&t);
         return AENL_EXIT_USAGE;
     }
+    /* The control's file is opened now too (a bad path fails before the long part); it appears
+     * only when the whole run succeeds. */
+    control_layout_t lay = {&t, -1, names, nz, in, (size_t)n_in};
+    for (size_t c = 0; c < t.n_cols && lay.time_col < 0; ++c)
+    {
+        lay.time_col = aenl_cli_is_time_column(t.names[c]) ? (long)c : -1;
+    }
+    aenl_csv_writer_t cw;
+    memset(&cw, 0, sizeof(cw));
+    double *ctl = NULL;
+    if (req->control_path != NULL)
+    {
+        const char *cnames[1 + AENL_NLT_MAX_CH + AENL_NLT_MAX_INPUT];
+        const size_t nc = control_columns(&lay, cnames);
+        ctl = (double *)malloc(n * nz * sizeof(double));
+        if (ctl == NULL ||
+            aenl_csv_writer_open(&cw, req->control_path, cnames, nc, &err) != AENL_OK)
+        {
+            aenl_cli_error(k_cmd, "%s", ctl == NULL ? "out of memory" : err.msg);
+            free(ctl);
+            aenl_cli_figs_rollback(&figs);
+            aenl_cli_figs_free(&figs);
+            aenl_table_free(&t);
+            return ctl == NULL ? AENL_EXIT_FAIL : AENL_EXIT_USAGE;
+        }
+    }
     aenl_nlt_opts_t opts;
     aenl_nlt_opts_default(&opts);
-    opts.level = level;
+    opts.control_record = ctl;
+    opts.level = req->level;
     opts.input = n_in > 0 ? in_cols : NULL;
     opts.n_input = (size_t)n_in;
-    opts.n_controls = n_controls;
-    opts.impulsive = impulsive;
+    opts.n_controls = req->n_controls;
+    opts.impulsive = req->impulsive;
     aenl_cli_bar_t bar;
     aenl_cli_bar_begin(&bar, k_cmd, "linear controls");
     opts.progress = &bar.progress;
@@ -224,6 +312,19 @@ int aenl_identify_by_test(const char *path, const char *channel, const char *inp
         figures(&t, path, plot_dir, &res, chan, names, nz, &figs) != 0)
     {
         rc = AENL_EXIT_USAGE;
+    }
+    if (ctl != NULL)
+    {
+        if (rc == AENL_EXIT_OK && write_control(&cw, &lay, ctl, &err) != AENL_OK)
+        {
+            aenl_cli_error(k_cmd, "%s", err.msg);
+            rc = AENL_EXIT_USAGE;
+        }
+        if (rc != AENL_EXIT_OK)
+        {
+            aenl_csv_writer_abort(&cw); /* no file: the run failed */
+        }
+        free(ctl);
     }
     if (rc == AENL_EXIT_OK && json)
     {

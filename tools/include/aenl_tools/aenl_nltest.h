@@ -96,6 +96,10 @@ typedef struct aenl_nlt_opts
                                      fitted linear model, driven by the same inputs, with Gaussian
                                      noise of the fitted covariances, each tested like the record */
     uint64_t control_seed;      /**< their noise (default 1) */
+    double *control_record;     /**< n x n_channels, row-major, or NULL (default): receives a
+                                     linear control in the channels' units, the first of those
+                                     above (noise seed control_seed), simulated whether or not
+                                     n_controls asks for their tests */
     int impulsive;              /**< 1: the record is driven by impulses (taps, kicks, raps): the
                                      linear model is fitted again with them as state jumps, its
                                      noise estimated without their transitions, and tested so

@@ -1463,12 +1463,23 @@ static void simulate_control(const aenl_em_model_t *m, const double *in, size_t 
     }
 }
 
-/* What a run hands on to its linear controls: the fitted model and the scaled inputs. */
+/* Linear control b of a run whose noise seed is seed (each control its own stream). */
+static void control_series(const aenl_em_model_t *m, const double *in, const double *Lq,
+                           const double *Lr, uint64_t seed, size_t b, size_t n, double *const *y)
+{
+    aenl_rng_t g;
+    aenl_rng_seed(&g, seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
+    simulate_control(m, in, m->n_u, Lq, Lr, &g, n, y);
+}
+
+/* What a run hands on to its linear controls: the fitted model, the scaled inputs and the
+ * channels' scales. */
 typedef struct
 {
     aenl_em_result_t em;
     double *in;     /* n x n_in, row-major */
     double *in_col; /* n_in series of n */
+    double scale[AENL_NLT_MAX_CH];
 } kept_t;
 
 static aenl_status_t run_core(const double *const *col, size_t stride, size_t n, size_t n_ch,
@@ -1511,9 +1522,7 @@ static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
         {
             y[j] = buf + j * c->n;
         }
-        aenl_rng_t g;
-        aenl_rng_seed(&g, c->seed + (uint64_t)b * 0x9E3779B97F4A7C15ull);
-        simulate_control(c->m, c->in, c->m->n_u, c->Lq, c->Lr, &g, c->n, y);
+        control_series(c->m, c->in, c->Lq, c->Lr, c->seed, b, c->n, y);
         aenl_err_t e2;
         aenl_err_clear(&e2);
         c->ok[b] =
@@ -2438,10 +2447,49 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     free(flag);
     free(ys);
     nlt_kf_free(&kf);
+    if (keep != NULL)
+    {
+        memcpy(keep->scale, rn.scale, sizeof(keep->scale));
+    }
     return hand_over(st, keep, &em, in, in_col);
 }
 
 /* The test of a record, then its linear controls when the options ask for them. */
+/* The run's first linear control into out (n x n_ch, row-major) in the channels' units. */
+static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
+                                    const aenl_nlt_opts_t *opts, double *out, aenl_err_t *err)
+{
+    const aenl_em_model_t *m = &keep->em.model;
+    double Lq[NLT_MAX_X * NLT_MAX_X];
+    double Lr[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
+    if (chol_psd(m->Q, m->n_x, Lq) != 0 || chol_psd(m->R, n_ch, Lr) != 0)
+    {
+        aenl_err_set(err, "the linear model's noise covariances are not positive: no control");
+        return AENL_E_NUMERIC;
+    }
+    double *buf = (double *)malloc(n * n_ch * sizeof(double));
+    if (buf == NULL)
+    {
+        aenl_err_set(err, "out of memory");
+        return AENL_E_DIM;
+    }
+    double *y[AENL_NLT_MAX_CH];
+    for (size_t j = 0; j < n_ch; ++j)
+    {
+        y[j] = buf + j * n;
+    }
+    control_series(m, keep->in, Lq, Lr, opts->control_seed, 0, n, y);
+    for (size_t t = 0; t < n; ++t)
+    {
+        for (size_t j = 0; j < n_ch; ++j)
+        {
+            out[t * n_ch + j] = y[j][t] * keep->scale[j];
+        }
+    }
+    free(buf);
+    return AENL_OK;
+}
+
 static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
                                  const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
                                  aenl_err_t *err)
@@ -2449,7 +2497,9 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
     kept_t keep;
     memset(&keep, 0, sizeof(keep));
     const int controls = opts != NULL && opts->n_controls > 0;
-    aenl_status_t st = run_core(col, stride, n, n_ch, opts, res, err, 0, controls ? &keep : NULL);
+    const int record = opts != NULL && opts->control_record != NULL;
+    aenl_status_t st =
+        run_core(col, stride, n, n_ch, opts, res, err, 0, controls || record ? &keep : NULL);
     if (st == AENL_OK && controls)
     {
         const double *in_cols[AENL_EM_MAX_U] = {NULL};
@@ -2458,6 +2508,10 @@ static aenl_status_t run_strided(const double *const *col, size_t stride, size_t
             in_cols[p] = keep.in_col + p * n;
         }
         st = linear_controls(&keep.em.model, keep.in, in_cols, n, n_ch, opts, res, err);
+    }
+    if (st == AENL_OK && record)
+    {
+        st = control_record(&keep, n, n_ch, opts, opts->control_record, err);
     }
     free(keep.in);
     free(keep.in_col);
