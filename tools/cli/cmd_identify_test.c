@@ -193,56 +193,73 @@ static aenl_status_t write_control(aenl_csv_writer_t *w, const control_layout_t 
     return st == AENL_OK ? aenl_csv_writer_commit(w, err) : st;
 }
 
-int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
+/* The record of path read and checked as req asks: its table into t, the columns of its
+ * inputs into in (*n_in), its channels into chan and names (*nz). 0, or the exit status after
+ * the message (t freed). */
+typedef struct
 {
-    const char *channel = req->channel;
-    const char *inputs = req->inputs;
-    const int json = req->json;
-    const char *plot_dir = req->plot_dir;
+    aenl_table_t t;
+    size_t in[AENL_NLT_MAX_INPUT];
+    long n_in;
+    const double *chan[AENL_NLT_MAX_CH];
+    const char *names[AENL_NLT_MAX_CH];
+    size_t nz;
+} loaded_t;
+
+static int load_record(const char *path, const aenl_identify_test_req_t *req, loaded_t *l)
+{
     aenl_err_t err;
     aenl_err_clear(&err);
-    aenl_table_t t;
-    if (aenl_table_read(path, &t, &err) != AENL_OK)
+    if (aenl_table_read(path, &l->t, &err) != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s", err.msg);
         return AENL_EXIT_USAGE;
     }
-    size_t in[AENL_NLT_MAX_INPUT];
-    const long n_in = inputs != NULL ? input_columns(&t, path, inputs, in) : 0;
+    l->n_in = req->inputs != NULL ? input_columns(&l->t, path, req->inputs, l->in) : 0;
     long only = -1;
-    if (n_in < 0 ||
-        (channel != NULL && (only = aenl_cli_pick_channel(k_cmd, &t, path, channel)) < 0))
+    int bad = l->n_in < 0 || (req->channel != NULL &&
+                              (only = aenl_cli_pick_channel(k_cmd, &l->t, path, req->channel)) < 0);
+    if (!bad && only >= 0 && aenl_cli_is_input(l->in, (size_t)l->n_in, (size_t)only))
     {
-        aenl_table_free(&t);
-        return AENL_EXIT_USAGE;
+        aenl_cli_error(k_cmd, "--channel %s is also an --input", req->channel);
+        bad = 1;
     }
-    if (only >= 0 && aenl_cli_is_input(in, (size_t)n_in, (size_t)only))
-    {
-        aenl_cli_error(k_cmd, "--channel %s is also an --input", channel);
-        aenl_table_free(&t);
-        return AENL_EXIT_USAGE;
-    }
-    if (t.n_rows == 0)
+    if (!bad && l->t.n_rows == 0)
     {
         aenl_cli_error(k_cmd, "%s: no data rows (header only)", path);
-        aenl_table_free(&t);
-        return AENL_EXIT_USAGE;
+        bad = 1;
     }
-    if (aenl_cli_check_record(k_cmd, &t, path, only) != 0)
+    bad = bad || aenl_cli_check_record(k_cmd, &l->t, path, only) != 0 ||
+          aenl_cli_record_channels(k_cmd, &l->t, path, l->in, (size_t)l->n_in, only,
+                                   AENL_NLT_MAX_CH, l->chan, l->names, &l->nz) != 0;
+    if (bad)
     {
-        aenl_table_free(&t);
+        aenl_table_free(&l->t);
         return AENL_EXIT_USAGE;
     }
+    return 0;
+}
+
+int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
+{
+    const int json = req->json;
+    const char *plot_dir = req->plot_dir;
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    loaded_t ld;
+    memset(&ld, 0, sizeof(ld));
+    const int lrc = load_record(path, req, &ld);
+    if (lrc != 0)
+    {
+        return lrc;
+    }
+    aenl_table_t t = ld.t;
+    const size_t *in = ld.in;
+    const long n_in = ld.n_in;
+    const double *const *chan = ld.chan;
+    const char *const *names = ld.names;
+    const size_t nz = ld.nz;
     const size_t n = t.n_rows;
-    const double *chan[AENL_NLT_MAX_CH];
-    const char *names[AENL_NLT_MAX_CH];
-    size_t nz = 0;
-    if (aenl_cli_record_channels(k_cmd, &t, path, in, (size_t)n_in, only, AENL_NLT_MAX_CH, chan,
-                                 names, &nz) != 0)
-    {
-        aenl_table_free(&t);
-        return AENL_EXIT_USAGE;
-    }
     const double *in_cols[AENL_NLT_MAX_INPUT];
     const char *in_names[AENL_NLT_MAX_INPUT];
     for (long k = 0; k < n_in; ++k)

@@ -1351,6 +1351,7 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
     order_job_t job = {ys, in, n, m, n_in, iters, cand, em, sts, errs};
     aenl_parallel_for(n_cand, order_task, &job);
     double bic_best = INFINITY;
+    int found = 0;
     aenl_status_t st_last = AENL_E_NUMERIC;
     memset(best, 0, sizeof(*best));
     for (size_t c = 0; c < n_cand; ++c)
@@ -1370,19 +1371,22 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
             aenl_em_result_free(best);
             *best = em[c];
             bic_best = bic;
+            found = 1;
         }
         else
         {
             aenl_em_result_free(&em[c]);
         }
     }
-    if (isfinite(bic_best))
+    if (found)
     {
         aenl_err_clear(err);
         return AENL_OK;
     }
-    aenl_err_set(err, "the linear model cannot be fitted (%s)", aenl_status_str(st_last));
-    return st_last;
+    /* every fit failed, or none has a finite likelihood (then the last fit's status is OK) */
+    const aenl_status_t st = st_last != AENL_OK ? st_last : AENL_E_NUMERIC;
+    aenl_err_set(err, "the linear model cannot be fitted (%s)", aenl_status_str(st));
+    return st;
 }
 
 /* Lower Cholesky factor of the symmetric positive semi-definite S (n x n) into L, with a ridge of
@@ -2467,7 +2471,7 @@ static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
         aenl_err_set(err, "the linear model's noise covariances are not positive: no control");
         return AENL_E_NUMERIC;
     }
-    double *buf = (double *)malloc(n * n_ch * sizeof(double));
+    double *buf = (double *)calloc(n * n_ch, sizeof(double)); /* every value is written */
     if (buf == NULL)
     {
         aenl_err_set(err, "out of memory");
