@@ -1543,6 +1543,30 @@ static aenl_status_t control_task(void *ctx, size_t i, aenl_err_t *err)
     return st;
 }
 
+/* AENL_OK when the fitted model m is stable, else an error: a model with a pole on or outside
+ * the unit circle (a record that it follows only with its filter's corrections) is no linear
+ * structure to simulate, and a control simulated from it grows without bound. */
+static aenl_status_t check_stable(const aenl_em_model_t *m, aenl_err_t *err)
+{
+    aenl_em_eig_t eig[NLT_MAX_X];
+    size_t n_eig = 0;
+    aenl_status_t st = aenl_em_modal(m, 0, eig, &n_eig, NULL, err);
+    double rho = 0.0;
+    for (size_t i = 0; st == AENL_OK && i < n_eig; ++i)
+    {
+        rho = fmax(rho, hypot(eig[i].re, eig[i].im));
+    }
+    if (st == AENL_OK && !(rho < 1.0))
+    {
+        aenl_err_set(err,
+                     "the linear model fitted to the record is unstable (largest pole modulus "
+                     "%.6g): no linear control can be simulated from it",
+                     rho);
+        st = AENL_E_NUMERIC;
+    }
+    return st;
+}
+
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
  * run's scaled inputs), each tested like the record; a channel's control p-value is the share
  * of controls (the record counted among them) whose statistic reaches the record's: the test's
@@ -1561,6 +1585,11 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
     {
         aenl_err_set(err, "the linear model's noise covariances are not positive: no controls");
         return AENL_E_NUMERIC;
+    }
+    const aenl_status_t st_stable = check_stable(m, err);
+    if (st_stable != AENL_OK)
+    {
+        return st_stable;
     }
     aenl_nlt_opts_t o = *opts;
     o.n_controls = 0;
@@ -2470,6 +2499,11 @@ static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
     {
         aenl_err_set(err, "the linear model's noise covariances are not positive: no control");
         return AENL_E_NUMERIC;
+    }
+    const aenl_status_t st = check_stable(m, err);
+    if (st != AENL_OK)
+    {
+        return st;
     }
     double *buf = (double *)calloc(n * n_ch, sizeof(double)); /* every value is written */
     if (buf == NULL)
