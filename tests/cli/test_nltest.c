@@ -831,6 +831,23 @@ static void test_cli_identify_writes_a_linear_control(void)
     const char *moments[] = {"identify",        fp,      "--method", "moments",
                              "--write-control", "c.csv", NULL};
     cli_expect_refused(moments, "--write-control");
+    /* not standard output, which holds the result; not the record itself, which stays as it is */
+    const char *to_stdout[] = {"identify", fp, "--input", "f_pitch", "--write-control", "-", NULL};
+    cli_expect_refused(to_stdout, "not '-'");
+    const char *onto_itself[] = {"identify", fp, "--input", "f_pitch", "--write-control", fp, NULL};
+    cli_expect_refused(onto_itself, "the record itself");
+    aenl_table_t rec2;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(rec_path, &rec2, &err), err.msg);
+    const long b2 = aenl_table_find(&rec2, "beta");
+    TEST_ASSERT_TRUE(b2 >= 0);
+    double var2 = 0.0;
+    for (size_t i = 0; i < rec2.n_rows; ++i)
+    {
+        const double x = rec2.data[(size_t)b2 * rec2.n_rows + i];
+        var2 += x * x;
+    }
+    TEST_ASSERT_EQUAL_DOUBLE(var, var2);
+    aenl_table_free(&rec2);
 }
 
 static void test_cli_identify_with_a_known_input(void)

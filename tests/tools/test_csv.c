@@ -1050,10 +1050,6 @@ static uint64_t bits_of(double d)
     return b;
 }
 
-/* The fast decimal path against strtod (the reference): every string it takes converts to
- * strtod's value bit for bit, over random decimals of 1 to 20 digits with the point anywhere,
- * leading zeros, signs and exponents from -40 to 40 (some taken, some left to strtod); and the
- * forms it must leave to strtod are left. */
 /* The decimals of a double printed to round trip (%.17g, as the project's own CSV writer does,
  * and %.16g to %.19g), 10^6 of them over 10^-30 .. 10^30, against strtod bit for bit; integers
  * that lie exactly halfway between two doubles (2^54 .. 2^63 plus half a step), which strtod
@@ -1111,6 +1107,10 @@ static void test_parse_decimal_long_decimals(void)
     }
 }
 
+/* The fast decimal path against strtod (the reference): every string it takes converts to
+ * strtod's value bit for bit, over random decimals of 1 to 20 digits with the point anywhere,
+ * leading zeros, signs and exponents from -40 to 40 (some taken, some left to strtod); and the
+ * forms it must leave to strtod are left. */
 static void test_parse_decimal_matches_strtod(void)
 {
     uint64_t rs = 77u;

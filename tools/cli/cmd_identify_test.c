@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "aenl_cli.h"
 #include "aenl_tools/aenl_nltest.h"
@@ -135,9 +136,8 @@ static int print_json(const aenl_table_t *t, const aenl_nlt_result_t *res, const
                : -1;
 }
 
-/* The control's record (ctl: n x nz, row-major) through w, opened with the columns of
- * control_columns: the time column as recorded, the channels as simulated, the inputs as
- * recorded; then committed. */
+/* Where the control's columns come from: the record's table (its time column, -1: none, and
+ * its inputs' columns) and the channels tested. */
 typedef struct
 {
     const aenl_table_t *t;
@@ -167,6 +167,9 @@ static size_t control_columns(const control_layout_t *l, const char **names)
     return k;
 }
 
+/* The control's rows (ctl: n x nz, row-major) through w, opened with the columns of
+ * control_columns: the time column as recorded, the channels as simulated, the inputs as
+ * recorded. The caller commits. */
 static aenl_status_t write_control(aenl_csv_writer_t *w, const control_layout_t *l,
                                    const double *ctl, aenl_err_t *err)
 {
@@ -190,12 +193,10 @@ static aenl_status_t write_control(aenl_csv_writer_t *w, const control_layout_t 
         }
         st = aenl_csv_writer_row(w, row, err);
     }
-    return st == AENL_OK ? aenl_csv_writer_commit(w, err) : st;
+    return st;
 }
 
-/* The record of path read and checked as req asks: its table into t, the columns of its
- * inputs into in (*n_in), its channels into chan and names (*nz). 0, or the exit status after
- * the message (t freed). */
+/* A record read and checked: its table, its inputs' columns, its channels. */
 typedef struct
 {
     aenl_table_t t;
@@ -206,6 +207,8 @@ typedef struct
     size_t nz;
 } loaded_t;
 
+/* The record of path read and checked as req asks into l. 0, or the exit status after the
+ * message (the table freed). */
 static int load_record(const char *path, const aenl_identify_test_req_t *req, loaded_t *l)
 {
     aenl_err_t err;
@@ -240,8 +243,33 @@ static int load_record(const char *path, const aenl_identify_test_req_t *req, lo
     return 0;
 }
 
+/* 0 when the control may be written to ctl_path, else -1 after the message: not standard
+ * output (it would run into the table or the JSON), not the record itself. */
+static int control_path_ok(const char *ctl_path, const char *path)
+{
+    struct stat a;
+    struct stat b;
+    if (strcmp(ctl_path, "-") == 0)
+    {
+        aenl_cli_error(k_cmd, "--write-control: give a file, not '-' (standard output holds the "
+                              "result)");
+        return -1;
+    }
+    if (strcmp(ctl_path, path) == 0 || (stat(ctl_path, &a) == 0 && stat(path, &b) == 0 &&
+                                        a.st_dev == b.st_dev && a.st_ino == b.st_ino))
+    {
+        aenl_cli_error(k_cmd, "--write-control %s: that is the record itself", ctl_path);
+        return -1;
+    }
+    return 0;
+}
+
 int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
 {
+    if (req->control_path != NULL && control_path_ok(req->control_path, path) != 0)
+    {
+        return AENL_EXIT_USAGE;
+    }
     const int json = req->json;
     const char *plot_dir = req->plot_dir;
     aenl_err_t err;
@@ -330,18 +358,10 @@ int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
     {
         rc = AENL_EXIT_USAGE;
     }
-    if (ctl != NULL)
+    if (ctl != NULL && rc == AENL_EXIT_OK && write_control(&cw, &lay, ctl, &err) != AENL_OK)
     {
-        if (rc == AENL_EXIT_OK && write_control(&cw, &lay, ctl, &err) != AENL_OK)
-        {
-            aenl_cli_error(k_cmd, "%s", err.msg);
-            rc = AENL_EXIT_USAGE;
-        }
-        if (rc != AENL_EXIT_OK)
-        {
-            aenl_csv_writer_abort(&cw); /* no file: the run failed */
-        }
-        free(ctl);
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        rc = AENL_EXIT_USAGE;
     }
     if (rc == AENL_EXIT_OK && json)
     {
@@ -359,6 +379,17 @@ int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
             printf("%s %s\n", i ? "        " : "figures:", figs.files[i]);
         }
     }
+    /* the control's file appears only now, after the result: any failure before leaves none */
+    if (ctl != NULL && rc == AENL_EXIT_OK && aenl_csv_writer_commit(&cw, &err) != AENL_OK)
+    {
+        aenl_cli_error(k_cmd, "%s", err.msg);
+        rc = AENL_EXIT_USAGE;
+    }
+    if (ctl != NULL && rc != AENL_EXIT_OK)
+    {
+        aenl_csv_writer_abort(&cw);
+    }
+    free(ctl);
     if (rc != AENL_EXIT_OK)
     {
         aenl_cli_figs_rollback(&figs); /* all or nothing: no figure, no folder we made */

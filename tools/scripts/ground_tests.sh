@@ -65,6 +65,7 @@ row() {
   if "$aenl" identify "$f" "${in_args[@]}" --controls 5 --write-control "$work/ctl.csv" \
     >"$work/ctl_run.txt" 2>"$work/err"; then
     called=$(sed -n 's/.*called nonlinear: \([0-9]* of [0-9]*\)$/\1/p' "$work/ctl_run.txt")
+    [[ -n $called ]] || called="none could be fitted"
     "$aenl" identify "$work/ctl.csv" "${in_args[@]}" >"$work/ctl_in.txt" 2>"$work/err" || {
       echo "ground_tests: failed: identify (control) of $f" >&2; cat "$work/err" >&2; exit 1; }
     given=$(verdict "$work/ctl_in.txt")
@@ -76,7 +77,7 @@ row() {
     fi
   elif grep -q 'is unstable (largest pole modulus' "$work/err"; then
     # the fitted linear model has a pole outside the unit circle: no control can be simulated
-    called="none: $(sed -n 's/.*(largest pole modulus \([0-9.]*\)).*/model unstable, pole \1/p' "$work/err")"
+    called="none: $(sed -n 's/.*(largest pole modulus \([^)]*\)).*/model unstable, pole \1/p' "$work/err")"
     given="–"
     alone="–"
   else

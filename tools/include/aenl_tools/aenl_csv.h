@@ -51,9 +51,10 @@ int aenl_csv_is_time_column(const char *name, const char *time_column);
  * The value of s when s is a plain decimal number ([+-] digits [. [digits]] or [+-] . digits,
  * then [e|E [+-] 1 to 4 digits]; at most 400 digits) that one correctly rounded operation
  * converts: significant digits that make at most 2^53 and a power of ten within 10^+-22 (both
- * exact doubles: Clinger's fast path); or, where long double is the x87 extended type, at most
- * 19 significant digits and a power of ten within 10^+-27 (both exact in its 64-bit
- * significand), unless that result lies exactly halfway between two doubles. The value is
+ * exact doubles: Clinger's fast path); or, where long double is the x87 extended type and
+ * its arithmetic is carried out as such (a probe at first use: an emulator may carry it in
+ * doubles), at most 19 significant digits and a power of ten within 10^+-27 (both exact in its
+ * 64-bit significand), unless that result lies exactly halfway between two doubles. The value is
  * strtod's, bit for bit. Returns 1 with *v set, else 0 (*v untouched): the caller then uses
  * strtod.
  */

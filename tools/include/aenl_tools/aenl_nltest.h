@@ -200,7 +200,10 @@ void aenl_nlt_opts_default(aenl_nlt_opts_t *opts);
  *        finite (the test takes complete rows only). res is valid only when AENL_OK returns.
  * @return AENL_OK; AENL_E_ARG for bad options, a missing sample, too few samples for the model
  *         (the message says how many it needs), a constant channel or one that barely moves;
- *         AENL_E_NUMERIC when the linear model cannot be fitted; AENL_E_DIM out of memory.
+ *         AENL_E_NUMERIC when the linear model cannot be fitted, or when linear controls or a
+ *         control record are asked for and the fitted model is unstable (a pole on or outside
+ *         the unit circle: a control simulated from it grows without bound); AENL_E_DIM out of
+ *         memory.
  */
 aenl_status_t aenl_nlt_run(const double *y, size_t n, size_t n_ch, const aenl_nlt_opts_t *opts,
                            aenl_nlt_result_t *res, aenl_err_t *err);
@@ -238,8 +241,9 @@ const char *aenl_nlt_class_name(aenl_class_t cls, int undetermined);
  *        null when infinite), period_s, hardening, switch_points, switch_point_lo,
  *        switch_point_hi}], notes [the notes the table prints, lead_note first],
  *        model.inputs [names] when the model took known inputs, model.dithered [names] when some
- *        channels were dithered, and controls (their number) with
- *        each channel's control_exceed and control_p when linear controls were run. names: the
+ *        channels were dithered, and controls (their number) and controls_nonlinear (those a
+ *        channel rejects) with each channel's control_exceed and control_p when linear controls
+ *        were run. names: the
  *        channels; input_names: the inputs (NULL when there are none); dt: the record's sample
  *        step in its time column's unit, NaN (null in the JSON, and every period_s null) when
  *        it has none; lead_note: a note of the caller's (NULL: none).

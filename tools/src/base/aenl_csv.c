@@ -425,13 +425,28 @@ static int looks_like_unit(const char *cell)
  * rounding that to a double rounds twice, which differs from rounding once only when the
  * extended result lies exactly halfway between two doubles (its 11 bits below the double's
  * last are 10000000000): then 0, and strtod decides. 1 with *x set otherwise. */
+/* 1 when long double arithmetic here is what the type promises: an emulator (valgrind's, for
+ * one) may carry it in doubles, where 2^53 + 1 is not exact. Probed once. */
+static int extended_exact(void)
+{
+    static int state = 0; /* 0 unknown, 1 exact, -1 not */
+    if (state == 0)
+    {
+        volatile uint64_t w = ((uint64_t)1 << 53u) + 1u;
+        volatile long double x = (long double)w;
+        volatile long double y = x * 1e27L / 1e27L;
+        state = ((uint64_t)x == w && (uint64_t)y == w) ? 1 : -1;
+    }
+    return state > 0;
+}
+
 static int parse_extended(uint64_t w, int e10, double *x)
 {
     static const long double p10[28] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,
                                         1e7L,  1e8L,  1e9L,  1e10L, 1e11L, 1e12L, 1e13L,
                                         1e14L, 1e15L, 1e16L, 1e17L, 1e18L, 1e19L, 1e20L,
                                         1e21L, 1e22L, 1e23L, 1e24L, 1e25L, 1e26L, 1e27L};
-    if (e10 > 27 || e10 < -27)
+    if (e10 > 27 || e10 < -27 || !extended_exact())
     {
         return 0;
     }

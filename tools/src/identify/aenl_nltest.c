@@ -1366,7 +1366,7 @@ static aenl_status_t fit_linear_order(const double *ys, size_t n, size_t m, cons
         const double dm = (double)m;
         const double k = 2.0 * nx * dm + 0.5 * dm * (dm + 1.0) + dm + nx * (double)n_in;
         const double bic = -2.0 * em[c].loglik_final + k * log((double)n);
-        if (bic < bic_best)
+        if (isfinite(bic) && bic < bic_best)
         {
             aenl_em_result_free(best);
             *best = em[c];
@@ -1554,7 +1554,8 @@ static aenl_status_t check_stable(const aenl_em_model_t *m, aenl_err_t *err)
     double rho = 0.0;
     for (size_t i = 0; st == AENL_OK && i < n_eig; ++i)
     {
-        rho = fmax(rho, hypot(eig[i].re, eig[i].im));
+        const double mod = hypot(eig[i].re, eig[i].im);
+        rho = mod > rho || isnan(mod) ? mod : rho; /* a NaN pole stays NaN: not stable */
     }
     if (st == AENL_OK && !(rho < 1.0))
     {
@@ -2487,7 +2488,6 @@ static aenl_status_t run_core(const double *const *col, size_t stride, size_t n,
     return hand_over(st, keep, &em, in, in_col);
 }
 
-/* The test of a record, then its linear controls when the options ask for them. */
 /* The run's first linear control into out (n x n_ch, row-major) in the channels' units. */
 static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
                                     const aenl_nlt_opts_t *opts, double *out, aenl_err_t *err)
@@ -2528,6 +2528,8 @@ static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
     return AENL_OK;
 }
 
+/* The test of a record, then its linear controls and its control record when the options ask
+ * for them. */
 static aenl_status_t run_strided(const double *const *col, size_t stride, size_t n, size_t n_ch,
                                  const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
                                  aenl_err_t *err)
