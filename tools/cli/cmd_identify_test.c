@@ -73,6 +73,19 @@ static aenl_status_t fig_done(void *ctx, const char *path, aenl_err_t *err)
     return aenl_cli_figs_add((aenl_cli_figs_t *)ctx, path, err);
 }
 
+/* The record's time column (the first of them), or -1 when it has none. */
+static long time_column(const aenl_table_t *t)
+{
+    for (size_t c = 0; c < t->n_cols; ++c)
+    {
+        if (aenl_cli_is_time_column(t->names[c]))
+        {
+            return (long)c;
+        }
+    }
+    return -1;
+}
+
 /* The figures of a run into figs (its folder made), the time axis from the record's time
  * column (the sample index without one); 0, or -1 after the message. */
 static int figures(const aenl_table_t *t, const char *path, const char *dir,
@@ -82,13 +95,11 @@ static int figures(const aenl_table_t *t, const char *path, const char *dir,
     aenl_err_t err;
     aenl_err_clear(&err);
     aenl_plot_record_t rec = {path, t->n_rows, NULL, ""};
-    for (size_t c = 0; c < t->n_cols && rec.time == NULL; ++c)
+    const long tc = time_column(t);
+    if (tc >= 0)
     {
-        if (aenl_cli_is_time_column(t->names[c]))
-        {
-            rec.time = t->data + c * t->n_rows;
-            rec.time_name = t->names[c];
-        }
+        rec.time = t->data + (size_t)tc * t->n_rows;
+        rec.time_name = t->names[tc];
     }
     if (aenl_nlt_plot(res, &rec, chan, names, nz, dir, fig_done, figs, &err) != AENL_OK)
     {
@@ -104,18 +115,14 @@ static int figures(const aenl_table_t *t, const char *path, const char *dir,
  * or with one row. The record has passed aenl_cli_check_record, so its steps are equal. */
 static double record_step(const aenl_table_t *t, int *has_time)
 {
-    for (size_t c = 0; c < t->n_cols; ++c)
+    const long tc = time_column(t);
+    *has_time = tc >= 0;
+    if (tc < 0 || t->n_rows < 2u)
     {
-        if (aenl_cli_is_time_column(t->names[c]))
-        {
-            const double *tv = t->data + c * t->n_rows;
-            *has_time = 1;
-            return t->n_rows > 1u ? (tv[t->n_rows - 1u] - tv[0]) / (double)(t->n_rows - 1u)
-                                  : (double)NAN;
-        }
+        return (double)NAN;
     }
-    *has_time = 0;
-    return (double)NAN;
+    const double *tv = t->data + (size_t)tc * t->n_rows;
+    return (tv[t->n_rows - 1u] - tv[0]) / (double)(t->n_rows - 1u);
 }
 
 /* The run's JSON on stdout, with the record's step and, without a time column, the note the
@@ -309,11 +316,7 @@ int aenl_identify_by_test(const char *path, const aenl_identify_test_req_t *req)
     }
     /* The control's file is opened now too (a bad path fails before the long part); it appears
      * only when the whole run succeeds. */
-    control_layout_t lay = {&t, -1, names, nz, in, (size_t)n_in};
-    for (size_t c = 0; c < t.n_cols && lay.time_col < 0; ++c)
-    {
-        lay.time_col = aenl_cli_is_time_column(t.names[c]) ? (long)c : -1;
-    }
+    const control_layout_t lay = {&t, time_column(&t), names, nz, in, (size_t)n_in};
     aenl_csv_writer_t cw;
     memset(&cw, 0, sizeof(cw));
     double *ctl = NULL;

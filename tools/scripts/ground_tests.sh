@@ -50,6 +50,13 @@ points() {
          print s; found = 1 }
        END { if (!found) print "–" }' "$1"
 }
+# identify_to OUT ARGS...: aenl identify ARGS into OUT; a failure stops the script
+identify_to() {
+  local out=$1
+  shift
+  "$aenl" identify "$@" >"$out" 2>"$work/err" || {
+    echo "ground_tests: failed: identify $*" >&2; cat "$work/err" >&2; exit 1; }
+}
 # row LABEL FILE INPUTS ("-": none)
 row() {
   local label=$1 f=$data/$2 inp=$3
@@ -57,8 +64,7 @@ row() {
   [[ $inp != - ]] && in_args=(--input "$inp")
   local t0 t1
   t0=$(date +%s.%N)
-  "$aenl" identify "$f" "${in_args[@]}" >"$work/rec.txt" 2>"$work/err" || {
-    echo "ground_tests: failed: identify $f ${in_args[*]}" >&2; cat "$work/err" >&2; exit 1; }
+  identify_to "$work/rec.txt" "$f" "${in_args[@]}"
   t1=$(date +%s.%N)
   local called given alone="–"
   rm -f "$work/ctl.csv"
@@ -66,13 +72,10 @@ row() {
     >"$work/ctl_run.txt" 2>"$work/err"; then
     called=$(sed -n 's/.*called nonlinear: \([0-9]* of [0-9]*\)$/\1/p' "$work/ctl_run.txt")
     [[ -n $called ]] || called="none could be fitted"
-    "$aenl" identify "$work/ctl.csv" "${in_args[@]}" >"$work/ctl_in.txt" 2>"$work/err" || {
-      echo "ground_tests: failed: identify (control) of $f" >&2; cat "$work/err" >&2; exit 1; }
+    identify_to "$work/ctl_in.txt" "$work/ctl.csv" "${in_args[@]}"
     given=$(verdict "$work/ctl_in.txt")
     if [[ $inp != - ]]; then
-      "$aenl" identify "$work/ctl.csv" >"$work/ctl_alone.txt" 2>"$work/err" || {
-        echo "ground_tests: failed: identify (control, alone) of $f" >&2; cat "$work/err" >&2
-        exit 1; }
+      identify_to "$work/ctl_alone.txt" "$work/ctl.csv"
       alone=$(verdict "$work/ctl_alone.txt")
     fi
   elif grep -q 'is unstable (largest pole modulus' "$work/err"; then

@@ -420,11 +420,6 @@ static int looks_like_unit(const char *cell)
 }
 
 #if LDBL_MANT_DIG == 64 && (defined(__x86_64__) || defined(__i386__))
-/* w 10^e10 (w > 0, at most 19 digits, |e10| <= 27) in x87 extended precision, whose 64-bit
- * significand holds w and 10^|e10| exactly, so that one multiplication or division rounds once;
- * rounding that to a double rounds twice, which differs from rounding once only when the
- * extended result lies exactly halfway between two doubles (its 11 bits below the double's
- * last are 10000000000): then 0, and strtod decides. 1 with *x set otherwise. */
 /* 1 when long double arithmetic here is what the type promises: an emulator (valgrind's, for
  * one) may carry it in doubles, where 2^53 + 1 is not exact. Probed once. */
 static int extended_exact(void)
@@ -440,6 +435,11 @@ static int extended_exact(void)
     return state > 0;
 }
 
+/* w 10^e10 (w > 0, at most 19 digits, |e10| <= 27) in x87 extended precision, whose 64-bit
+ * significand holds w and 10^|e10| exactly, so that one multiplication or division rounds once;
+ * rounding that to a double rounds twice, which differs from rounding once only when the
+ * extended result lies exactly halfway between two doubles (its 11 bits below the double's
+ * last are 10000000000): then 0, and strtod decides. 1 with *x set otherwise. */
 static int parse_extended(uint64_t w, int e10, double *x)
 {
     static const long double p10[28] = {1e0L,  1e1L,  1e2L,  1e3L,  1e4L,  1e5L,  1e6L,
@@ -541,15 +541,16 @@ int aenl_parse_decimal(const char *s, double *v)
         return 0;
     }
     double x = (double)w;
+    const int exact_w = w <= ((uint64_t)1 << 53u); /* then w is an exact double */
     if (w == 0)
     {
         x = 0.0;
     }
-    else if (w <= ((uint64_t)1 << 53u) && e10 >= 0 && e10 <= 22)
+    else if (exact_w && e10 >= 0 && e10 <= 22)
     {
         x *= p10[e10];
     }
-    else if (w <= ((uint64_t)1 << 53u) && e10 < 0 && e10 >= -22)
+    else if (exact_w && e10 < 0 && e10 >= -22)
     {
         x /= p10[-e10];
     }
@@ -1218,9 +1219,13 @@ static double rounding_of(const aenl_time_steps_t *s, double t)
 static void note_resolution(aenl_time_steps_t *s, double t)
 {
     const double a = fabs(t);
+    if (!(a > 0.0))
+    {
+        return; /* zero is exact at any resolution */
+    }
+    const int e = (int)floor(log10(a));
     if (a > 1e-9 && s->q_dec > 0.0)
     {
-        const int e = (int)floor(log10(a));
         const int k_dig = s->digits - 1 - e;
         const int k = k_dig < s->k_dec ? k_dig : s->k_dec;
         if (k >= 0 && near_whole(t * pow10_exact(k)))
@@ -1237,7 +1242,7 @@ static void note_resolution(aenl_time_steps_t *s, double t)
             s->q_dec = q;
             s->k_dec = k;
         }
-        const int d = (int)floor(log10(a)) - (int)lround(log10(q)) + 1;
+        const int d = e + k + 1; /* significant digits: k decimals below 10^e */
         s->digits = d > s->digits ? d : s->digits;
     }
 }

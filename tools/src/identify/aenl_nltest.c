@@ -1568,6 +1568,19 @@ static aenl_status_t check_stable(const aenl_em_model_t *m, aenl_err_t *err)
     return st;
 }
 
+/* What every linear control of the fitted model m needs: the factors of its noise covariances
+ * (Lq, Lr) and its stability (check_stable); AENL_OK, or an error that says which is missing. */
+static aenl_status_t control_noise(const aenl_em_model_t *m, size_t n_ch, double *Lq, double *Lr,
+                                   aenl_err_t *err)
+{
+    if (chol_psd(m->Q, m->n_x, Lq) != 0 || chol_psd(m->R, n_ch, Lr) != 0)
+    {
+        aenl_err_set(err, "the linear model's noise covariances are not positive: no controls");
+        return AENL_E_NUMERIC;
+    }
+    return check_stable(m, err);
+}
+
 /* The linear controls of a run (opts->n_controls records of the fitted model m, driven by the
  * run's scaled inputs), each tested like the record; a channel's control p-value is the share
  * of controls (the record counted among them) whose statistic reaches the record's: the test's
@@ -1579,18 +1592,12 @@ static aenl_status_t linear_controls(const aenl_em_model_t *m, const double *in,
                                      const aenl_nlt_opts_t *opts, aenl_nlt_result_t *res,
                                      aenl_err_t *err)
 {
-    const size_t nx = m->n_x;
     double Lq[NLT_MAX_X * NLT_MAX_X];
     double Lr[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
-    if (chol_psd(m->Q, nx, Lq) != 0 || chol_psd(m->R, n_ch, Lr) != 0)
+    const aenl_status_t st_noise = control_noise(m, n_ch, Lq, Lr, err);
+    if (st_noise != AENL_OK)
     {
-        aenl_err_set(err, "the linear model's noise covariances are not positive: no controls");
-        return AENL_E_NUMERIC;
-    }
-    const aenl_status_t st_stable = check_stable(m, err);
-    if (st_stable != AENL_OK)
-    {
-        return st_stable;
+        return st_noise;
     }
     aenl_nlt_opts_t o = *opts;
     o.n_controls = 0;
@@ -2495,12 +2502,7 @@ static aenl_status_t control_record(const kept_t *keep, size_t n, size_t n_ch,
     const aenl_em_model_t *m = &keep->em.model;
     double Lq[NLT_MAX_X * NLT_MAX_X];
     double Lr[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
-    if (chol_psd(m->Q, m->n_x, Lq) != 0 || chol_psd(m->R, n_ch, Lr) != 0)
-    {
-        aenl_err_set(err, "the linear model's noise covariances are not positive: no control");
-        return AENL_E_NUMERIC;
-    }
-    const aenl_status_t st = check_stable(m, err);
+    const aenl_status_t st = control_noise(m, n_ch, Lq, Lr, err);
     if (st != AENL_OK)
     {
         return st;
