@@ -619,6 +619,55 @@ static void hear(void *ctx, size_t done, size_t total)
  * their test does not run; the baseline reproduces the record exactly and agrees all the same
  * (else identify --model would fall back to the record's own verdict). The progress receiver
  * hears every stage of the search, the last one the whole. */
+/* A long free decay whose release is many of its record's stds out (here more than 20, where
+ * the runaway bound once sat, and a release that far was taken for a divergence: gap at the
+ * cap 10): against the model that made it, every run stays bounded and the baseline
+ * reproduces the record. */
+static void test_long_decay_is_not_a_runaway(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_table_t t;
+    aenl_diagnose_case_t c;
+    a2_none(&c);
+    run = c.base_run;
+    run.turb_intensity = 0.0;
+    m = c.base;
+    m.x0[AENL_SIM_DOF_PITCH] = 0.02;
+    m.airfoil.zeta_alpha = 0.02;
+    m.airfoil.zeta_xi = 0.02;
+    a2_record(&m, &run, 12000u, &t);
+    const double *alpha = aenl_table_col(&t, 1u);
+    double mean = 0.0, var = 0.0;
+    for (size_t i = 0; i < t.n_rows; ++i)
+    {
+        mean += alpha[i];
+    }
+    mean /= (double)t.n_rows;
+    for (size_t i = 0; i < t.n_rows; ++i)
+    {
+        var += (alpha[i] - mean) * (alpha[i] - mean);
+    }
+    const double ratio = fabs(alpha[0] - mean) / sqrt(var / (double)t.n_rows);
+    char msg[96];
+    (void)snprintf(msg, sizeof(msg), "the release is %.3g stds out, not 20", ratio);
+    TEST_ASSERT_TRUE_MESSAGE(ratio > 20.0, msg);
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    o.n_replicates = 2;
+    o.n_refine = 0;
+    o.summary_records = 0;
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &m, &run, &o, &r, &err), err.msg);
+    TEST_ASSERT_TRUE(r.sig_base[0].valid && r.sig_base[1].valid);
+    TEST_ASSERT_TRUE(r.gap_before[r.n_channels] < 0.01);
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_NONE, r.effect);
+    aenl_diagnose_result_free(&r);
+    aenl_table_free(&t);
+}
+
 static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;
@@ -894,6 +943,7 @@ int main(int argc, char **argv)
         RUN_TEST(test_chan_setup_rejects);
         RUN_TEST(test_noise_beyond_the_baseline);
         RUN_TEST(test_exact_baseline_agrees);
+        RUN_TEST(test_long_decay_is_not_a_runaway);
         RUN_TEST(test_dof_without_noise);
         RUN_TEST(test_excitation_shared_or_not);
         RUN_TEST(test_run_rejects_wrong_step_and_channels);

@@ -214,7 +214,8 @@ typedef struct aenl_sim_run
      *  the simulation stops with AENL_E_NUMERIC as soon as an accepted step leaves
      *  |y_c| <= bound[c]. 0: no bound (default). A model that runs away (a linear flutter mode,
      *  a softening spring) is then not integrated on into the stiff, huge-amplitude region where
-     *  every step costs more (aenl diagnose bounds its candidates at 20x the record's range). */
+     *  every step costs more (aenl diagnose bounds its candidates at 20 of the record's stds,
+     *  or twice its largest excursion where that is further). */
     double bound[AENL_SIM_MAX_Q];
 } aenl_sim_run_t;
 

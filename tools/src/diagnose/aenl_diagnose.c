@@ -30,8 +30,10 @@
  * freedom where the runs do not differ (nominal_rv). */
 #define NOMINAL_NOISE 1e-3
 
-/* Runaway bound of every candidate simulation, in measured stds (see ctx_t.bound). */
+/* Runaway bound of every candidate simulation, in measured stds and in multiples of the
+ * record's largest excursion, whichever is further (see ctx_t.bound). */
 #define RUNAWAY_LIMIT 20.0
+#define RUNAWAY_REACH 2.0
 
 void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o)
 {
@@ -130,7 +132,9 @@ typedef struct
     const aenl_progress_t *progress;
     size_t step, steps; /* stages done of the search's (progress) */
     /* Runaway bound of every candidate simulation per channel: RUNAWAY_LIMIT times the larger
-     * of the measured std and mean, from zero. Runaway models can become very stiff (a diverging
+     * of the measured std and mean, from zero, or RUNAWAY_REACH times the record's largest
+     * excursion from its mean where that is further (a long free decay starts many stds out:
+     * a release 20 stds out would otherwise be taken for a runaway). Runaway models can become very stiff (a diverging
      * flutter mode driving a hardening spring) and their full runs would dominate the cost; the
      * simulator stops them there, and their signatures are invalid (every difference capped),
      * as are those of models that diverge. */
@@ -1602,7 +1606,14 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     for (size_t c = 0; c < x->n_ch; ++c)
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
-        x->bound[c] = fabs(ch->mean) + RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean));
+        const double *y = r->y_meas + c * n;
+        double reach = 0.0; /* the record's largest excursion from its mean */
+        for (size_t i = 0; i < n; ++i)
+        {
+            reach = fmax(reach, fabs(y[i] - ch->mean));
+        }
+        x->bound[c] = fabs(ch->mean) + fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)),
+                                            RUNAWAY_REACH * reach);
     }
     aenl_err_t e;
     aenl_err_clear(&e);
