@@ -116,6 +116,59 @@ static void test_diagnose_names_freeplay_and_updates(void)
     free(r);
 }
 
+/* A free decay released from a state the baseline INI does not give: the state is fitted to
+ * the record, reported with standard errors (within 4 of them of the release), the linear
+ * baseline agrees, and the updated INI starts from the fit and says it is one. An [initial]
+ * estimate that is not a truth value is refused. */
+static void test_diagnose_fits_a_decays_release(void)
+{
+    static const char *const model = "[model]\ntype = airfoil2dof\nustar = 4\nzeta_alpha = 0.01\n"
+                                     "zeta_xi = 0.01\n";
+    static const char *const run = "[run]\nduration = 1999.5\ndt = 0.5\n";
+    char truth[512], base[512];
+    (void)snprintf(truth, sizeof(truth),
+                   "%s[initial]\nalpha_deg = 2\nxi = 0.01\n%s[noise]\nsnr = 10\nseed = 3\n", model,
+                   run);
+    (void)snprintf(base, sizeof(base), "%s%s", model, run);
+    (void)cli_file("decay_truth.ini", truth);
+    (void)cli_file("decay_base.ini", base);
+    cli_result_t *r = malloc(sizeof(*r));
+    TEST_ASSERT_NOT_NULL(r);
+    const char *sim[] = {"simulate", "decay_truth.ini", "-o", "decay.csv", NULL};
+    cli_run(r, sim);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    const char *args[] = {"diagnose", "--measured", "decay.csv", "--model",    "decay_base.ini",
+                          "--out",    "diagD",      "--json",    "--no-plots", NULL};
+    cli_run(r, args);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(0, r->status, r->err);
+    cJSON *root = cJSON_Parse(r->out);
+    TEST_ASSERT_NOT_NULL_MESSAGE(root, r->out);
+    const cJSON *me = cJSON_GetObjectItemCaseSensitive(root, "missing_effect");
+    TEST_ASSERT_EQUAL_STRING("none", cJSON_GetObjectItemCaseSensitive(me, "type")->valuestring);
+    const cJSON *in = cJSON_GetObjectItemCaseSensitive(root, "initial_state");
+    TEST_ASSERT_TRUE(cJSON_IsObject(in));
+    const cJSON *state = cJSON_GetObjectItemCaseSensitive(in, "state");
+    const cJSON *sd = cJSON_GetObjectItemCaseSensitive(in, "sd");
+    const char *const keys[] = {"alpha", "xi", "alpha_dot", "xi_dot"};
+    const double want[] = {2.0 * 3.14159265358979323846 / 180.0, 0.01, 0.0, 0.0};
+    for (size_t k = 0; k < 4u; ++k)
+    {
+        const double v = cJSON_GetObjectItemCaseSensitive(state, keys[k])->valuedouble;
+        const double e = cJSON_GetObjectItemCaseSensitive(sd, keys[k])->valuedouble;
+        TEST_ASSERT_TRUE_MESSAGE(e > 0.0 && fabs(v - want[k]) < 4.0 * e, keys[k]);
+    }
+    cJSON_Delete(root);
+    static char ini[16384];
+    TEST_ASSERT_TRUE(cli_slurp(tmp_path("diagD/updated.ini"), ini, sizeof(ini)) > 0u);
+    TEST_ASSERT_NOT_NULL(strstr(ini, "estimate = true"));
+    free(r);
+    (void)cli_file("decay_bad.ini", "[model]\ntype = airfoil2dof\nustar = 4\n"
+                                    "[initial]\nestimate = maybe\n[run]\nduration = 1999.5\n"
+                                    "dt = 0.5\n");
+    const char *bad[] = {"diagnose", "--measured", "decay.csv", "--model", "decay_bad.ini", NULL};
+    cli_expect_refused(bad, "estimate");
+}
+
 /* exit 2, exactly one line on stderr containing `want`, nothing on stdout */
 static void test_diagnose_bad_input(void)
 {
@@ -162,6 +215,7 @@ int main(void)
 {
     UNITY_BEGIN();
     RUN_TEST(test_diagnose_names_freeplay_and_updates);
+    RUN_TEST(test_diagnose_fits_a_decays_release);
     RUN_TEST(test_diagnose_bad_input);
     return UNITY_END();
 }

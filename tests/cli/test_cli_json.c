@@ -237,6 +237,16 @@ static void test_json_fit_and_diagnose(void)
         "diagnose", "--measured",  meas, "--model",    EXAMPLES "diagnose_base_airfoil2dof.ini",
         "--json",   "--max-evals", "20", "--no-plots", NULL};
     cJSON_Delete(check_output("diagnose", dg, NULL));
+    /* a free decay whose release the baseline leaves to the fit: initial_state */
+    (void)cli_file("j_decay_truth.ini", "[model]\ntype = airfoil2dof\nustar = 4\n[initial]\n"
+                                        "alpha_deg = 2\n[run]\nduration = 1499.5\ndt = 0.5\n"
+                                        "[noise]\nsnr = 10\n");
+    (void)cli_file("j_decay_base.ini",
+                   "[model]\ntype = airfoil2dof\nustar = 4\n[run]\nduration = 1499.5\ndt = 0.5\n");
+    const char *decay = simulated("j_decay_truth.ini", "j_decay.csv");
+    const char *dd[] = {"diagnose", "--measured",  decay, "--model",    "j_decay_base.ini",
+                        "--json",   "--max-evals", "20",  "--no-plots", NULL};
+    cJSON_Delete(check_output("diagnose", dd, "\"initial_state\""));
 }
 
 /* The check fails where it should: each mutation of a valid document, and an unknown keyword. */

@@ -160,6 +160,7 @@ static void test_ini_write_reads_back(void)
         }
         m.x0[AENL_SIM_DOF_PITCH] = 0.0174;
         m.v0[AENL_SIM_DOF_PLUNGE] = -0.003;
+        m.initial = type == 0 ? AENL_SIM_INITIAL_ESTIMATE : AENL_SIM_INITIAL_GIVEN;
         run.turbulence = 1;
         run.turb_intensity = 0.011;
         run.turb_length = type == 0 ? 2.5 : 0.3;
@@ -174,6 +175,11 @@ static void test_ini_write_reads_back(void)
         TEST_ASSERT_EQUAL_MEMORY(&m.law, &back.law, sizeof(m.law));
         TEST_ASSERT_EQUAL_MEMORY(m.x0, back.x0, sizeof(m.x0));
         TEST_ASSERT_EQUAL_MEMORY(m.v0, back.v0, sizeof(m.v0));
+        TEST_ASSERT_EQUAL_INT(m.initial, back.initial);
+        /* not said: not written, and read back as not said */
+        m.initial = AENL_SIM_INITIAL_AUTO;
+        write_and_load("written_auto.ini", &m, &run, &back, &rback);
+        TEST_ASSERT_EQUAL_INT(AENL_SIM_INITIAL_AUTO, back.initial);
         if (type == 0)
         {
             TEST_ASSERT_EQUAL_MEMORY(&m.airfoil, &back.airfoil, sizeof(m.airfoil));
@@ -342,6 +348,9 @@ static void test_ini_rejects_bad_files(void)
     expect_error("missing_dt.ini", GOOD_MODEL "[run]\nduration = 10\n",
                  "missing_dt.ini:4:", "'dt'");
     expect_error("missing_run.ini", GOOD_MODEL, "missing_run.ini", "duration");
+    expect_error("bad_estimate.ini",
+                 GOOD_MODEL "[initial]\nestimate = maybe\n[run]\nduration = 10\ndt = 0.5\n",
+                 "bad_estimate.ini:5:", "true or false");
     expect_error("missing_ustar.ini",
                  "[model]\ntype = airfoil2dof\n[run]\nduration = 1\ndt = 0.5\n",
                  "missing_ustar.ini:1:", "ustar");

@@ -84,6 +84,16 @@ typedef enum aenl_diagnose_family
     AENL_DIAGNOSE_SPECTRUM = 3   /**< Welch spectrum in bands */
 } aenl_diagnose_family_t;
 
+/** The baseline's initial state fitted to the record (aenl_diagnose_initial_fit): a free
+ *  decay's release, which the test description cannot give exactly. */
+typedef struct aenl_diagnose_initial
+{
+    int estimated; /**< 1: the baseline compared, and the updated model, start from the fit */
+    size_t window; /**< samples fitted, the record's first: one dominant period */
+    double x0_sd[AENL_SIM_N_DOF], v0_sd[AENL_SIM_N_DOF]; /**< standard errors, INI units */
+    double rms; /**< the fit's residual RMS over the window, in channel stds */
+} aenl_diagnose_initial_t;
+
 /** Options (aenl_diagnose_opts_default). */
 typedef struct aenl_diagnose_opts
 {
@@ -232,7 +242,10 @@ typedef struct aenl_diagnose_result
      *  of its noise alone when excitation_shared. The gap before beyond none_ratio times it names
      *  an effect. */
     double base_floor;
-    aenl_sim_model_t updated;   /**< baseline plus the named effect */
+    aenl_sim_model_t updated; /**< baseline plus the named effect */
+    /** The baseline's initial state, when fitted to the record: its value is updated's x0, v0
+     *  (aenl_diagnose_initial_wanted). */
+    aenl_diagnose_initial_t initial;
     aenl_sim_run_t run;         /**< conditions of the comparison (no noise) */
     double snr[AENL_SIM_MAX_Q]; /**< measured std / noise std per channel (for the INI) */
     /** Signatures of the measured record, the baseline and the updated model (main seeds). */

@@ -129,10 +129,23 @@ typedef struct aenl_sim_section
     double velocity; /**< m/s > 0 */
 } aenl_sim_section_t;
 
+/** Whether `aenl diagnose` estimates a baseline's initial state from the record ([initial]
+ *  estimate). It is a property of the test description, not of the physics: `aenl simulate`
+ *  ignores it. */
+typedef enum aenl_sim_initial
+{
+    AENL_SIM_INITIAL_AUTO = 0,     /**< not given: estimated on a run without turbulence when
+                                        the state is zero (a baseline that would not move) */
+    AENL_SIM_INITIAL_ESTIMATE = 1, /**< estimate = true: estimated on a run without turbulence,
+                                        starting from the state given */
+    AENL_SIM_INITIAL_GIVEN = 2     /**< estimate = false: the state as given */
+} aenl_sim_initial_t;
+
 /** A physical model: type, parameters, restoring laws and initial state. */
 typedef struct aenl_sim_model
 {
     aenl_sim_type_t type;
+    aenl_sim_initial_t initial; /**< [initial] estimate (aenl diagnose) */
     aenl_sim_airfoil_t airfoil;         /**< used when type == AENL_SIM_AIRFOIL2DOF */
     aenl_sim_section_t section;         /**< used when type == AENL_SIM_SECTION3DOF */
     aenl_sim_law_t law[AENL_SIM_N_DOF]; /**< indexed by aenl_sim_dof_t; flap unused for 2-DOF */
@@ -318,7 +331,8 @@ double aenl_sim_law_eval(const aenl_sim_law_t *law, double x, int dir);
  *    preload[_deg] (M0), inner_stiffness (M_f); polynomial: coeffs* = c1, c2, ... (R = Σ c_k x^k).
  *    [plunge] takes no _deg keys (ξ for airfoil2dof, metres for section3dof).
  *  - [initial] airfoil2dof: alpha[_deg], xi; section3dof: h, alpha[_deg], beta[_deg]; each also
- *    as <name>_dot[_deg] (rate per model time unit). Default 0.
+ *    as <name>_dot[_deg] (rate per model time unit). Default 0. estimate = true | false
+ *    (aenl_sim_initial_t; not given: AENL_SIM_INITIAL_AUTO).
  *  - [excitation] type = none | turbulence | kicks | sweep | multisine. turbulence:
  *    intensity (std(w_g)/U, >= 0), length_scale (L: semichords or m), spectrum = first_order |
  *    dryden (first_order), seed. kicks: dof* = pitch | plunge | flap, every* (model time unit, a

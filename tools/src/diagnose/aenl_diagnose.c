@@ -134,12 +134,52 @@ typedef struct
     /* Runaway bound of every candidate simulation per channel: RUNAWAY_LIMIT times the larger
      * of the measured std and mean, from zero, or RUNAWAY_REACH times the record's largest
      * excursion from its mean where that is further (a long free decay starts many stds out:
-     * a release 20 stds out would otherwise be taken for a runaway). Runaway models can become very stiff (a diverging
-     * flutter mode driving a hardening spring) and their full runs would dominate the cost; the
-     * simulator stops them there, and their signatures are invalid (every difference capped),
-     * as are those of models that diverge. */
+     * a release 20 stds out would otherwise be taken for a runaway). Runaway models can become very
+     * stiff (a diverging flutter mode driving a hardening spring) and their full runs would
+     * dominate the cost; the simulator stops them there, and their signatures are invalid (every
+     * difference capped), as are those of models that diverge. */
     double bound[N_CH_MAX];
+    /* 1: every model simulated starts from its own initial state fitted to the record's start
+     * (own_start): a free decay released from a state nobody measured. */
+    int fit_initial;
 } ctx_t;
+
+/* m, started from its own initial state fitted to the record (x->fit_initial), into *out, with
+ * that fit's standard errors into *info (NULL: not wanted). The release is not known, so each
+ * model is compared from the release that suits it best over the record's first period: a law
+ * changes the first cycle too, and the baseline's start would leave a model with the law a
+ * misfit that is the start's, not the law's. Where the fit fails (the window cannot be simulated
+ * from m), m's own state stands. Only out-of-memory is an error. */
+static aenl_status_t own_start(const ctx_t *x, const aenl_sim_model_t *m, aenl_sim_model_t *out,
+                               aenl_diagnose_initial_t *info, aenl_err_t *err)
+{
+    *out = *m;
+    if (!x->fit_initial)
+    {
+        return AENL_OK;
+    }
+    aenl_sim_run_t run = x->run;
+    memcpy(run.bound, x->bound, sizeof(run.bound));
+    aenl_diagnose_initial_t fitted;
+    aenl_err_t e;
+    aenl_err_clear(&e);
+    const aenl_status_t st =
+        aenl_diagnose_initial_fit(m, &run, x->res->y_meas, x->n, x->res->chan, out, &fitted, &e);
+    if (st == AENL_E_DIM)
+    {
+        aenl_err_set(err, "%s", e.msg);
+        return st;
+    }
+    if (st != AENL_OK)
+    {
+        *out = *m;
+    }
+    else if (info != NULL)
+    {
+        *info = fitted;
+    }
+    return AENL_OK;
+}
 
 /* Add the measurement noise of replicate `rep` to the clean run r (in place) and take its
  * signatures; y (n_ch * n) and psd (n_ch * n_bins) may be NULL. */
@@ -179,7 +219,12 @@ static int sim_clean(ctx_t *x, const aenl_sim_model_t *m, unsigned rep_exc, aenl
     aenl_err_t e;
     aenl_err_clear(&e);
     x->n_sims++;
-    const aenl_status_t st = aenl_sim_simulate(m, &run, r, &e);
+    aenl_sim_model_t own;
+    if (own_start(x, m, &own, NULL, err) != AENL_OK)
+    {
+        return -1;
+    }
+    const aenl_status_t st = aenl_sim_simulate(&own, &run, r, &e);
     if (st == AENL_E_DIM)
     {
         aenl_err_set(err, "%s", e.msg);
@@ -1265,8 +1310,12 @@ static aenl_status_t sumfit_of(ctx_t *x, const aenl_diagnose_opts_t *opts,
     {
         noise[c] = r->chan[c].noise_sd;
     }
-    aenl_sim_model_t m = *base;
-    m.law[cd->dof] = cd->law;
+    aenl_sim_model_t with_law = *base, m;
+    with_law.law[cd->dof] = cd->law;
+    if (own_start(x, &with_law, &m, NULL, err) != AENL_OK)
+    {
+        return AENL_E_DIM;
+    }
     aenl_err_t e;
     aenl_err_clear(&e);
     out->st =
@@ -1555,6 +1604,8 @@ typedef struct
 {
     ctx_t x;
     const aenl_sim_model_t *base;
+    aenl_sim_model_t
+        base_fitted; /* the baseline from its fitted initial state (base points here) */
     const aenl_diagnose_opts_t *opts;
     spec_t sp[AENL_DIAGNOSE_MAX_CAND]; /* the candidates */
     size_t n_sp;
@@ -1612,8 +1663,8 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
         {
             reach = fmax(reach, fabs(y[i] - ch->mean));
         }
-        x->bound[c] = fabs(ch->mean) + fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)),
-                                            RUNAWAY_REACH * reach);
+        x->bound[c] = fabs(ch->mean) +
+                      fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)), RUNAWAY_REACH * reach);
     }
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -1621,6 +1672,21 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     {
         aenl_err_set(err, "baseline model: %s", e.msg);
         return AENL_E_ARG;
+    }
+    if (aenl_diagnose_initial_wanted(d->base, &x->run))
+    {
+        aenl_sim_run_t wrun = x->run;
+        memcpy(wrun.bound, x->bound, sizeof(wrun.bound));
+        st = aenl_diagnose_initial_fit(d->base, &wrun, r->y_meas, n, r->chan, &d->base_fitted,
+                                       &r->initial, err);
+        if (st != AENL_OK)
+        {
+            return st;
+        }
+        /* every model from now on is fitted from the baseline's start (own_start) */
+        d->base_fitted.initial = AENL_SIM_INITIAL_ESTIMATE;
+        d->base = &d->base_fitted;
+        x->fit_initial = 1;
     }
     st = baseline_noise(x, d->base, err);
     if (st != AENL_OK)
@@ -2005,7 +2071,15 @@ static aenl_status_t measure_updated(diag_t *d, int moved, aenl_err_t *err)
 {
     aenl_diagnose_result_t *r = d->x.res;
     const size_t n_ch = d->x.n_ch, n_sp = d->n_sp;
-    aenl_status_t st = sim_sig(&d->x, &r->updated, 0, r->sig_upd, r->y_upd, r->psd_upd, err);
+    /* the updated model (its INI, its report) starts where its own fit puts it */
+    aenl_sim_model_t upd;
+    aenl_status_t st = own_start(&d->x, &r->updated, &upd, &r->initial, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    r->updated = upd;
+    st = sim_sig(&d->x, &r->updated, 0, r->sig_upd, r->y_upd, r->psd_upd, err);
     if (st != AENL_OK)
     {
         return st;

@@ -43,4 +43,21 @@ double aenl_diagnose_rel_var(double s2, double s4, size_t n_pair, size_t n_run);
 /** Output channel names of a model type ("alpha","xi" or "h","alpha","beta"); count in *n. */
 const char *const *aenl_diagnose_channel_names(aenl_sim_type_t type, size_t *n);
 
+/** 1 when the baseline's initial state is to be fitted to the record: a run without
+ *  turbulence (its response is the initial state's alone, up to kicks) whose [initial] says
+ *  estimate = true, or says nothing and gives a zero state (a baseline that would not move). */
+int aenl_diagnose_initial_wanted(const aenl_sim_model_t *m, const aenl_sim_run_t *run);
+
+/** The initial state (positions and rates of every DOF) that brings base's response closest,
+ *  in least squares with each channel in its std, to the record y (n samples a channel, the
+ *  model's channel order, chan from aenl_diagnose_chan_setup) over its first dominant period;
+ *  Gauss-Newton with the simulator, from the state given (estimate = true) or from the first
+ *  sample at rest. out: base with the fitted state; info: its standard errors and window.
+ *  AENL_E_ARG when the window cannot be simulated or does not determine the state (message
+ *  says so); AENL_E_DIM out of memory. */
+aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl_sim_run_t *run,
+                                        const double *y, size_t n, const aenl_diagnose_chan_t *chan,
+                                        aenl_sim_model_t *out, aenl_diagnose_initial_t *info,
+                                        aenl_err_t *err);
+
 #endif /* AENL_DIAGNOSE_INTERNAL_H */

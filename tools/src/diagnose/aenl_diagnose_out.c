@@ -385,6 +385,44 @@ static void add_param_sd(cJSON *me, const aenl_diagnose_result_t *r)
     }
 }
 
+/* The DOF of channel c of the result's model (the channel order of the model's outputs). */
+static aenl_sim_dof_t channel_dof(const aenl_diagnose_result_t *r, size_t c)
+{
+    const aenl_sim_dof_t dofs[3] = {AENL_SIM_DOF_PITCH, AENL_SIM_DOF_PLUNGE, AENL_SIM_DOF_FLAP};
+    for (size_t k = 0; k < 3u; ++k)
+    {
+        if (aenl_diagnose_dof_channel(r->updated.type, dofs[k]) == c)
+        {
+            return dofs[k];
+        }
+    }
+    return AENL_SIM_DOF_PITCH;
+}
+
+/* "initial_state": the fitted initial state, its standard errors (INI units, rad for angles)
+ * and the samples fitted. */
+static void add_initial(cJSON *root, const aenl_diagnose_result_t *r)
+{
+    cJSON *o = cJSON_AddObjectToObject(root, "initial_state");
+    if (o == NULL)
+    {
+        return;
+    }
+    (void)cJSON_AddNumberToObject(o, "window", (double)r->initial.window);
+    cJSON *v = cJSON_AddObjectToObject(o, "state");
+    cJSON *sd = cJSON_AddObjectToObject(o, "sd");
+    for (size_t c = 0; v != NULL && sd != NULL && c < r->n_channels; ++c)
+    {
+        const aenl_sim_dof_t d = channel_dof(r, c);
+        char dot[32];
+        (void)snprintf(dot, sizeof(dot), "%s_dot", r->names[c]);
+        (void)cJSON_AddNumberToObject(v, r->names[c], r->updated.x0[d]);
+        (void)cJSON_AddNumberToObject(v, dot, r->updated.v0[d]);
+        (void)cJSON_AddNumberToObject(sd, r->names[c], r->initial.x0_sd[d]);
+        (void)cJSON_AddNumberToObject(sd, dot, r->initial.v0_sd[d]);
+    }
+}
+
 char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_path)
 {
     cJSON *root = cJSON_CreateObject();
@@ -425,6 +463,10 @@ char *aenl_diagnose_json(const aenl_diagnose_result_t *r, const char *updated_pa
             add_params(params, r);
         }
         add_param_sd(me, r);
+    }
+    if (r->initial.estimated)
+    {
+        add_initial(root, r);
     }
     (void)cJSON_AddNumberToObject(root, "gap_before", r->gap_before[r->n_channels]);
     (void)cJSON_AddNumberToObject(root, "gap_after", r->gap_after[r->n_channels]);
@@ -505,7 +547,26 @@ static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
     }
 }
 
-void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
+static void print_initial(const aenl_diagnose_result_t *r, FILE *fp)
+{
+    const aenl_diagnose_initial_t *in = &r->initial;
+    fprintf(fp,
+            "\ninitial state fitted to the record's first %zu samples (misfit RMS %.3g of the "
+            "channels' std), value +- standard error:",
+            in->window, in->rms);
+    for (size_t c = 0; c < r->n_channels; ++c)
+    {
+        const aenl_sim_dof_t d = channel_dof(r, c);
+        const double u = is_angular(d) ? k_deg : 1.0;
+        const char *un = is_angular(d) ? " deg" : "";
+        fprintf(fp, "\n  %-6s %.6g +- %.3g%s, rate %.6g +- %.3g%s per time unit", r->names[c],
+                r->updated.x0[d] * u, in->x0_sd[d] * u, un, r->updated.v0[d] * u, in->v0_sd[d] * u,
+                un);
+    }
+}
+
+/* The record's channels, the fitted initial state and whether the baseline diverges. */
+static void print_record(const aenl_diagnose_result_t *r, FILE *fp)
 {
     const size_t nc = r->n_channels;
     fprintf(fp, "record: %zu samples, dt %g; channels:", r->n_samples, r->dt);
@@ -516,6 +577,10 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
                 " %s (std %.4g, noise %.3g of the record's high-frequency scale %.3g, period "
                 "%.4g)",
                 r->names[c], ch->scale, ch->noise_sd, ch->noise_record, ch->period * r->dt);
+    }
+    if (r->initial.estimated)
+    {
+        print_initial(r, fp);
     }
     for (size_t c = 0; c < nc; ++c)
     {
@@ -528,6 +593,12 @@ void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
             break;
         }
     }
+}
+
+void aenl_diagnose_report(const aenl_diagnose_result_t *r, FILE *fp)
+{
+    const size_t nc = r->n_channels;
+    print_record(r, fp);
     fprintf(fp, "\n\nwhere they disagree (baseline vs measured, significance = gap / replicate "
                 "floor):\n");
     if (r->n_dis == 0u)

@@ -498,6 +498,13 @@ static aenl_status_t apply_initial(ini_ctx_t *c, const entry_t *e, aenl_sim_mode
     static const char *const names2[3] = {"alpha", "xi", NULL};
     static const char *const names3[3] = {"alpha", "h", "beta"};
     const char *const *names = (m->type == AENL_SIM_AIRFOIL2DOF) ? names2 : names3;
+    if (strcmp(e->key, "estimate") == 0)
+    {
+        int yes = 0;
+        const aenl_status_t st = parse_bool(c, e, &yes);
+        m->initial = yes ? AENL_SIM_INITIAL_ESTIMATE : AENL_SIM_INITIAL_GIVEN;
+        return st;
+    }
     int d;
     for (d = 0; d < AENL_SIM_N_DOF; ++d)
     {
@@ -521,8 +528,9 @@ static aenl_status_t apply_initial(ini_ctx_t *c, const entry_t *e, aenl_sim_mode
     }
     return unknown_key(c, e,
                        m->type == AENL_SIM_AIRFOIL2DOF
-                           ? " (airfoil2dof: alpha[_deg], xi and their _dot rates)"
-                           : " (section3dof: h, alpha[_deg], beta[_deg] and their _dot rates)");
+                           ? " (airfoil2dof: alpha[_deg], xi, their _dot rates, estimate)"
+                           : " (section3dof: h, alpha[_deg], beta[_deg], their _dot rates, "
+                             "estimate)");
 }
 
 /* [excitation] with type = kicks (its dof is already read: it decides whether _deg keys are
@@ -1115,6 +1123,15 @@ static void write_law(FILE *fp, const char *section, const aenl_sim_law_t *l)
     }
 }
 
+/* The [initial] estimate key, only when the INI said it (its absence means AUTO). */
+static void write_estimate(FILE *fp, const aenl_sim_model_t *m)
+{
+    if (m->initial != AENL_SIM_INITIAL_AUTO)
+    {
+        fprintf(fp, "estimate = %s\n", m->initial == AENL_SIM_INITIAL_ESTIMATE ? "true" : "false");
+    }
+}
+
 void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_t *run)
 {
     if (m->type == AENL_SIM_AIRFOIL2DOF)
@@ -1131,6 +1148,7 @@ void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_
         fprintf(fp, "\n[initial]\nalpha = %.17g\nxi = %.17g\nalpha_dot = %.17g\nxi_dot = %.17g\n",
                 m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH],
                 m->v0[AENL_SIM_DOF_PLUNGE]);
+        write_estimate(fp, m);
     }
     else
     {
@@ -1152,6 +1170,7 @@ void aenl_sim_write_ini(FILE *fp, const aenl_sim_model_t *m, const aenl_sim_run_
                 "alpha_dot = %.17g\nbeta_dot = %.17g\n",
                 m->x0[AENL_SIM_DOF_PLUNGE], m->x0[AENL_SIM_DOF_PITCH], m->x0[AENL_SIM_DOF_FLAP],
                 m->v0[AENL_SIM_DOF_PLUNGE], m->v0[AENL_SIM_DOF_PITCH], m->v0[AENL_SIM_DOF_FLAP]);
+        write_estimate(fp, m);
     }
     if (run->turbulence)
     {
