@@ -145,7 +145,7 @@ typedef enum aenl_sim_initial
 typedef struct aenl_sim_model
 {
     aenl_sim_type_t type;
-    aenl_sim_initial_t initial; /**< [initial] estimate (aenl diagnose) */
+    aenl_sim_initial_t initial;         /**< [initial] estimate (aenl diagnose) */
     aenl_sim_airfoil_t airfoil;         /**< used when type == AENL_SIM_AIRFOIL2DOF */
     aenl_sim_section_t section;         /**< used when type == AENL_SIM_SECTION3DOF */
     aenl_sim_law_t law[AENL_SIM_N_DOF]; /**< indexed by aenl_sim_dof_t; flap unused for 2-DOF */
