@@ -668,6 +668,50 @@ static void test_long_decay_is_not_a_runaway(void)
     aenl_table_free(&t);
 }
 
+/* A noise-free free decay of a softening spring that stiffens again (plunge, R = x - 20 x^3 +
+ * 400 x^5), released 11 of its record's stds out, against the linear baseline without a
+ * release: the release is fitted, and the quintic is named with both coefficients within 15 %.
+ * Scaled by the record's std instead of its reach, every polynomial candidate's grid is far too
+ * strong at the release (a cubic alone is named, its c3 half the truth's). */
+static void test_decay_quintic_released_far_out(void)
+{
+    aenl_err_t err;
+    aenl_err_clear(&err);
+    aenl_sim_model_t m;
+    aenl_sim_run_t run;
+    aenl_sim_model_default(&m, AENL_SIM_AIRFOIL2DOF);
+    aenl_sim_set_velocity(&m, 4.0);
+    m.airfoil.zeta_alpha = 0.01;
+    m.airfoil.zeta_xi = 0.01;
+    aenl_sim_run_default(&run, AENL_SIM_AIRFOIL2DOF);
+    run.dt = 0.5;
+    aenl_sim_model_t base = m;
+    aenl_sim_law_t *law = &m.law[AENL_SIM_DOF_PLUNGE];
+    law->kind = AENL_SIM_LAW_POLYNOMIAL;
+    law->n_coeffs = 5u;
+    law->coeffs[0] = 1.0;
+    law->coeffs[2] = -20.0;
+    law->coeffs[4] = 400.0;
+    m.x0[AENL_SIM_DOF_PLUNGE] = 0.2;
+    aenl_table_t t;
+    a2_record(&m, &run, 6000u, &t);
+    aenl_diagnose_opts_t o;
+    aenl_diagnose_opts_default(&o);
+    aenl_diagnose_result_t r;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_diagnose_run(&t, &base, &run, &o, &r, &err),
+                                  err.msg);
+    TEST_ASSERT_TRUE(r.initial.estimated);
+    TEST_ASSERT_DOUBLE_WITHIN(0.002, 0.2, r.updated.x0[AENL_SIM_DOF_PLUNGE]);
+    TEST_ASSERT_EQUAL_INT(AENL_DIAGNOSE_POLYNOMIAL, r.effect);
+    TEST_ASSERT_EQUAL_INT(AENL_SIM_DOF_PLUNGE, r.dof);
+    const aenl_sim_law_t *got = &r.updated.law[AENL_SIM_DOF_PLUNGE];
+    TEST_ASSERT_EQUAL_size_t(5u, got->n_coeffs);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 20.0, -20.0, got->coeffs[2]);
+    TEST_ASSERT_DOUBLE_WITHIN(0.15 * 400.0, 400.0, got->coeffs[4]);
+    aenl_diagnose_result_free(&r);
+    aenl_table_free(&t);
+}
+
 static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;
@@ -958,6 +1002,7 @@ int main(int argc, char **argv)
         RUN_TEST(test_null_section3dof);
         RUN_TEST(test_hidden_softening_quintic);
         RUN_TEST(test_bound_tells_ridge_from_determined);
+        RUN_TEST(test_decay_quintic_released_far_out);
         RUN_TEST(test_summary_test_size_and_power);
     }
     return UNITY_END();

@@ -89,7 +89,7 @@ typedef enum aenl_diagnose_family
 typedef struct aenl_diagnose_initial
 {
     int estimated; /**< 1: the baseline compared, and the updated model, start from the fit */
-    size_t window; /**< samples fitted, the record's first: one dominant period */
+    size_t window; /**< samples fitted, the record's first: one period of the fastest mode */
     double x0_sd[AENL_SIM_N_DOF], v0_sd[AENL_SIM_N_DOF]; /**< standard errors, INI units */
     double rms; /**< the fit's residual RMS over the window, in channel stds */
 } aenl_diagnose_initial_t;

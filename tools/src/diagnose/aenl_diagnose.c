@@ -30,6 +30,11 @@
  * freedom where the runs do not differ (nominal_rv). */
 #define NOMINAL_NOISE 1e-3
 
+/* The largest excursion, in stds, that a stationary Gaussian record of up to some 10^4 samples
+ * rarely exceeds (probability about 10^-5 a sample): a record reaching further is not
+ * stationary, and its amplitude is its reach (motion_scale). */
+#define STATIONARY_REACH 4.5
+
 /* Runaway bound of every candidate simulation, in measured stds and in multiples of the
  * record's largest excursion, whichever is further (see ctx_t.bound). */
 #define RUNAWAY_LIMIT 20.0
@@ -144,6 +149,16 @@ typedef struct
     int fit_initial;
 } ctx_t;
 
+/* The record's conditions with the runaway bounds: every simulation stops where a model runs
+ * away (see ctx_t.bound), those of the summaries too, which would otherwise integrate a
+ * softening spring's runaway to the record's end. */
+static aenl_sim_run_t bounded_run(const ctx_t *x)
+{
+    aenl_sim_run_t run = x->run;
+    memcpy(run.bound, x->bound, sizeof(run.bound));
+    return run;
+}
+
 /* m, started from its own initial state fitted to the record (x->fit_initial), into *out, with
  * that fit's standard errors into *info (NULL: not wanted). The release is not known, so each
  * model is compared from the release that suits it best over the record's first period: a law
@@ -158,8 +173,7 @@ static aenl_status_t own_start(const ctx_t *x, const aenl_sim_model_t *m, aenl_s
     {
         return AENL_OK;
     }
-    aenl_sim_run_t run = x->run;
-    memcpy(run.bound, x->bound, sizeof(run.bound));
+    const aenl_sim_run_t run = bounded_run(x);
     aenl_diagnose_initial_t fitted;
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -213,9 +227,8 @@ static aenl_status_t noisy_sig(ctx_t *x, aenl_sim_result_t *r, unsigned rep,
 static int sim_clean(ctx_t *x, const aenl_sim_model_t *m, unsigned rep_exc, aenl_sim_result_t *r,
                      aenl_err_t *err)
 {
-    aenl_sim_run_t run = x->run;
+    aenl_sim_run_t run = bounded_run(x);
     run.turb_seed = x->run.turb_seed + (uint64_t)rep_exc * TURB_SEED_STEP;
-    memcpy(run.bound, x->bound, sizeof(run.bound));
     aenl_err_t e;
     aenl_err_clear(&e);
     x->n_sims++;
@@ -1318,8 +1331,9 @@ static aenl_status_t sumfit_of(ctx_t *x, const aenl_diagnose_opts_t *opts,
     }
     aenl_err_t e;
     aenl_err_clear(&e);
+    const aenl_sim_run_t run = bounded_run(x);
     out->st =
-        aenl_diagnose_fit_summaries(&m, &x->run, cd->effect, cd->dof, noise, r->y_meas, x->n,
+        aenl_diagnose_fit_summaries(&m, &run, cd->effect, cd->dof, noise, r->y_meas, x->n,
                                     opts->summary_records, opts->summary_records / 4u, &out->f, &e);
     if (out->st == AENL_E_DIM)
     {
@@ -1527,7 +1541,8 @@ static aenl_status_t test_baseline(ctx_t *x, const aenl_sim_model_t *base,
     }
     aenl_err_t e;
     aenl_err_clear(&e);
-    const aenl_status_t st = aenl_diagnose_summary_test(base, &x->run, noise, r->y_meas, x->n,
+    const aenl_sim_run_t run = bounded_run(x);
+    const aenl_status_t st = aenl_diagnose_summary_test(base, &run, noise, r->y_meas, x->n,
                                                         opts->summary_records, &r->base_test, &e);
     if (st == AENL_E_DIM)
     {
@@ -1573,8 +1588,7 @@ static double d3_mean_square(const double *y, size_t n)
  * record's scale. */
 static aenl_status_t baseline_noise(ctx_t *x, const aenl_sim_model_t *base, aenl_err_t *err)
 {
-    aenl_sim_run_t run = x->run;
-    memcpy(run.bound, x->bound, sizeof(run.bound));
+    const aenl_sim_run_t run = bounded_run(x);
     aenl_sim_result_t r;
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -1675,8 +1689,7 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     }
     if (aenl_diagnose_initial_wanted(d->base, &x->run))
     {
-        aenl_sim_run_t wrun = x->run;
-        memcpy(wrun.bound, x->bound, sizeof(wrun.bound));
+        const aenl_sim_run_t wrun = bounded_run(x);
         st = aenl_diagnose_initial_fit(d->base, &wrun, r->y_meas, n, r->chan, &d->base_fitted,
                                        &r->initial, err);
         if (st != AENL_OK)
@@ -1782,6 +1795,24 @@ static aenl_status_t measure_baseline(diag_t *d, const char *const *names, size_
 }
 
 /* The candidates: every effect on every DOF whose baseline law is linear. */
+/* The amplitude the candidates' parameters are scaled by (a gap width, a cubic's strength),
+ * channel c: the response's std beyond the noise. But a free decay's std is mostly its quiet
+ * tail, while a law acts most where the motion is largest: where the record reaches further
+ * than STATIONARY_REACH of its stds, which a stationary Gaussian record of up to some 10^4
+ * samples rarely does, the scale grows by the excess. A softening cubic scaled by the std of
+ * a decay released 28 stds out has lost all its stiffness at the release and runs away. */
+static double motion_scale(const aenl_diagnose_result_t *r, size_t c)
+{
+    const aenl_diagnose_chan_t *ch = &r->chan[c];
+    const double *y = r->y_meas + c * r->n_samples;
+    double reach = 0.0;
+    for (size_t i = 0; i < r->n_samples; ++i)
+    {
+        reach = fmax(reach, fabs(y[i] - ch->mean));
+    }
+    return signal_std(ch) * fmax(1.0, reach / (STATIONARY_REACH * ch->scale));
+}
+
 static void make_specs(diag_t *d)
 {
     const aenl_sim_model_t *base = d->base;
@@ -1806,7 +1837,7 @@ static void make_specs(diag_t *d)
             s->effect = effects[k];
             s->dof = (aenl_sim_dof_t)dof;
             s->n_par = n_par[k];
-            s->s = signal_std(&r->chan[c]);
+            s->s = motion_scale(r, c);
             s->m = r->chan[c].mean;
             s->p0 = r->sig_base[c].valid
                         ? -(r->sig_meas[c].quant[4] - r->sig_base[c].quant[4]) / s->s

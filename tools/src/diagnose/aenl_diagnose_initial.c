@@ -229,9 +229,9 @@ static aenl_status_t gauss_newton(const fit_t *f, double *p, const double *h, do
     return st;
 }
 
-/* The period of the model's slowest oscillatory mode at its velocity, in samples of step dt;
- * where the model has none, the longest dominant period of the record's channels. */
-static double slowest_period(const aenl_sim_model_t *m, double dt, const aenl_diagnose_chan_t *chan,
+/* The period of the model's fastest oscillatory mode at its velocity, in samples of step dt;
+ * where the model has none, the shortest dominant period of the record's channels. */
+static double fastest_period(const aenl_sim_model_t *m, double dt, const aenl_diagnose_chan_t *chan,
                              size_t n_ch)
 {
     aenl_sim_mode_t modes[16];
@@ -239,16 +239,16 @@ static double slowest_period(const aenl_sim_model_t *m, double dt, const aenl_di
     aenl_err_t e;
     aenl_err_clear(&e);
     if (aenl_sim_modes(m, aenl_sim_velocity(m), NULL, modes, 16u, &n_modes, &e) == AENL_OK &&
-        n_modes > 0u && modes[0].im > 0.0)
+        n_modes > 0u && modes[n_modes - 1u].im > 0.0)
     {
-        return TWO_PI / (modes[0].im * dt);
+        return TWO_PI / (modes[n_modes - 1u].im * dt);
     }
-    double p = 4.0;
+    double p = HUGE_VAL;
     for (size_t c = 0; c < n_ch; ++c)
     {
-        p = isfinite(chan[c].period) ? fmax(p, chan[c].period) : p;
+        p = isfinite(chan[c].period) ? fmin(p, chan[c].period) : p;
     }
-    return p;
+    return isfinite(p) ? fmax(p, 4.0) : 4.0;
 }
 
 aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl_sim_run_t *run,
@@ -279,10 +279,12 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
     f.scale = scale;
     const aenl_sim_dof_t dofs[3] = {AENL_SIM_DOF_PITCH, AENL_SIM_DOF_PLUNGE, AENL_SIM_DOF_FLAP};
     const size_t n_p = 2u * f.n_dof;
-    /* One period of the model's slowest oscillatory mode: every mode's phase is seen over it,
-     * and a law the model lacks has had the least time to move the response away from the
-     * model's. At least enough samples for the unknowns many times over. */
-    const double period = slowest_period(base, run->dt, chan, n_ch);
+    /* One period of the model's fastest oscillatory mode: the positions are measured, and the
+     * rates of every mode show over it; a law the model lacks has had the least time to move
+     * the response away from the model's (over a slow mode's period a fast mode's phase drifts
+     * by whatever its frequency error is, times the ratio of the two). At least enough
+     * samples for the unknowns many times over. */
+    const double period = fastest_period(base, run->dt, chan, n_ch);
     size_t w = (size_t)ceil(period) + 1u;
     w = w < 8u * n_p ? 8u * n_p : w;
     f.w = w < n ? w : n;
