@@ -247,6 +247,14 @@ static void test_json_fit_and_diagnose(void)
     const char *dd[] = {"diagnose", "--measured",  decay, "--model",    "j_decay_base.ini",
                         "--json",   "--max-evals", "20",  "--no-plots", NULL};
     cJSON_Delete(check_output("diagnose", dd, "\"initial_state\""));
+    /* a baseline that runs away at once cannot be fitted: the first sample at rest, no errors */
+    (void)cli_file("j_decay_soft.ini", "[model]\ntype = airfoil2dof\nustar = 4\n[pitch]\n"
+                                       "law = polynomial\ncoeffs = 1, 0, -100000\n[run]\n"
+                                       "duration = 1499.5\ndt = 0.5\n");
+    const char *ds[] = {"diagnose", "--measured",  decay, "--model",    "j_decay_soft.ini",
+                        "--json",   "--max-evals", "20",  "--no-plots", "--summary-records",
+                        "0",        NULL};
+    cJSON_Delete(check_output("diagnose", ds, "\"window\":0"));
 }
 
 /* The check fails where it should: each mutation of a valid document, and an unknown keyword. */

@@ -614,11 +614,6 @@ static void hear(void *ctx, size_t done, size_t total)
     h->total = total;
 }
 
-/* A noise-free free decay against the model that made it: every run of the baseline is alike
- * (no turbulence, no noise), so its floor is 0; the summaries have nothing random to rank and
- * their test does not run; the baseline reproduces the record exactly and agrees all the same
- * (else identify --model would fall back to the record's own verdict). The progress receiver
- * hears every stage of the search, the last one the whole. */
 /* A long free decay whose release is many of its record's stds out (here more than 20, where
  * the runaway bound once sat, and a release that far was taken for a divergence: gap at the
  * cap 10): against the model that made it, every run stays bounded and the baseline
@@ -712,6 +707,11 @@ static void test_decay_quintic_released_far_out(void)
     aenl_table_free(&t);
 }
 
+/* A noise-free free decay against the model that made it: every run of the baseline is alike
+ * (no turbulence, no noise), so its floor is 0; the summaries have nothing random to rank and
+ * their test does not run; the baseline reproduces the record exactly and agrees all the same
+ * (else identify --model would fall back to the record's own verdict). The progress receiver
+ * hears every stage of the search, the last one the whole. */
 static void test_exact_baseline_agrees(void)
 {
     aenl_err_t err;

@@ -104,11 +104,12 @@ static void test_initial_wanted(void)
     TEST_ASSERT_FALSE(aenl_diagnose_initial_wanted(&m, &run));
 }
 
-/* A release from a known state (pitch, plunge and both rates nonzero), white noise of 10 % of
- * each channel's std, 40 noise draws: the estimates' mean is within 3 of its standard errors
- * of the truth, and the reported standard error matches the estimates' spread over the draws
- * within the spread's own sampling error (40 draws: about 11 %; allowed 0.65 to 1.5). */
-static void test_fit_unbiased_and_sd_calibrated(void)
+/* A release from a known state (pitch, plunge and both rates nonzero), white noise of the
+ * fractions f_alpha and f_xi of each channel's std, 40 noise draws: the estimates' mean is
+ * within 3 of its standard errors of the truth, and the reported standard error matches the
+ * estimates' spread over the draws within the spread's own sampling error (40 draws: about
+ * 11 %; allowed 0.65 to 1.5). */
+static void check_calibrated(double f_alpha, double f_xi)
 {
     const size_t n = 3000u;
     const unsigned draws = 40u;
@@ -125,7 +126,7 @@ static void test_fit_unbiased_and_sd_calibrated(void)
     TEST_ASSERT_NOT_NULL(clean);
     TEST_ASSERT_NOT_NULL(y);
     clean_response(&truth, &run, n, clean);
-    const double sd_noise[2] = {0.1 * std_of(clean, n), 0.1 * std_of(clean + n, n)};
+    const double sd_noise[2] = {f_alpha * std_of(clean, n), f_xi * std_of(clean + n, n)};
     const double want[4] = {truth.x0[AENL_SIM_DOF_PITCH], truth.x0[AENL_SIM_DOF_PLUNGE],
                             truth.v0[AENL_SIM_DOF_PITCH], truth.v0[AENL_SIM_DOF_PLUNGE]};
     double s1[4] = {0}, s2[4] = {0}, sd_sum[4] = {0};
@@ -157,13 +158,23 @@ static void test_fit_unbiased_and_sd_calibrated(void)
         const double spread = sqrt((s2[j] - draws * mean * mean) / (draws - 1u));
         const double reported = sd_sum[j] / draws;
         char msg[160];
-        (void)snprintf(msg, sizeof(msg), "parameter %zu: bias %g, spread %g, reported sd %g", j,
-                       mean, spread, reported);
+        (void)snprintf(msg, sizeof(msg),
+                       "noise %g/%g, parameter %zu: bias %g, spread %g, reported sd %g", f_alpha,
+                       f_xi, j, mean, spread, reported);
         TEST_ASSERT_TRUE_MESSAGE(fabs(mean) < 3.0 * spread / sqrt((double)draws), msg);
         TEST_ASSERT_TRUE_MESSAGE(reported > 0.65 * spread && reported < 1.5 * spread, msg);
     }
     free(clean);
     free(y);
+}
+
+/* Equal noise on both channels, and noise 25 times larger on one than on the other (one
+ * pooled residual variance would put the quiet channel's errors 4 times too high and the loud
+ * one's too low). */
+static void test_fit_unbiased_and_sd_calibrated(void)
+{
+    check_calibrated(0.1, 0.1);
+    check_calibrated(0.01, 0.25);
 }
 
 /* The true model with a pitch freeplay as the baseline, a noise-free record, and the fit started

@@ -89,7 +89,9 @@ typedef enum aenl_diagnose_family
 typedef struct aenl_diagnose_initial
 {
     int estimated; /**< 1: the baseline compared, and the updated model, start from the fit */
-    size_t window; /**< samples fitted, the record's first: one period of the fastest mode */
+    size_t window; /**< samples fitted, the record's first: one period of the fastest mode; 0:
+                        the baseline could not be fitted (it runs away there) and every model
+                        starts from the record's first sample at rest, without errors */
     double x0_sd[AENL_SIM_N_DOF], v0_sd[AENL_SIM_N_DOF]; /**< standard errors, INI units */
     double rms; /**< the fit's residual RMS over the window, in channel stds */
 } aenl_diagnose_initial_t;
@@ -243,8 +245,8 @@ typedef struct aenl_diagnose_result
      *  an effect. */
     double base_floor;
     aenl_sim_model_t updated; /**< baseline plus the named effect */
-    /** The baseline's initial state, when fitted to the record: its value is updated's x0, v0
-     *  (aenl_diagnose_initial_wanted). */
+    /** The updated model's initial state, when fitted to the record (every model compared is
+     *  fitted alike, aenl_diagnose_initial_wanted): its value is updated's x0, v0. */
     aenl_diagnose_initial_t initial;
     aenl_sim_run_t run;         /**< conditions of the comparison (no noise) */
     double snr[AENL_SIM_MAX_Q]; /**< measured std / noise std per channel (for the INI) */

@@ -134,8 +134,9 @@ typedef struct aenl_sim_section
  *  ignores it. */
 typedef enum aenl_sim_initial
 {
-    AENL_SIM_INITIAL_AUTO = 0,     /**< not given: estimated on a run without turbulence when
-                                        the state is zero (a baseline that would not move) */
+    AENL_SIM_INITIAL_AUTO = 0,     /**< not given: estimated on a run without turbulence or
+                                        kicks when the state is zero (a baseline that would
+                                        not move) */
     AENL_SIM_INITIAL_ESTIMATE = 1, /**< estimate = true: estimated on a run without turbulence,
                                         starting from the state given */
     AENL_SIM_INITIAL_GIVEN = 2     /**< estimate = false: the state as given */

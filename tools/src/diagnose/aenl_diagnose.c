@@ -30,10 +30,11 @@
  * freedom where the runs do not differ (nominal_rv). */
 #define NOMINAL_NOISE 1e-3
 
-/* The largest excursion, in stds, that a stationary Gaussian record of up to some 10^4 samples
- * rarely exceeds (probability about 10^-5 a sample): a record reaching further is not
- * stationary, and its amplitude is its reach (motion_scale). */
-#define STATIONARY_REACH 4.5
+/* The level at which the largest excursion of a record of n samples tells it is not a
+ * stationary Gaussian record (motion_scale): such a record passes t stds anywhere with
+ * probability at most 2 n exp(-t^2 / 2) (the union of its samples' tails), STATIONARY_LEVEL at
+ * t = sqrt(2 ln(2 n / STATIONARY_LEVEL)): 5.3 stds at 6 000 samples, 5.8 at 10^5. */
+#define STATIONARY_LEVEL 0.01
 
 /* Runaway bound of every candidate simulation, in measured stds and in multiples of the
  * record's largest excursion, whichever is further (see ctx_t.bound). */
@@ -1647,6 +1648,24 @@ static aenl_status_t check_unforced(const aenl_sim_run_t *run, aenl_err_t *err)
     return AENL_E_ARG;
 }
 
+/* base started from the record's first sample at rest, into *out, for a baseline that cannot
+ * be fitted to the record's first samples (it runs away there: above its flutter speed, a
+ * softening law). r->initial says so: window 0, no standard errors. */
+static void first_sample_start(const aenl_sim_model_t *base, aenl_diagnose_result_t *r,
+                               aenl_sim_model_t *out)
+{
+    const aenl_sim_dof_t dofs[3] = {AENL_SIM_DOF_PITCH, AENL_SIM_DOF_PLUNGE, AENL_SIM_DOF_FLAP};
+    *out = *base;
+    memset(&r->initial, 0, sizeof(r->initial));
+    r->initial.estimated = 1;
+    for (size_t k = 0; k < r->n_channels && k < 3u; ++k)
+    {
+        const size_t c = aenl_diagnose_dof_channel(base->type, dofs[k]);
+        out->x0[dofs[k]] = r->y_meas[c * r->n_samples];
+        out->v0[dofs[k]] = 0.0;
+    }
+}
+
 /* Take the record and set up the simulations under its conditions (d->x): its length, no
  * noise of the simulator's own, the runaway bounds, the baseline's noise (baseline_noise). */
 static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const aenl_sim_run_t *run,
@@ -1690,11 +1709,18 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     if (aenl_diagnose_initial_wanted(d->base, &x->run))
     {
         const aenl_sim_run_t wrun = bounded_run(x);
+        aenl_err_t fe;
+        aenl_err_clear(&fe);
         st = aenl_diagnose_initial_fit(d->base, &wrun, r->y_meas, n, r->chan, &d->base_fitted,
-                                       &r->initial, err);
+                                       &r->initial, &fe);
+        if (st == AENL_E_DIM)
+        {
+            aenl_err_set(err, "%s", fe.msg);
+            return st;
+        }
         if (st != AENL_OK)
         {
-            return st;
+            first_sample_start(d->base, r, &d->base_fitted);
         }
         /* every model from now on is fitted from the baseline's start (own_start) */
         d->base_fitted.initial = AENL_SIM_INITIAL_ESTIMATE;
@@ -1794,13 +1820,12 @@ static aenl_status_t measure_baseline(diag_t *d, const char *const *names, size_
     return AENL_OK;
 }
 
-/* The candidates: every effect on every DOF whose baseline law is linear. */
 /* The amplitude the candidates' parameters are scaled by (a gap width, a cubic's strength),
  * channel c: the response's std beyond the noise. But a free decay's std is mostly its quiet
  * tail, while a law acts most where the motion is largest: where the record reaches further
- * than STATIONARY_REACH of its stds, which a stationary Gaussian record of up to some 10^4
- * samples rarely does, the scale grows by the excess. A softening cubic scaled by the std of
- * a decay released 28 stds out has lost all its stiffness at the release and runs away. */
+ * than a stationary Gaussian record of its length would (STATIONARY_LEVEL), the scale grows by
+ * the excess. A softening cubic scaled by the std of a decay released 28 stds out has lost
+ * all its stiffness at the release and runs away. */
 static double motion_scale(const aenl_diagnose_result_t *r, size_t c)
 {
     const aenl_diagnose_chan_t *ch = &r->chan[c];
@@ -1810,9 +1835,11 @@ static double motion_scale(const aenl_diagnose_result_t *r, size_t c)
     {
         reach = fmax(reach, fabs(y[i] - ch->mean));
     }
-    return signal_std(ch) * fmax(1.0, reach / (STATIONARY_REACH * ch->scale));
+    const double t = sqrt(2.0 * log(2.0 * (double)r->n_samples / STATIONARY_LEVEL));
+    return signal_std(ch) * fmax(1.0, reach / (t * ch->scale));
 }
 
+/* The candidates: every effect on every DOF whose baseline law is linear. */
 static void make_specs(diag_t *d)
 {
     const aenl_sim_model_t *base = d->base;

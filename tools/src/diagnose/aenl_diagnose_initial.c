@@ -34,6 +34,10 @@ int aenl_diagnose_initial_wanted(const aenl_sim_model_t *m, const aenl_sim_run_t
     {
         return 1;
     }
+    if (run->kicks)
+    {
+        return 0; /* a kick train moves a baseline from rest: a zero start is a start */
+    }
     for (size_t d = 0; d < AENL_SIM_N_DOF; ++d)
     {
         if (fabs(m->x0[d]) > 0.0 || fabs(m->v0[d]) > 0.0)
@@ -312,6 +316,21 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
     }
     double jtj[N_PAR_MAX * N_PAR_MAX], rss = HUGE_VAL;
     aenl_status_t st = gauss_newton(&f, p, h, &rss, jtj, buf, err);
+    const double rms = sqrt(rss / (double)n_res); /* in the channels' stds */
+    if (st == AENL_OK)
+    {
+        /* Each channel's residuals have their own spread (its noise, the model's misfit there):
+         * weighted by it, the fit is the efficient one and the usual standard errors hold;
+         * with one pooled variance they would be right only for channels of equal spread. The
+         * second fit starts at the first and reweights once (feasible generalised least
+         * squares). The residuals of the first fit are in buf. */
+        for (size_t c = 0; c < n_ch; ++c)
+        {
+            const double r2 = sum_sq(buf + c * f.w, f.w) / (double)f.w;
+            scale[c] *= fmax(sqrt(r2), 1e-12);
+        }
+        st = gauss_newton(&f, p, h, &rss, jtj, buf, err);
+    }
     free(buf);
     if (st == AENL_E_DIM)
     {
@@ -327,13 +346,13 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
                      f.w);
         return AENL_E_ARG;
     }
-    /* Standard errors: the misfit's variance per residual times the inverse normal matrix (the
-     * residuals are in channel stds, the parameters in the INI's units). */
+    /* Standard errors: the weighted misfit's variance per residual (about 1) times the inverse
+     * normal matrix, the parameters in the INI's units. */
     const double s2 = rss / (double)(n_res > n_p ? n_res - n_p : 1u);
     set_state(&f, p, out);
     info->estimated = 1;
     info->window = f.w;
-    info->rms = sqrt(rss / (double)n_res);
+    info->rms = rms;
     for (size_t k = 0; k < f.n_dof; ++k)
     {
         const double vx = inv[k * n_p + k] * s2, vv = inv[(f.n_dof + k) * n_p + f.n_dof + k] * s2;

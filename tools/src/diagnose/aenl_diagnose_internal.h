@@ -45,7 +45,8 @@ const char *const *aenl_diagnose_channel_names(aenl_sim_type_t type, size_t *n);
 
 /** 1 when the baseline's initial state is to be fitted to the record: a run without
  *  turbulence (its response is the initial state's alone, up to kicks) whose [initial] says
- *  estimate = true, or says nothing and gives a zero state (a baseline that would not move). */
+ *  estimate = true, or, without kicks, says nothing and gives a zero state (a baseline that
+ *  would not move). */
 int aenl_diagnose_initial_wanted(const aenl_sim_model_t *m, const aenl_sim_run_t *run);
 
 /** The initial state (positions and rates of every DOF) that brings base's response closest,

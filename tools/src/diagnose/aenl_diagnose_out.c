@@ -418,8 +418,16 @@ static void add_initial(cJSON *root, const aenl_diagnose_result_t *r)
         (void)snprintf(dot, sizeof(dot), "%s_dot", r->names[c]);
         (void)cJSON_AddNumberToObject(v, r->names[c], r->updated.x0[d]);
         (void)cJSON_AddNumberToObject(v, dot, r->updated.v0[d]);
-        (void)cJSON_AddNumberToObject(sd, r->names[c], r->initial.x0_sd[d]);
-        (void)cJSON_AddNumberToObject(sd, dot, r->initial.v0_sd[d]);
+        if (r->initial.window > 0u)
+        {
+            (void)cJSON_AddNumberToObject(sd, r->names[c], r->initial.x0_sd[d]);
+            (void)cJSON_AddNumberToObject(sd, dot, r->initial.v0_sd[d]);
+        }
+        else /* not fitted: the record's first sample at rest */
+        {
+            (void)cJSON_AddNullToObject(sd, r->names[c]);
+            (void)cJSON_AddNullToObject(sd, dot);
+        }
     }
 }
 
@@ -550,6 +558,12 @@ static void print_param_sd(FILE *fp, const aenl_diagnose_result_t *r)
 static void print_initial(const aenl_diagnose_result_t *r, FILE *fp)
 {
     const aenl_diagnose_initial_t *in = &r->initial;
+    if (in->window == 0u)
+    {
+        fprintf(fp, "\ninitial state: the record's first sample at rest (the baseline cannot be "
+                    "fitted to the record's first samples: it runs away there)");
+        return;
+    }
     fprintf(fp,
             "\ninitial state fitted to the record's first %zu samples (misfit RMS %.3g of the "
             "channels' std), value +- standard error:",
