@@ -54,7 +54,7 @@ typedef struct
     aenl_sim_run_t run; /* the window's run: no noise */
     const double *y;    /* the record, [channel][sample], n samples a channel */
     size_t n, w, n_ch;
-    const double *scale; /* per channel */
+    double *scale; /* per channel: the residuals' divisors */
     aenl_sim_dof_t dof[AENL_SIM_N_DOF];
     size_t n_dof;
 } fit_t;
@@ -327,7 +327,7 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
         for (size_t c = 0; c < n_ch; ++c)
         {
             const double r2 = sum_sq(buf + c * f.w, f.w) / (double)f.w;
-            scale[c] *= fmax(sqrt(r2), 1e-12);
+            f.scale[c] *= fmax(sqrt(r2), 1e-12);
         }
         st = gauss_newton(&f, p, h, &rss, jtj, buf, err);
     }
