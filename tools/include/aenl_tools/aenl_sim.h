@@ -231,6 +231,11 @@ typedef struct aenl_sim_run
      *  every step costs more (aenl diagnose bounds its candidates at 20 of the record's stds,
      *  or twice its largest excursion where that is further). */
     double bound[AENL_SIM_MAX_Q];
+    /** Budget of accepted integration steps, per output sample, >= 0: the simulation stops
+     *  with AENL_E_NUMERIC once it has taken more than this times n_samples. 0: none (default).
+     *  A model that settles where it is very stiff (a softening spring's second equilibrium)
+     *  can otherwise take millions of tiny steps; aenl diagnose treats it as a runaway. */
+    double max_steps_per_sample;
 } aenl_sim_run_t;
 
 /** Integrator counters (aenl_sim_simulate). */

@@ -40,6 +40,10 @@
  * record's largest excursion, whichever is further (see ctx_t.bound). */
 #define RUNAWAY_LIMIT 20.0
 #define RUNAWAY_REACH 2.0
+/* ... and in integration steps per output sample: a model that needs more is too stiff to
+ * compare (a perturbed softening spring settled at a second equilibrium once took 33 million
+ * steps, 1650 a sample, for one record of the summary fit), and costs as much as a runaway. */
+#define RUNAWAY_STEPS 200.0
 
 void aenl_diagnose_opts_default(aenl_diagnose_opts_t *o)
 {
@@ -145,18 +149,20 @@ typedef struct
      * dominate the cost; the simulator stops them there, and their signatures are invalid (every
      * difference capped), as are those of models that diverge. */
     double bound[N_CH_MAX];
+    double reach[N_CH_MAX]; /* the record's largest excursion from its mean, per channel */
     /* 1: every model simulated starts from its own initial state fitted to the record's start
      * (own_start): a free decay released from a state nobody measured. */
     int fit_initial;
 } ctx_t;
 
 /* The record's conditions with the runaway bounds: every simulation stops where a model runs
- * away (see ctx_t.bound), those of the summaries too, which would otherwise integrate a
- * softening spring's runaway to the record's end. */
+ * away (see ctx_t.bound) or grows too stiff (RUNAWAY_STEPS), those of the summaries too, which
+ * would otherwise integrate a softening spring's runaway to the record's end. */
 static aenl_sim_run_t bounded_run(const ctx_t *x)
 {
     aenl_sim_run_t run = x->run;
     memcpy(run.bound, x->bound, sizeof(run.bound));
+    run.max_steps_per_sample = RUNAWAY_STEPS;
     return run;
 }
 
@@ -1648,24 +1654,6 @@ static aenl_status_t check_unforced(const aenl_sim_run_t *run, aenl_err_t *err)
     return AENL_E_ARG;
 }
 
-/* base started from the record's first sample at rest, into *out, for a baseline that cannot
- * be fitted to the record's first samples (it runs away there: above its flutter speed, a
- * softening law). r->initial says so: window 0, no standard errors. */
-static void first_sample_start(const aenl_sim_model_t *base, aenl_diagnose_result_t *r,
-                               aenl_sim_model_t *out)
-{
-    const aenl_sim_dof_t dofs[3] = {AENL_SIM_DOF_PITCH, AENL_SIM_DOF_PLUNGE, AENL_SIM_DOF_FLAP};
-    *out = *base;
-    memset(&r->initial, 0, sizeof(r->initial));
-    r->initial.estimated = 1;
-    for (size_t k = 0; k < r->n_channels && k < 3u; ++k)
-    {
-        const size_t c = aenl_diagnose_dof_channel(base->type, dofs[k]);
-        out->x0[dofs[k]] = r->y_meas[c * r->n_samples];
-        out->v0[dofs[k]] = 0.0;
-    }
-}
-
 /* Take the record and set up the simulations under its conditions (d->x): its length, no
  * noise of the simulator's own, the runaway bounds, the baseline's noise (baseline_noise). */
 static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const aenl_sim_run_t *run,
@@ -1691,13 +1679,13 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
         const double *y = r->y_meas + c * n;
-        double reach = 0.0; /* the record's largest excursion from its mean */
+        x->reach[c] = 0.0;
         for (size_t i = 0; i < n; ++i)
         {
-            reach = fmax(reach, fabs(y[i] - ch->mean));
+            x->reach[c] = fmax(x->reach[c], fabs(y[i] - ch->mean));
         }
-        x->bound[c] = fabs(ch->mean) +
-                      fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)), RUNAWAY_REACH * reach);
+        x->bound[c] = fabs(ch->mean) + fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)),
+                                            RUNAWAY_REACH * x->reach[c]);
     }
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -1718,10 +1706,9 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
             aenl_err_set(err, "%s", fe.msg);
             return st;
         }
-        if (st != AENL_OK)
-        {
-            first_sample_start(d->base, r, &d->base_fitted);
-        }
+        /* a baseline that runs away within the window cannot be fitted (above its flutter
+         * speed, a softening law): it starts from the record's first sample at rest, and
+         * r->initial says so (window 0) */
         /* every model from now on is fitted from the baseline's start (own_start) */
         d->base_fitted.initial = AENL_SIM_INITIAL_ESTIMATE;
         d->base = &d->base_fitted;
@@ -1826,17 +1813,11 @@ static aenl_status_t measure_baseline(diag_t *d, const char *const *names, size_
  * than a stationary Gaussian record of its length would (STATIONARY_LEVEL), the scale grows by
  * the excess. A softening cubic scaled by the std of a decay released 28 stds out has lost
  * all its stiffness at the release and runs away. */
-static double motion_scale(const aenl_diagnose_result_t *r, size_t c)
+static double motion_scale(const ctx_t *x, size_t c)
 {
-    const aenl_diagnose_chan_t *ch = &r->chan[c];
-    const double *y = r->y_meas + c * r->n_samples;
-    double reach = 0.0;
-    for (size_t i = 0; i < r->n_samples; ++i)
-    {
-        reach = fmax(reach, fabs(y[i] - ch->mean));
-    }
-    const double t = sqrt(2.0 * log(2.0 * (double)r->n_samples / STATIONARY_LEVEL));
-    return signal_std(ch) * fmax(1.0, reach / (t * ch->scale));
+    const aenl_diagnose_chan_t *ch = &x->res->chan[c];
+    const double t = sqrt(2.0 * log(2.0 * (double)x->n / STATIONARY_LEVEL));
+    return signal_std(ch) * fmax(1.0, x->reach[c] / (t * ch->scale));
 }
 
 /* The candidates: every effect on every DOF whose baseline law is linear. */
@@ -1864,7 +1845,7 @@ static void make_specs(diag_t *d)
             s->effect = effects[k];
             s->dof = (aenl_sim_dof_t)dof;
             s->n_par = n_par[k];
-            s->s = motion_scale(r, c);
+            s->s = motion_scale(&d->x, c);
             s->m = r->chan[c].mean;
             s->p0 = r->sig_base[c].valid
                         ? -(r->sig_meas[c].quant[4] - r->sig_base[c].quant[4]) / s->s

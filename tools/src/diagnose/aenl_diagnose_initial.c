@@ -164,7 +164,9 @@ static void normal_eq(const double *jac, const double *res, size_t n_res, size_t
 }
 
 /* Gauss-Newton from p; on return p is the fit, *rss its misfit and jtj the normal matrix at it.
- * Steps that do not lower the misfit are halved; the fit stops when none does. */
+ * A step whose promised reduction of the misfit is negligible is not taken (the fit has
+ * converged: a model started at its own fit costs one Jacobian); steps that do not lower the
+ * misfit are halved, and the fit stops when none does. */
 static aenl_status_t gauss_newton(const fit_t *f, double *p, const double *h, double *rss,
                                   double *jtj, double *buf, aenl_err_t *err)
 {
@@ -176,28 +178,42 @@ static aenl_status_t gauss_newton(const fit_t *f, double *p, const double *h, do
         return st;
     }
     *rss = sum_sq(res, n_res);
-    for (unsigned it = 0; it < GN_STEPS; ++it)
+    for (unsigned it = 0;; ++it)
     {
-        double jtr[N_PAR_MAX], l[N_PAR_MAX * N_PAR_MAX];
-        st = jacobian(f, p, res, h, jac, tmp, err);
+        double jtr[N_PAR_MAX], step[N_PAR_MAX], l[N_PAR_MAX * N_PAR_MAX];
+        st = jacobian(f, p, res, h, jac, tmp, err); /* the normal matrix at p */
         if (st != AENL_OK)
         {
             return st;
         }
         normal_eq(jac, res, n_res, n_p, jtj, jtr);
+        if (it == GN_STEPS)
+        {
+            break;
+        }
         memcpy(l, jtj, n_p * n_p * sizeof(double));
-        if (aenl_dense_posv(l, jtr, n_p, 1u) != 0)
+        memcpy(step, jtr, n_p * sizeof(double));
+        if (aenl_dense_posv(l, step, n_p, 1u) != 0)
         {
             return AENL_E_NUMERIC; /* the window does not determine the state */
+        }
+        double promised = 0.0; /* r'J (J'J)^-1 J'r: what a full step takes off the misfit */
+        for (size_t a = 0; a < n_p; ++a)
+        {
+            promised += jtr[a] * step[a];
+        }
+        if (!(promised > 1e-10 * *rss))
+        {
+            break;
         }
         int moved = 0;
         for (unsigned k = 0; k <= HALVINGS && !moved; ++k)
         {
-            const double step = ldexp(1.0, -(int)k);
             double q[N_PAR_MAX];
             for (size_t a = 0; a < n_p; ++a)
             {
-                q[a] = p[a] - step * jtr[a]; /* the residuals' Jacobian is -d(response)/dp */
+                /* the residuals' Jacobian is -d(response)/dp */
+                q[a] = p[a] - ldexp(step[a], -(int)k);
             }
             st = residuals(f, q, tmp, err);
             if (st == AENL_E_DIM)
@@ -210,27 +226,15 @@ static aenl_status_t gauss_newton(const fit_t *f, double *p, const double *h, do
                 moved = 1;
                 memcpy(p, q, n_p * sizeof(double));
                 memcpy(res, tmp, n_res * sizeof(double));
-                const double gain = (*rss - s) / *rss;
                 *rss = s;
-                if (gain < 1e-10)
-                {
-                    moved = 2;
-                }
             }
         }
-        if (moved != 1)
+        if (!moved)
         {
-            break;
+            break; /* jtj is still at p */
         }
     }
-    /* the normal matrix at the fit, for the standard errors */
-    st = jacobian(f, p, res, h, jac, tmp, err);
-    if (st == AENL_OK)
-    {
-        double jtr[N_PAR_MAX];
-        normal_eq(jac, res, n_res, n_p, jtj, jtr);
-    }
-    return st;
+    return AENL_OK;
 }
 
 /* The period of the model's fastest oscillatory mode at its velocity, in samples of step dt;
@@ -261,6 +265,7 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
                                         aenl_err_t *err)
 {
     memset(info, 0, sizeof(*info));
+    *out = *base;
     fit_t f;
     memset(&f, 0, sizeof(f));
     f.base = base;
@@ -314,6 +319,8 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
         aenl_err_set(err, "out of memory (initial state)");
         return AENL_E_DIM;
     }
+    double p_start[N_PAR_MAX];
+    memcpy(p_start, p, sizeof(p_start));
     double jtj[N_PAR_MAX * N_PAR_MAX], rss = HUGE_VAL;
     aenl_status_t st = gauss_newton(&f, p, h, &rss, jtj, buf, err);
     const double rms = sqrt(rss / (double)n_res); /* in the channels' stds */
@@ -339,6 +346,8 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
     double inv[N_PAR_MAX * N_PAR_MAX];
     if (st != AENL_OK || !(rss < HUGE_VAL) || aenl_dense_invert(jtj, inv, n_p) != 0)
     {
+        set_state(&f, p_start, out); /* not fitted: the start, window 0 */
+        info->estimated = 1;
         aenl_err_set(err,
                      "the baseline's initial state cannot be fitted to the record's first %zu "
                      "samples (its response there cannot be simulated or does not depend on it); "

@@ -50,12 +50,13 @@ const char *const *aenl_diagnose_channel_names(aenl_sim_type_t type, size_t *n);
 int aenl_diagnose_initial_wanted(const aenl_sim_model_t *m, const aenl_sim_run_t *run);
 
 /** The initial state (positions and rates of every DOF) that brings base's response closest,
- *  in least squares with each channel in its std, to the record y (n samples a channel, the
- *  model's channel order, chan from aenl_diagnose_chan_setup) over one period of the model's
- *  fastest mode from its start; Gauss-Newton with the simulator, from the state given (estimate =
- * true) or from the first sample at rest. out: base with the fitted state; info: its standard
- * errors and window. AENL_E_ARG when the window cannot be simulated or does not determine the state
- * (message says so); AENL_E_DIM out of memory. */
+ *  in least squares with each channel weighted by its residual spread, to the record y (n
+ *  samples a channel, the model's channel order, chan from aenl_diagnose_chan_setup) over one
+ *  period of the model's fastest mode from its start; Gauss-Newton with the simulator, from
+ *  the state given (estimate = true) or from the first sample at rest. out: base with the
+ *  fitted state; info: its standard errors and window. AENL_E_ARG when the window cannot be
+ *  simulated or does not determine the state (message says so): out is base from the start,
+ *  info says estimated with window 0 and no errors; AENL_E_DIM out of memory. */
 aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl_sim_run_t *run,
                                         const double *y, size_t n, const aenl_diagnose_chan_t *chan,
                                         aenl_sim_model_t *out, aenl_diagnose_initial_t *info,

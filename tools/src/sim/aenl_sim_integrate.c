@@ -79,7 +79,8 @@ typedef struct integ
     aenl_sim_result_t *res;
     size_t next_k;
     double dt;
-    const double *bound; /* the run's runaway bound per output channel (0: none) */
+    const double *bound;     /* the run's runaway bound per output channel (0: none) */
+    unsigned long max_steps; /* the run's budget of accepted steps (0: none) */
 } integ_t;
 
 /* 1 and the message when state x has left the run's runaway bound on an output channel. */
@@ -509,6 +510,12 @@ static aenl_status_t integrate_to(integ_t *in, double t_end, aenl_err_t *err)
             continue;
         }
         ++in->info.n_steps;
+        if (in->max_steps > 0ul && in->info.n_steps > in->max_steps)
+        {
+            aenl_err_set(err, "more than %lu integration steps by t = %.17g: too stiff to run",
+                         in->max_steps, in->t);
+            return AENL_E_NUMERIC;
+        }
         for (j = 0; j < nx; ++j)
         {
             if (!isfinite(y[j]))
@@ -912,6 +919,9 @@ aenl_status_t aenl_sim_simulate(const aenl_sim_model_t *model, const aenl_sim_ru
     in->res = res;
     in->dt = run->dt;
     in->bound = run->bound;
+    in->max_steps = run->max_steps_per_sample > 0.0
+                        ? (unsigned long)ceil(run->max_steps_per_sample * (double)res->n_samples)
+                        : 0ul;
     in->arm_window = 1e-7 * run->dt;
     in->t_burst = -HUGE_VAL;
     n = res->n_samples;
