@@ -119,7 +119,7 @@ static void test_diagnose_names_freeplay_and_updates(void)
 /* A free decay released from a state the baseline INI does not give: the state is fitted to
  * the record, reported with standard errors (within 4 of them of the release), the linear
  * baseline agrees, and the updated INI starts from the fit and says it is one. An [initial]
- * estimate that is not a truth value is refused. */
+ * estimate that is not a truth value is refused, and so is estimate = true under turbulence. */
 static void test_diagnose_fits_a_decays_release(void)
 {
     static const char *const model = "[model]\ntype = airfoil2dof\nustar = 4\nzeta_alpha = 0.01\n"
@@ -167,6 +167,13 @@ static void test_diagnose_fits_a_decays_release(void)
                                     "dt = 0.5\n");
     const char *bad[] = {"diagnose", "--measured", "decay.csv", "--model", "decay_bad.ini", NULL};
     cli_expect_refused(bad, "estimate");
+    /* under turbulence there is no release to fit */
+    (void)cli_file("decay_turb.ini", "[model]\ntype = airfoil2dof\nustar = 4\n"
+                                     "[initial]\nestimate = true\n[excitation]\n"
+                                     "type = turbulence\nintensity = 0.005\n[run]\n"
+                                     "duration = 1999.5\ndt = 0.5\n");
+    const char *turb[] = {"diagnose", "--measured", "decay.csv", "--model", "decay_turb.ini", NULL};
+    cli_expect_refused(turb, "estimate");
 }
 
 /* exit 2, exactly one line on stderr containing `want`, nothing on stdout */
