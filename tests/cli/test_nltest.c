@@ -76,117 +76,6 @@ static void test_chi2_sf_critical_values(void)
 /* The long-run variance of the laws' comparison against its definition written out as a double
  * sum: sum over s, t of w(|s - t|) (x_s - mean)(x_t - mean), Bartlett weights
  * w(h) = 1 - h / (L + 1) up to L = floor(4 (n / 100)^(2/9)), on an autocorrelated series. */
-/* ---- the laws' regressors under the filter's uncertainty -------------------------------------
- */
-
-/* E[g(u)] for u ~ N(m, s^2) by Simpson's rule over [max(lo, m - 12 s), m + 12 s] (an independent
- * quadrature of the density; g is smooth there, so its error is far below the tolerances). */
-static double gauss_expect(double (*g)(double, double), double par, double m, double s, double lo)
-{
-    enum
-    {
-        K = 4000
-    };
-    const double a = fmax(lo, m - 12.0 * s);
-    const double b = m + 12.0 * s;
-    if (!(b > a))
-    {
-        return 0.0;
-    }
-    const double h = (b - a) / K;
-    double sum = 0.0;
-    for (int i = 0; i <= K; ++i)
-    {
-        const double u = a + h * i;
-        const double z = (u - m) / s;
-        const double w = (i == 0 || i == K) ? 1.0 : (i % 2 ? 4.0 : 2.0);
-        sum += w * g(u, par) * exp(-0.5 * z * z) / (s * sqrt(2.0 * acos(-1.0)));
-    }
-    return sum * h / 3.0;
-}
-
-static double hinge(double u, double k)
-{
-    return u > k ? u - k : 0.0;
-}
-
-static double power(double u, double p)
-{
-    return pow(u, p);
-}
-
-static void test_nlt_gaussian_expectations_brute_force(void)
-{
-    const double ms[] = {-1.3, -0.2, 0.0, 0.05, 0.7, 2.5};
-    const double ss[] = {0.01, 0.1, 0.4, 1.0};
-    const double ks[] = {-0.5, 0.0, 0.3, 1.1};
-    for (size_t i = 0; i < sizeof(ms) / sizeof(ms[0]); ++i)
-    {
-        for (size_t j = 0; j < sizeof(ss) / sizeof(ss[0]); ++j)
-        {
-            const double m = ms[i];
-            const double s = ss[j];
-            for (size_t l = 0; l < sizeof(ks) / sizeof(ks[0]); ++l)
-            {
-                TEST_ASSERT_DOUBLE_WITHIN(1e-10 * (1.0 + fabs(m)),
-                                          gauss_expect(hinge, ks[l], m, s, ks[l]),
-                                          nlt_mean_hinge(m, s, ks[l]));
-            }
-            const double scale = pow(1.0 + fabs(m) + s, 5.0);
-            TEST_ASSERT_DOUBLE_WITHIN(1e-9 * scale, gauss_expect(power, 3.0, m, s, -HUGE_VAL),
-                                      nlt_mean_cube(m, s));
-            TEST_ASSERT_DOUBLE_WITHIN(1e-9 * scale, gauss_expect(power, 5.0, m, s, -HUGE_VAL),
-                                      nlt_mean_fifth(m, s));
-        }
-    }
-    /* no uncertainty: the values at m */
-    TEST_ASSERT_EQUAL_DOUBLE(0.4, nlt_mean_hinge(0.7, 0.0, 0.3));
-    TEST_ASSERT_EQUAL_DOUBLE(0.0, nlt_mean_hinge(0.2, 0.0, 0.3));
-    TEST_ASSERT_EQUAL_DOUBLE(8.0, nlt_mean_cube(2.0, 0.0));
-    TEST_ASSERT_EQUAL_DOUBLE(32.0, nlt_mean_fifth(2.0, 0.0));
-}
-
-/* The filter's standard deviation of a filtered output against the scalar Riccati equation's
- * steady state: x' = a x + w (var Q), y = x + v (var R); the predicted variance P solves
- * P^2 + (R (1 - a^2) - Q) P - Q R = 0, and the filtered one is P R / (P + R). */
-static void test_nlt_filter_output_sd_steady_state(void)
-{
-    enum
-    {
-        N = 400
-    };
-    const double a = 0.9;
-    const double Q = 0.5;
-    const double R = 2.0;
-    aenl_em_model_t m;
-    aenl_err_t err;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_em_model_alloc(&m, 1, 1, 1, &err));
-    m.A[0] = a;
-    m.Q[0] = Q;
-    m.C[0] = 1.0;
-    m.R[0] = R;
-    m.P0[0] = 10.0;
-    static double y[N];
-    uint64_t seed = 3u;
-    for (size_t t = 0; t < N; ++t)
-    {
-        y[t] = test_gauss(&seed);
-    }
-    kf_t kf;
-    memset(&kf, 0, sizeof(kf));
-    kf.n = N;
-    kf.nz = 1;
-    kf.nx = 1;
-    TEST_ASSERT_EQUAL_INT(AENL_OK, nlt_kf_run(&kf, &m, y, NULL, NULL, &err));
-    const double c = R * (1.0 - a * a) - Q;
-    const double P = 0.5 * (-c + sqrt(c * c + 4.0 * Q * R));
-    TEST_ASSERT_DOUBLE_WITHIN(1e-9, sqrt(P * R / (P + R)), kf.su[N - 1]);
-    /* the first sample: the prior's variance P0 updated by one measurement */
-    TEST_ASSERT_DOUBLE_WITHIN(1e-12, sqrt(10.0 * R / (10.0 + R)), kf.su[0]);
-    nlt_kf_free(&kf);
-    aenl_em_model_free(&m);
-}
-
 static void test_nlt_long_run_variance_brute_force(void)
 {
     enum
@@ -1064,8 +953,6 @@ int main(void)
     RUN_TEST(test_chi2_sf_closed_forms);
     RUN_TEST(test_chi2_sf_critical_values);
     RUN_TEST(test_nlt_long_run_variance_brute_force);
-    RUN_TEST(test_nlt_gaussian_expectations_brute_force);
-    RUN_TEST(test_nlt_filter_output_sd_steady_state);
     RUN_TEST(test_nlt_bad_input);
     RUN_TEST(test_nlt_kicks_are_impulses);
     RUN_TEST(test_nlt_kicked_freeplay_is_found_with_its_jumps);

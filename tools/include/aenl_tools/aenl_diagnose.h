@@ -93,8 +93,7 @@ typedef struct aenl_diagnose_initial
                         the baseline could not be fitted (it runs away there) and every model
                         starts from the record's first sample at rest, without errors */
     double x0_sd[AENL_SIM_N_DOF], v0_sd[AENL_SIM_N_DOF]; /**< standard errors, INI units */
-    double rms;      /**< the fit's residual RMS over the window, in channel stds */
-    unsigned n_sims; /**< simulations of the window the fit ran */
+    double rms; /**< the fit's residual RMS over the window, in channel stds */
 } aenl_diagnose_initial_t;
 
 /** Options (aenl_diagnose_opts_default). */

@@ -57,7 +57,6 @@ typedef struct
     double *scale; /* per channel: the residuals' divisors */
     aenl_sim_dof_t dof[AENL_SIM_N_DOF];
     size_t n_dof;
-    unsigned *n_sims; /* counts the simulations */
 } fit_t;
 
 static void set_state(const fit_t *f, const double *p, aenl_sim_model_t *m)
@@ -80,7 +79,6 @@ static aenl_status_t residuals(const fit_t *f, const double *p, double *res, aen
     aenl_err_t e;
     aenl_err_clear(&e);
     const aenl_status_t st = aenl_sim_simulate(&m, &f->run, &r, &e);
-    ++*f->n_sims;
     if (st == AENL_E_DIM)
     {
         aenl_err_set(err, "%s", e.msg);
@@ -273,7 +271,6 @@ aenl_status_t aenl_diagnose_initial_fit(const aenl_sim_model_t *base, const aenl
     f.base = base;
     f.y = y;
     f.n = n;
-    f.n_sims = &info->n_sims;
     size_t n_ch = 0;
     (void)aenl_diagnose_channel_names(base->type, &n_ch);
     if (n_ch == 0u || n < 2u)

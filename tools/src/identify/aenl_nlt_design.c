@@ -730,28 +730,3 @@ double nlt_long_run_variance(const double *x, size_t n)
     }
     return fmax(v, 0.0);
 }
-
-/* ---- expectations under the filter's uncertainty ------------------------------------------ */
-
-double nlt_mean_hinge(double m, double s, double k)
-{
-    if (!(s > 0.0))
-    {
-        return fmax(m - k, 0.0);
-    }
-    const double z = (m - k) / s;
-    return s * 0.3989422804014327 * exp(-0.5 * z * z) +
-           (m - k) * 0.5 * erfc(-z * 0.7071067811865476);
-}
-
-double nlt_mean_cube(double m, double s)
-{
-    return m * m * m + 3.0 * m * s * s;
-}
-
-double nlt_mean_fifth(double m, double s)
-{
-    const double m2 = m * m;
-    const double s2 = s * s;
-    return m * (m2 * m2 + 10.0 * m2 * s2 + 15.0 * s2 * s2);
-}

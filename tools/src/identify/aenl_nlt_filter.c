@@ -20,7 +20,6 @@ void nlt_kf_free(kf_t *k)
     free(k->eps);
     free(k->used);
     free(k->u);
-    free(k->su);
     free(k->xs);
     free(k->slot);
     free(k->F);
@@ -98,33 +97,11 @@ static void predict_cov(const aenl_em_model_t *m, const double *P, double *out, 
     }
 }
 
-/* vu[j] = C_j P C_j', the variance of output j given a state of covariance P. */
-static void output_variances(const aenl_em_model_t *m, const double *P, size_t nx, size_t nz,
-                             double *vu)
-{
-    for (size_t j = 0; j < nz; ++j)
-    {
-        const double *c = m->C + j * nx;
-        double s = 0.0;
-        for (size_t a = 0; a < nx; ++a)
-        {
-            double r = 0.0;
-            for (size_t b = 0; b < nx; ++b)
-            {
-                r += P[a * nx + b] * c[b];
-            }
-            s += c[a] * r;
-        }
-        vu[j] = fmax(s, 0.0);
-    }
-}
-
 /* One covariance step at a used row: gain pieces into a new slot, P advanced. */
 typedef struct
 {
     double K[NLT_MAX_X * AENL_NLT_MAX_CH];
     double L[AENL_NLT_MAX_CH * AENL_NLT_MAX_CH];
-    double vu[AENL_NLT_MAX_CH]; /* variances of the filtered outputs, C_j P_{t|t} C_j' */
 } kf_gain_t;
 
 static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, kf_gain_t *g,
@@ -230,7 +207,6 @@ static aenl_status_t kf_cov_step(kf_t *k, const aenl_em_model_t *m, double *P, k
             T2[i * nx + j] = s + kr;
         }
     }
-    output_variances(m, T2, nx, nz, g->vu);
     /* the slot: F = A IKC, WC = L^-1 C */
     aenl_dense_mul(k->F + slot * nx * nx, m->A, IKC, nx, nx, nx);
     for (size_t j = 0; j < nx; ++j)
@@ -276,12 +252,10 @@ aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
     }
     k->eps = (double *)calloc(n * nz, sizeof(double));
     k->u = (double *)calloc(n * nz, sizeof(double));
-    k->su = (double *)calloc(n * nz, sizeof(double));
     k->used = (unsigned char *)calloc(n, 1);
     k->slot = (size_t *)calloc(n, sizeof(size_t));
     k->xs = (double *)calloc(n * nx, sizeof(double));
-    if (k->eps == NULL || k->u == NULL || k->su == NULL || k->used == NULL || k->slot == NULL ||
-        k->xs == NULL)
+    if (k->eps == NULL || k->u == NULL || k->used == NULL || k->slot == NULL || k->xs == NULL)
     {
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
@@ -312,7 +286,6 @@ aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
             }
             k->slot[t] = miss_slot;
             memcpy(xf, x, nx * sizeof(double));
-            output_variances(m, P, nx, nz, g.vu);
             double T2[NLT_MAX_X * NLT_MAX_X] = {0};
             predict_cov(m, P, T2, nx);
             memcpy(P, T2, nx * nx * sizeof(double));
@@ -383,7 +356,6 @@ aenl_status_t nlt_kf_run(kf_t *k, const aenl_em_model_t *m, const double *y,
                 s += m->C[j * nx + l] * xf[l];
             }
             k->u[t * nz + j] = s;
-            k->su[t * nz + j] = sqrt(g.vu[j]);
         }
         for (size_t i = 0; i < nx; ++i)
         {

@@ -32,7 +32,6 @@ typedef struct
     double *eps;         /* n x nz whitened innovations (0 on a missing row) */
     unsigned char *used; /* 1: the row entered the update */
     double *u;           /* n x nz filtered outputs C x_{t|t} */
-    double *su;          /* n x nz their standard deviations given the record so far */
     double *xs;          /* nx x n filtered states, state-major (one series per state) */
     size_t *slot;        /* n: index into F and WC */
     double *F;           /* slots x nx x nx: A (I - K C) */
@@ -113,12 +112,5 @@ aenl_status_t nlt_design_losses(const design_t *d, const kf_t *k, const double *
                                 double *loss, aenl_err_t *err);
 
 double nlt_long_run_variance(const double *x, size_t n);
-
-/* E[max(u - k, 0)], E[u^3] and E[u^5] for u ~ N(m, s^2) (s = 0: the values at m). */
-double nlt_mean_hinge(double m, double s, double k);
-
-double nlt_mean_cube(double m, double s);
-
-double nlt_mean_fifth(double m, double s);
 
 #endif

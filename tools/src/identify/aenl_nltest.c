@@ -79,12 +79,6 @@ static double gain2(const resid_t *r, const size_t *idx, const double *c, size_t
     return (g22 * r1 * r1 - 2.0 * g12 * r1 * r2 + g11 * r2 * r2) / det;
 }
 
-/* The laws act on the channel's motion u, of which the filter knows u_t ~ N(m, s^2) given the
- * record up to t. The force's part of the next prediction is then E[g(u_t)], not g(m): the
- * regressors below are those expectations (nlt_mean_hinge and the moments), so that a kink is
- * smoothed over the filter's uncertainty there and its fitted place is not pulled by the noise
- * in m (at s = 0 they are g(m)). */
-
 /* Series of stage 2 for one channel: fixed shapes, then rising and falling hinges at knots. */
 enum
 {
@@ -103,7 +97,7 @@ typedef struct
     int *full;
 } s2_series_t;
 
-static int s2_build(s2_series_t *s, const double *u, const double *su, const double *dsg, size_t n,
+static int s2_build(s2_series_t *s, const double *u, const double *dsg, size_t n,
                     const double *const *nuis, size_t n_nuis, const double *knots, size_t nk)
 {
     const size_t ns = n_nuis + S2_FIXED + 2u * nk;
@@ -131,8 +125,9 @@ static int s2_build(s2_series_t *s, const double *u, const double *su, const dou
     double *dd = s->buf + S2_D * n;
     for (size_t t = 0; t < n; ++t)
     {
-        u3[t] = nlt_mean_cube(u[t], su[t]);
-        u5[t] = nlt_mean_fifth(u[t], su[t]);
+        const double v = u[t];
+        u3[t] = v * v * v;
+        u5[t] = u3[t] * v * v;
         dd[t] = dsg[t];
     }
     for (size_t k = 0; k < nk; ++k)
@@ -141,7 +136,7 @@ static int s2_build(s2_series_t *s, const double *u, const double *su, const dou
         double *dn = s->buf + (S2_FIXED + nk + k) * n;
         for (size_t t = 0; t < n; ++t)
         {
-            const double h = nlt_mean_hinge(u[t], su[t], knots[k]);
+            const double h = fmax(u[t] - knots[k], 0.0);
             up[t] = dsg[t] > 0.0 ? h : 0.0;
             dn[t] = dsg[t] < 0.0 ? h : 0.0;
         }
@@ -308,19 +303,6 @@ static double loop_branch(double u, double a1, double a2, double dir)
     return dir > 0.0 ? gap_ramp(u, a1, a2) : dir < 0.0 ? gap_ramp(u, -a2, -a1) : 0.0;
 }
 
-/* Their expectations for u ~ N(m, s^2) (nlt_mean_hinge). */
-static double mean_gap_ramp(double m, double s, double a, double b)
-{
-    return nlt_mean_hinge(m, s, a) - nlt_mean_hinge(m, s, b);
-}
-
-static double mean_loop_branch(double m, double s, double a1, double a2, double dir)
-{
-    return dir > 0.0   ? mean_gap_ramp(m, s, a1, a2)
-           : dir < 0.0 ? mean_gap_ramp(m, s, -a2, -a1)
-                       : 0.0;
-}
-
 void aenl_nlt_opts_default(aenl_nlt_opts_t *opts)
 {
     memset(opts, 0, sizeof(*opts));
@@ -382,7 +364,7 @@ typedef struct
     const aenl_em_model_t *m;
     size_t n, nz, nx;
     double scale[AENL_NLT_MAX_CH];
-    double *one, *lin, *sd, *dsg, *work; /* n each; work: 4 n for stage 1 */
+    double *one, *lin, *dsg, *work;      /* n each; work: 4 n for stage 1 */
     const double *in_col[AENL_EM_MAX_U]; /* the scaled inputs, one series each */
     size_t n_in;
     double lnrows;
@@ -418,9 +400,8 @@ static void stage1_series(const run_t *rn)
     for (size_t t = 0; t < n; ++t)
     {
         const double v = rn->lin[t];
-        const double sv = rn->sd[t];
-        u2[t] = v * v + sv * sv;
-        u3[t] = nlt_mean_cube(v, sv);
+        u2[t] = v * v;
+        u3[t] = v * v * v;
         dd[t] = rn->dsg[t];
         du[t] = rn->dsg[t] * v;
     }
@@ -720,7 +701,7 @@ static aenl_status_t stage2_residuals(const run_t *rn, const double *dir, const 
 {
     s2_series_t ser;
     memset(&ser, 0, sizeof(ser));
-    if (s2_build(&ser, rn->lin, rn->sd, rn->dsg, rn->n, nuis, n_nuis, knots, nk) != 0)
+    if (s2_build(&ser, rn->lin, rn->dsg, rn->n, nuis, n_nuis, knots, nk) != 0)
     {
         s2_free(&ser);
         aenl_err_set(err, "out of memory");
@@ -901,12 +882,11 @@ static void verdict_series(const run_t *rn, const two_point_t *tp, double *buf)
     for (size_t t = 0; t < n; ++t)
     {
         const double u = rn->lin[t];
-        const double su = rn->sd[t];
         const double dg = rn->dsg[t];
-        buf[V_U3 * n + t] = nlt_mean_cube(u, su);
-        buf[V_U5 * n + t] = nlt_mean_fifth(u, su);
-        buf[V_FP * n + t] = mean_gap_ramp(u, su, f1, f2);
-        buf[V_HY * n + t] = mean_loop_branch(u, su, a1, a2, dg);
+        buf[V_U3 * n + t] = u * u * u;
+        buf[V_U5 * n + t] = u * u * u * u * u;
+        buf[V_FP * n + t] = gap_ramp(u, f1, f2);
+        buf[V_HY * n + t] = loop_branch(u, a1, a2, dg);
         buf[V_D * n + t] = dg;
     }
 }
@@ -1801,20 +1781,15 @@ static int alloc_series(run_t *rn)
     const size_t n = rn->n;
     rn->one = (double *)malloc(n * sizeof(double));
     rn->lin = (double *)malloc(n * sizeof(double));
-    rn->sd = (double *)malloc(n * sizeof(double));
     rn->dsg = (double *)malloc(n * sizeof(double));
     rn->work = (double *)malloc(4u * n * sizeof(double));
-    return rn->one == NULL || rn->lin == NULL || rn->sd == NULL || rn->dsg == NULL ||
-                   rn->work == NULL
-               ? -1
-               : 0;
+    return rn->one == NULL || rn->lin == NULL || rn->dsg == NULL || rn->work == NULL ? -1 : 0;
 }
 
 static void free_series(run_t *rn)
 {
     free(rn->one);
     free(rn->lin);
-    free(rn->sd);
     free(rn->dsg);
     free(rn->work);
 }
@@ -1829,7 +1804,6 @@ static void channel_series(const run_t *rn, size_t j)
     {
         rn->one[t] = 1.0;
         rn->lin[t] = rn->kf->u[t * n_ch + j];
-        rn->sd[t] = rn->kf->su[t * n_ch + j];
     }
     direction(rn->kf->u, n_ch, j, n, rn->dsg);
 }
@@ -2001,13 +1975,12 @@ static double bonferroni_confidence(double pmax, size_t m)
  * (every channel's has the same degrees of freedom: the largest is the smallest p-value, and
  * stays comparable where the p-values underflow to 0), its law that channel's best, named when
  * the comparison of the channel's laws is confident (class_confidence). The channel's own
- * confidence comes from the same comparison across channels: every channel's laws explain the
- * same innovations, so the verdict's law and another channel's best compare by Vuong's test as
- * two laws of one channel do (Bonferroni over the other rejecting channels). A law of the
- * verdict channel, or any law of another rejecting channel, stays a candidate while its p-value
- * against the verdict's, times the number of comparisons of its kind (the verdict channel's
- * other laws; every law of the other channels), exceeds 1 - min_confidence: the candidates are
- * the models the comparisons at that level do not rule out. */
+ * confidence comes
+ * from the same comparison across channels: every channel's best law explains the same
+ * innovations, so the verdict's and another channel's compare by Vuong's test as two laws of one
+ * channel do (Bonferroni over the other rejecting channels). A law of the verdict channel, or
+ * another channel's best law, stays a candidate while its p-value, times the number of
+ * comparisons of its kind, exceeds 1 - min_confidence. */
 static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res, aenl_err_t *err)
 {
     const size_t n = rn->n;
@@ -2045,7 +2018,7 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
         aenl_err_set(err, "out of memory");
         return AENL_E_DIM;
     }
-    double p[AENL_NLT_MAX_CH][AENL_NLT_N_LAWS];
+    double p[AENL_NLT_MAX_CH];
     size_t m_ch = 0;
     double pmax_ch = 0.0;
     const double *lb = rn->loss + (size_t)bj * n * AENL_NLT_N_LAWS + bl;
@@ -2053,27 +2026,22 @@ static aenl_status_t verdict_comparison(const run_t *rn, aenl_nlt_result_t *res,
     {
         if (rn->compared[j] && j != (size_t)bj)
         {
-            for (size_t l = 0; l < AENL_NLT_N_LAWS; ++l)
-            {
-                p[j][l] = vuong_p(lb, rn->loss + j * n * AENL_NLT_N_LAWS + l, AENL_NLT_N_LAWS, rows,
-                                  rn->crit[bj][bl], rn->crit[j][l], dl);
-            }
-            pmax_ch = fmax(pmax_ch, p[j][best_of(rn->crit[j])]);
+            const size_t l = best_of(rn->crit[j]);
+            p[j] = vuong_p(lb, rn->loss + j * n * AENL_NLT_N_LAWS + l, AENL_NLT_N_LAWS, rows,
+                           rn->crit[bj][bl], rn->crit[j][l], dl);
+            pmax_ch = fmax(pmax_ch, p[j]);
             m_ch++;
         }
     }
     free(dl);
     for (size_t j = 0; j < rn->nz; ++j)
     {
-        for (size_t l = 0; rn->compared[j] && j != (size_t)bj && l < AENL_NLT_N_LAWS; ++l)
+        if (rn->compared[j] && j != (size_t)bj && p[j] * (double)m_ch > alpha)
         {
-            if (p[j][l] * (double)(m_ch * AENL_NLT_N_LAWS) > alpha)
-            {
-                aenl_nlt_candidate_t *cd = &res->candidates[res->n_candidates++];
-                cd->channel = j;
-                cd->law = (aenl_nlt_law_t)l;
-                cd->p = p[j][l];
-            }
+            aenl_nlt_candidate_t *cd = &res->candidates[res->n_candidates++];
+            cd->channel = j;
+            cd->law = (aenl_nlt_law_t)best_of(rn->crit[j]);
+            cd->p = p[j];
         }
     }
     res->verdict = bj;
