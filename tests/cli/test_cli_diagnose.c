@@ -173,7 +173,7 @@ static void test_diagnose_fits_a_decays_release(void)
                                      "type = turbulence\nintensity = 0.005\n[run]\n"
                                      "duration = 1999.5\ndt = 0.5\n");
     const char *turb[] = {"diagnose", "--measured", "decay.csv", "--model", "decay_turb.ini", NULL};
-    cli_expect_refused(turb, "estimate");
+    cli_expect_refused(turb, "turbulence");
 }
 
 /* exit 2, exactly one line on stderr containing `want`, nothing on stdout */

@@ -172,7 +172,7 @@ static aenl_sim_run_t bounded_run(const ctx_t *x)
  * changes the first cycle too, and the baseline's start would leave a model with the law a
  * misfit that is the start's, not the law's. Where the fit fails (the window cannot be simulated
  * from m), m's own state stands. Only out-of-memory is an error. */
-static aenl_status_t own_start(ctx_t *x, const aenl_sim_model_t *m, aenl_sim_model_t *out,
+static aenl_status_t own_start(const ctx_t *x, const aenl_sim_model_t *m, aenl_sim_model_t *out,
                                aenl_diagnose_initial_t *info, aenl_err_t *err)
 {
     *out = *m;
@@ -186,7 +186,6 @@ static aenl_status_t own_start(ctx_t *x, const aenl_sim_model_t *m, aenl_sim_mod
     aenl_err_clear(&e);
     const aenl_status_t st =
         aenl_diagnose_initial_fit(m, &run, x->res->y_meas, x->n, x->res->chan, out, &fitted, &e);
-    x->n_sims += fitted.n_sims;
     if (st == AENL_E_DIM)
     {
         aenl_err_set(err, "%s", e.msg);
@@ -1708,7 +1707,6 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
         aenl_err_clear(&fe);
         st = aenl_diagnose_initial_fit(d->base, &wrun, r->y_meas, n, r->chan, &d->base_fitted,
                                        &r->initial, &fe);
-        x->n_sims += r->initial.n_sims;
         if (st == AENL_E_DIM)
         {
             aenl_err_set(err, "%s", fe.msg);
