@@ -1679,13 +1679,14 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
     {
         const aenl_diagnose_chan_t *ch = &r->chan[c];
         const double *y = r->y_meas + c * n;
-        x->reach[c] = 0.0;
+        double reach = 0.0;
         for (size_t i = 0; i < n; ++i)
         {
-            x->reach[c] = fmax(x->reach[c], fabs(y[i] - ch->mean));
+            reach = fmax(reach, fabs(y[i] - ch->mean));
         }
-        x->bound[c] = fabs(ch->mean) + fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)),
-                                            RUNAWAY_REACH * x->reach[c]);
+        x->reach[c] = reach;
+        x->bound[c] = fabs(ch->mean) +
+                      fmax(RUNAWAY_LIMIT * fmax(ch->scale, fabs(ch->mean)), RUNAWAY_REACH * reach);
     }
     aenl_err_t e;
     aenl_err_clear(&e);
@@ -1712,10 +1713,10 @@ static aenl_status_t setup_ctx(diag_t *d, const aenl_table_t *measured, const ae
             aenl_err_set(err, "%s", fe.msg);
             return st;
         }
-        /* a baseline that runs away within the window cannot be fitted (above its flutter
-         * speed, a softening law): it starts from the record's first sample at rest, and
-         * r->initial says so (window 0) */
-        /* every model from now on is fitted from the baseline's start (own_start) */
+        /* every model from now on is fitted from the baseline's start (own_start); a baseline
+         * that runs away within the window cannot be fitted (above its flutter speed, a
+         * softening law) and starts from the record's first sample at rest, which r->initial
+         * says (window 0) */
         d->base_fitted.initial = AENL_SIM_INITIAL_ESTIMATE;
         d->base = &d->base_fitted;
         x->fit_initial = 1;
