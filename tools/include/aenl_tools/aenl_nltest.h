@@ -83,8 +83,8 @@ typedef struct aenl_nlt_opts
 {
     double level;          /**< family-wise level of the test over the channels (default 0.01) */
     double min_confidence; /**< confidence a law needs to be named (default 0.9) */
-    size_t n_states;       /**< states of the linear model (default 0: chosen by BIC among 4, 5
-                                and 6 per channel and 12, at most 12) */
+    size_t n_states;       /**< states of the linear model (default 0: chosen by BIC among 4 and 6
+                                per channel and 12, at most 12) */
     size_t em_iter;        /**< EM iterations of the linear fit (default 200) */
     const double *const *input; /**< known inputs (a measured force), n_input columns of the
                                      record's n samples (NULL: none): they drive the linear

@@ -30,7 +30,7 @@
 #define NLT_N_FINE      9  /* fine grid points per switching point */
 #define NLT_HOLD        2u /* values of an input per step: at its start and its end */
 #define NLT_STAGE1_LAWS 4  /* u^2, u^3, d, d u */
-#define NLT_N_ORDERS    4  /* candidate model orders: 4, 5 and 6 states a channel, and 12 */
+#define NLT_N_ORDERS    3  /* candidate model orders: 4 and 6 states a channel, and 12 */
 #define NLT_JUMP_ROUNDS 3  /* refits of the linear model with its impulses as state jumps */
 
 /* every input's two values fit among the EM fit's inputs */
@@ -1262,14 +1262,11 @@ static size_t values_needed(size_t nx)
     return 20u * (6u * nx + 4u * (nx + 2u));
 }
 
-/* The model orders to choose among: opts->n_states alone, or every whole number of states per
- * channel from 4 to 6 and 12 (at most 12 in all), as far as the record is long enough for them;
- * ascending. Each channel's own mode takes 2 states and its aerodynamic lags and start-up terms
- * 2 to 4 more: an order between the coarse steps that the record needs would otherwise be
- * rounded up (a cost the criterion weighs) or down (a misfit that reads as impulses and laws). */
+/* The model orders to choose among: opts->n_states alone, or 4 and 6 states per channel and 12
+ * (at most 12 in all), as far as the record is long enough for them; ascending. */
 static size_t state_candidates(const aenl_nlt_opts_t *opts, size_t n, size_t m, size_t *cand)
 {
-    size_t want[NLT_N_ORDERS] = {4u * m, 5u * m, 6u * m, NLT_MAX_X};
+    size_t want[NLT_N_ORDERS] = {4u * m, 6u * m, NLT_MAX_X};
     size_t nw = NLT_N_ORDERS;
     if (opts->n_states != 0)
     {
