@@ -6,12 +6,12 @@
 # (> 5 s per input), leak, UB report, out-of-memory (> 2 GB) or property violation (the targets
 # abort()). Crash inputs are kept under BUILD/artifacts/ and named in the output.
 # Usage: run_fuzz.sh [BUILD_DIR]   (default build/fuzz)
-# Environment: AENL_FUZZ_SECONDS (default 25) per target; AENL_FUZZ_JOBS targets run at once
+# Environment: AENL_FUZZ_SECONDS (default 10) per target; AENL_FUZZ_JOBS targets run at once
 # (default: the number of cores).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${1:-$root/build/fuzz}
-secs=${AENL_FUZZ_SECONDS:-25}
+secs=${AENL_FUZZ_SECONDS:-10}
 jobs=${AENL_FUZZ_JOBS:-$(nproc)}
 fuzz="$root/tests/fuzz"
 
