@@ -615,8 +615,9 @@ static void test_cli_identify_with_model_linear(void)
 static void test_cli_identify_with_model_two_freeplays(void)
 {
 #ifdef AENL_TEST_SANITIZED
-    /* Four diagnoses end to end take minutes under the sanitizers; the single-effect --model
-     * test above runs the same code there, this one runs in the strict build. */
+    /* Four diagnoses end to end take minutes under the sanitizers; the diagnosis runs there in
+     * test_cli_diagnose and test_diagnose, and the command's --model path in the linear test
+     * above; this one runs in the strict build. */
     TEST_IGNORE_MESSAGE("four diagnoses: left to the strict build (minutes under the sanitizers)");
 #else
     char ini[600], base[600];

@@ -34,7 +34,7 @@ step "static analysis (clang-tidy + cppcheck)"
 cmake -S "$root" -B "$root/build/sa" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DAENL_STATIC_ANALYSIS=ON >/dev/null
 cmake --build "$root/build/sa" -j"$jobs"
 
-step "fuzz (libFuzzer, ${AENL_FUZZ_SECONDS:-10} s per target)"
+step "fuzz (libFuzzer; run_fuzz.sh holds the seconds per target)"
 "$root/tools/scripts/run_fuzz.sh" "$root/build/fuzz"
 
 step "valgrind memcheck of the CLI"
