@@ -344,8 +344,7 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
      * between lags (aenl_moments_taylor) carry no bias from where the record starts or ends. */
     const uint32_t max_lag = m->max_lag;
     /* history before X_c: L_max for the backward series, one sample for the direction */
-    const uint32_t n_back = m->cfg.symmetric ? max_lag : 0u;
-    const uint32_t n_before = (n_back > 0u) ? n_back : (m->n_dir == 2u ? 1u : 0u);
+    const uint32_t n_before = m->cfg.symmetric ? max_lag : (m->n_dir == 2u ? 1u : 0u);
     if (m->n_hist <= max_lag + n_before)
     {
         return AENL_OK;
@@ -367,26 +366,36 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         dir = (u > m->hist[q]) ? 0u : 1u; /* 0 rising, 1 falling (ties fall) */
     }
     const uint32_t n_series = aenl_moments_n_series(m);
-    /* The lags share W and W2: X_c pairs at every lag or, one response missing, at none. */
+    /* The lags share W and W2: X_c pairs at every lag or, one response missing, at none. The
+     * responses are read once here, not once a node: the ring's index arithmetic would
+     * otherwise be a quarter of the update's work. */
+    aenl_real_t y_of[2u * AENL_MOMENTS_MAX_LAGS];
+    uint8_t all_valid = 1u;
     for (uint32_t ls = 0; ls < n_series; ++ls)
     {
-        if (!m->valid[response(m, ls)])
-        {
-            return AENL_OK;
-        }
+        const uint32_t i = response(m, ls);
+        all_valid &= m->valid[i];
+        y_of[ls] = m->hist[i];
+    }
+    if (!all_valid)
+    {
+        return AENL_OK;
     }
     /* The nodes within h of u, found once for all lags. */
     const aenl_real_t t = (u - m->cfg.x_min) * m->inv_dx; /* u in grid units */
     const aenl_real_t h_units = m->cfg.bandwidth * m->inv_dx;
     const int32_t k0 = node_ceil(t - h_units, m->cfg.n_grid);
     const int32_t k1 = node_floor(t + h_units, m->cfg.n_grid);
+    /* read once: the stores into the sums below would otherwise make the compiler reload them */
+    const aenl_real_t scale = m->scale;
+    const aenl_real_t inv_h = m->inv_h;
     for (int32_t k = k0; k <= k1; ++k)
     {
         const aenl_real_t xk = aenl_moments_node_x(m, (uint16_t)k);
         /* 1/h is left out of the stored weight and applied at query time (file comment). The
          * weight itself is tested, not the distance: a distance just below h can round the
          * weight to 0, which would make w / W' 0/0 at an empty node. */
-        const aenl_real_t w = m->scale * (AENL_R(1.0) - aenl_fabs(xk - u) * m->inv_h);
+        const aenl_real_t w = scale * (AENL_R(1.0) - aenl_fabs(xk - u) * inv_h);
         if (!(w > AENL_R(0.0)))
         {
             continue;
@@ -394,19 +403,27 @@ aenl_status_t aenl_moments_push(aenl_moments_t *m, aenl_real_t sample)
         /* the lag series share the node's weight sum, and their cells follow one another */
         uint32_t iw, im;
         cell_index(m, 0u, dir, (uint32_t)k, &iw, &im);
-        const aenl_real_t r = w / (sum_get(m, iw) + w);      /* w / W' */
+        const aenl_real_t r = w / (sum_get(m, iw) + w); /* w / W' */
+#if AENL_MOMENTS_COMPENSATED
         for (uint32_t ls = 0; ls < n_series; ++ls, im += 2u) /* ls >= n_lags: X_{c-L} */
         {
-            const aenl_real_t y = m->hist[response(m, ls)]; /* present (checked above) */
-#if AENL_MOMENTS_COMPENSATED
-            const aenl_real_t dy = (y - xk) - sum_get(m, im); /* mean relative to x_k */
-#else
-            const aenl_real_t dy = y - sum_get(m, im);
-#endif
+            const aenl_real_t dy = (y_of[ls] - xk) - sum_get(m, im); /* mean relative to x_k */
             const aenl_real_t step = dy * r;
             sum_add(m, im, step);
             sum_add(m, im + 1u, w * dy * (dy - step));
         }
+#else
+        /* the same updates as above through a pointer into one cell run, which the compiler
+         * keeps in registers (the sums are then the only memory the loop writes) */
+        aenl_real_t *cell = &m->sum[im];
+        for (uint32_t ls = 0; ls < n_series; ++ls, cell += 2) /* ls >= n_lags: X_{c-L} */
+        {
+            const aenl_real_t dy = y_of[ls] - cell[0];
+            const aenl_real_t step = dy * r;
+            cell[0] += step;
+            cell[1] += w * dy * (dy - step);
+        }
+#endif
         sum_add(m, iw, w); /* once for all lag series */
         sum_add(m, iw + W2_OFF, w * w);
     }
