@@ -507,6 +507,64 @@ static void test_csv_error_binary_line(void)
     expect_read_error("ctl.csv", ctl, sizeof ctl - 1, AENL_E_ARG, "ctl.csv:4: control byte 0x01");
 }
 
+/* A control byte (a line feed ends the line) anywhere in a long line (the scan takes 8 bytes at a
+ * time: every position in and between words, every control value) is reported at its own position;
+ * tabs, bytes of 0x80 and above and printable bytes next to it are not. */
+static void test_csv_control_byte_any_position(void)
+{
+    char text[128], want[96];
+    for (unsigned v = 0; v < 0x80u; ++v)
+    {
+        const int bad = v == 0x7Fu || (v < 0x20u && v != (unsigned)'\t' && v != (unsigned)'\n');
+        if (!bad)
+        {
+            continue;
+        }
+        for (size_t pos = 2; pos < 42; ++pos)
+        {
+            /* line 2: a comment of 44 bytes of 0x7E, 0x80, 0xFF and spaces, a tab last */
+            memcpy(text, "t,x\n", sizeof("t,x\n")); /* its NUL is overwritten below */
+            char *line = text + 4;
+            line[0] = '#';
+            line[1] = ' ';
+            for (size_t i = 2; i < 44; ++i)
+            {
+                static const char fill[4] = {'~', (char)0x80, (char)0xFF, ' '};
+                line[i] = fill[i % 4u];
+            }
+            line[43] = '\t';
+            line[pos] = (char)v;
+            memcpy(line + 44, "\n1,2\n", 6);
+            if (v == 0u)
+            {
+                (void)snprintf(want, sizeof(want), "ctl.csv:2: NUL byte at character %zu", pos + 1);
+            }
+            else
+            {
+                (void)snprintf(want, sizeof(want),
+                               "ctl.csv:2: control byte 0x%02x at character %zu", v, pos + 1);
+            }
+            expect_read_error("ctl.csv", text, 4 + 44 + 5, AENL_E_ARG, want);
+        }
+    }
+    /* the same line without a control byte reads */
+    aenl_table_t t;
+    const char *path = tmp_path("clean.csv");
+    memcpy(text, "t,x\n# ", sizeof("t,x\n# "));
+    for (size_t i = 2; i < 44; ++i)
+    {
+        static const char fill[4] = {'~', (char)0x80, (char)0xFF, ' '};
+        text[4 + i] = fill[i % 4u];
+    }
+    text[4 + 43] = '\t';
+    memcpy(text + 48, "\n1,2\n", 6);
+    write_bytes(path, text, 53);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(1, t.n_rows);
+    aenl_table_free(&t);
+    (void)remove(path);
+}
+
 static void test_csv_error_missing_file(void)
 {
     aenl_table_t t;
@@ -1205,6 +1263,7 @@ int main(void)
     RUN_TEST(test_err_keeps_first_cause);
     RUN_TEST(test_share_path_order_and_error);
     RUN_TEST(test_csv_time_names);
+    RUN_TEST(test_csv_control_byte_any_position);
     RUN_TEST(test_parse_decimal_matches_strtod);
     RUN_TEST(test_parse_decimal_long_decimals);
     RUN_TEST(test_time_steps);

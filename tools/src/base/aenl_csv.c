@@ -3,12 +3,14 @@
  * @file aenl_csv.c
  * @brief Host-only CSV reading (streaming and whole-table) and writing. See aenl_csv.h.
  *
- * Reader: getline(3) into one buffer that grows only for a longer line, so memory does not grow
- * with the file's length. Physical lines are counted (comments and blank lines included), so
- * "FILE:LINE:COLUMN" points at what an editor shows; COLUMN is the 1-based field index and the
- * header name follows in parentheses. A plain decimal number of at most 2^53 in its digits and a
- * power of ten within 10^+-22 is converted exactly by aenl_parse_decimal; any other goes
- * through strtod(), and the tools never call setlocale(), so that is the C locale.
+ * Reader: the file is read in blocks into one buffer that grows only for a longer line, so
+ * memory does not grow with the file's length, and each line is taken where it lies. Physical
+ * lines are counted (comments and blank lines included), so "FILE:LINE:COLUMN" points at what
+ * an editor shows; COLUMN is the 1-based field index and the header name follows in
+ * parentheses. A plain decimal number whose digits make at most 2^53 and whose power of ten
+ * is within 10^+-22 (where long double is x87 extended: of at most 19 significant digits, within
+ * 10^+-27) is converted exactly by aenl_parse_decimal; any other goes through strtod(), and the
+ * tools never call setlocale(), so that is the C locale.
  *
  * Statuses: AENL_E_IO cannot open/read/write; AENL_E_EMPTY no header row (empty file);
  * AENL_E_ARG malformed content (not a number, ragged row, bad header, binary data) or bad
@@ -22,18 +24,22 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/types.h>
 
 struct aenl_csv
 {
     FILE *fp;
     int own_fp; /* 0 for stdin */
     char *path;
-    char *line; /* getline buffer */
-    size_t cap;
+    char *buf;  /* what has been read of the file: [beg, end) not yet taken as lines */
+    size_t cap; /* buf's size; one byte more than end always fits */
+    size_t beg;
+    size_t end;
+    int at_eof;            /* the file has no more bytes */
+    char *line;            /* the last line read, in buf, NUL-terminated */
     unsigned long line_no; /* physical line of the last line read */
     size_t n_cols;
     char **names;
@@ -76,6 +82,28 @@ static char *trim(char *s)
     return s;
 }
 
+/* trim for a cell of *n bytes ending at s[*n] (a NUL): no strlen, *n updated. */
+static char *trim_n(char *s, size_t *n)
+{
+    size_t k = *n;
+    while (k > 0 && is_blank(*s))
+    {
+        ++s;
+        --k;
+    }
+    while (k > 0 && is_blank(s[k - 1]))
+    {
+        s[--k] = '\0';
+    }
+    *n = k;
+    return s;
+}
+
+static int is_digit(char c)
+{
+    return (unsigned)((unsigned char)c - (unsigned char)'0') <= 9u;
+}
+
 static int ascii_lower(int c)
 {
     return (c >= 'A' && c <= 'Z') ? c - 'A' + 'a' : c;
@@ -108,11 +136,35 @@ static void free_names(char **names, size_t n)
 
 /* ---- line reading -------------------------------------------------------------------------- */
 
+#define CSV_BLOCK ((size_t)1 << 16u) /* bytes a read asks for, at least */
+
 enum
 {
     LINE_OK = 1,
     LINE_EOF = 0
 };
+
+/* From i, the first index of s[0 .. len) whose 8-byte word may hold a control byte (below 0x20,
+ * tab included, or 0x7F), or len. The test is a word at a time: a byte-by-byte scan was a tenth
+ * of the time of reading a large record. A word that may hold one is left to the caller's
+ * byte-by-byte check, which lets the tab pass. */
+static size_t clean_prefix(const char *s, size_t i, size_t len)
+{
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
+    for (; i + 8u <= len; i += 8u)
+    {
+        uint64_t x;
+        memcpy(&x, s + i, sizeof(x));
+        const uint64_t del = x ^ (0x7Fu * ones);
+        /* nonzero exactly when some byte of x is below 0x20 or some byte of del is zero (x's is
+         * 0x7F); a borrow may mark a byte after a true one too, never one on its own */
+        if ((((x - 0x20u * ones) & ~x) | ((del - ones) & ~del)) & highs)
+        {
+            return i;
+        }
+    }
+    return i;
+}
 
 /**
  * Read one physical line into csv->line without its "\n" / "\r\n". Rejects NUL and control bytes
@@ -120,30 +172,71 @@ enum
  */
 static int read_line(aenl_csv_t *csv, aenl_err_t *err)
 {
-    ssize_t got;
     size_t len;
     size_t i;
     char *s;
 
-    errno = 0;
-    got = getline(&csv->line, &csv->cap, csv->fp);
-    if (got < 0)
+    /* the file is read in blocks and each line taken in place (getline's copy, lock and
+     * allocation per line were a fifth of the time of reading a large record) */
+    char *nl = NULL;
+    for (;;)
     {
-        if (ferror(csv->fp))
+        nl = (csv->end > csv->beg) ? memchr(csv->buf + csv->beg, '\n', csv->end - csv->beg) : NULL;
+        if (nl != NULL || csv->at_eof)
         {
-            aenl_err_set(err, "%s:%lu: read error (%s)", csv->path, csv->line_no + 1UL,
-                         strerror(errno != 0 ? errno : EIO));
-            return AENL_E_IO;
+            break;
         }
+        if (csv->beg > 0)
+        {
+            memmove(csv->buf, csv->buf + csv->beg, csv->end - csv->beg);
+            csv->end -= csv->beg;
+            csv->beg = 0;
+        }
+        if (csv->cap - csv->end < CSV_BLOCK / 2u)
+        {
+            const size_t cap = (csv->cap < CSV_BLOCK) ? CSV_BLOCK : 2u * csv->cap;
+            char *b = (cap > csv->cap) ? (char *)realloc(csv->buf, cap) : NULL;
+            if (b == NULL)
+            {
+                aenl_err_set(err, "%s:%lu: out of memory (a line of %lu bytes)", csv->path,
+                             csv->line_no + 1UL, (unsigned long)csv->end);
+                return AENL_E_IO;
+            }
+            csv->buf = b;
+            csv->cap = cap;
+        }
+        errno = 0;
+        const size_t got = fread(csv->buf + csv->end, 1, csv->cap - 1u - csv->end, csv->fp);
+        csv->end += got;
+        if (got == 0)
+        {
+            if (ferror(csv->fp))
+            {
+                aenl_err_set(err, "%s:%lu: read error (%s)", csv->path, csv->line_no + 1UL,
+                             strerror(errno != 0 ? errno : EIO));
+                return AENL_E_IO;
+            }
+            csv->at_eof = 1;
+        }
+    }
+    if (nl == NULL && csv->beg == csv->end)
+    {
         return LINE_EOF;
     }
-    ++csv->line_no;
-    len = (size_t)got;
-    s = csv->line;
-    if (len > 0 && s[len - 1] == '\n')
+    s = csv->buf + csv->beg;
+    if (nl != NULL)
     {
-        s[--len] = '\0';
+        len = (size_t)(nl - s);
+        csv->beg += len + 1u;
     }
+    else
+    {
+        len = csv->end - csv->beg; /* a last line without its newline */
+        csv->beg = csv->end;
+    }
+    s[len] = '\0'; /* the newline's place, or the byte kept free after end */
+    csv->line = s;
+    ++csv->line_no;
     if (len > 0 && s[len - 1] == '\r')
     {
         s[--len] = '\0';
@@ -156,6 +249,11 @@ static int read_line(aenl_csv_t *csv, aenl_err_t *err)
     }
     for (i = 0; i < len; ++i)
     {
+        i = clean_prefix(s, i, len);
+        if (i == len)
+        {
+            break;
+        }
         unsigned char c = (unsigned char)s[i];
         if (c == 0U)
         {
@@ -292,7 +390,7 @@ void aenl_csv_close(aenl_csv_t *csv)
         (void)fclose(csv->fp);
     }
     free_names(csv->names, csv->n_cols);
-    free(csv->line);
+    free(csv->buf);
     free(csv->path);
     free(csv);
 }
@@ -471,9 +569,66 @@ static int parse_extended(uint64_t w, int e10, double *x)
 }
 #endif
 
-int aenl_parse_decimal(const char *s, double *v)
+/* 1 with *d the value of the 8 decimal digits at p (the first the most significant), 0 when a
+ * byte of the 8 is not a digit; 8 bytes at p must be readable. A word at a time where the bytes'
+ * order allows: b - '0' borrows into the high bit exactly when b < '0', b + 0x46 carries into it
+ * exactly when b > '9' (a byte of 0x80 or more has one of them set), and then three
+ * multiplications gather the digits pairwise. */
+static int eight_digits(const char *p, uint32_t *d)
+{
+#if defined(__BYTE_ORDER__) && defined(__ORDER_LITTLE_ENDIAN__) &&                                 \
+    __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    uint64_t x;
+    memcpy(&x, p, sizeof(x));
+    const uint64_t lo = x - 0x3030303030303030u;
+    if (((lo | (x + 0x4646464646464646u)) & 0x8080808080808080u) != 0u)
+    {
+        return 0;
+    }
+    x = lo * 10u + (lo >> 8u); /* byte 2i: the two digits 2i, 2i + 1 */
+    x = ((x & 0x000000FF000000FFu) * (100u + (1000000ull << 32u)) +
+         ((x >> 16u) & 0x000000FF000000FFu) * (1u + (10000ull << 32u))) >>
+        32u;
+    *d = (uint32_t)x;
+    return 1;
+#else
+    uint32_t v = 0;
+    for (int i = 0; i < 8; ++i)
+    {
+        if (!is_digit(p[i]))
+        {
+            return 0;
+        }
+        v = 10u * v + (uint32_t)(p[i] - '0');
+    }
+    *d = v;
+    return 1;
+#endif
+}
+
+/* w = 10^k w + the k digits from s on; returns the byte after them. Reads nothing past end,
+ * where the string's NUL is. */
+static const char *take_digits(const char *s, const char *end, uint64_t *w)
+{
+    uint32_t d8;
+    while (end - s >= 8 && eight_digits(s, &d8))
+    {
+        *w = 100000000u * *w + d8;
+        s += 8;
+    }
+    while (is_digit(*s))
+    {
+        *w = 10u * *w + (uint64_t)(*s - '0');
+        ++s;
+    }
+    return s;
+}
+
+/* aenl_parse_decimal of the n bytes at s, s[n] a NUL. */
+static int parse_decimal_n(const char *s, size_t n, double *v)
 {
 #if defined(FLT_EVAL_METHOD) && FLT_EVAL_METHOD == 0
+    const char *const end = s + n;
     /* Clinger's fast path: w and 10^|e| are both exact doubles, so w * 10^e and w / 10^-e are
      * each one correctly rounded operation, the value strtod gives */
     static const double p10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
@@ -481,40 +636,43 @@ int aenl_parse_decimal(const char *s, double *v)
                                    1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
     const int neg = *s == '-';
     s += (*s == '-' || *s == '+') ? 1 : 0;
+    /* Digits are counted by where the scan stops, not one counter a character: this loop is
+     * most of the time of reading a large record. w takes every digit after the leading zeros;
+     * more than 19 of them may wrap it around, and are then left to strtod. */
+    const char *const start = s;
     uint64_t w = 0;
-    int digits = 0, sig = 0, e10 = 0, dot = 0;
-    for (;; ++s)
+    while (*s == '0')
     {
-        if (*s >= '0' && *s <= '9')
-        {
-            if (++digits > 400)
-            {
-                return 0; /* a cell of hundreds of leading zeros: strtod's */
-            }
-            if (w == 0 && *s == '0')
-            {
-                e10 -= dot; /* a leading zero: only its place counts */
-                continue;
-            }
-            if (++sig > 19)
-            {
-                return 0; /* then w >= 10^19: beyond 64 bits soon */
-            }
-            w = 10u * w + (uint64_t)(*s - '0');
-            e10 -= dot;
-        }
-        else if (*s == '.' && !dot)
-        {
-            dot = 1;
-        }
-        else
-        {
-            break;
-        }
+        ++s;
     }
-    if (digits == 0)
+    const char *sig_from = s;
+    s = take_digits(s, end, &w);
+    ptrdiff_t n_sig = s - sig_from;
+    int any_digit = s > start;
+    int e10 = 0;
+    if (*s == '.')
     {
-        return 0;
+        const char *const frac = ++s;
+        if (w == 0)
+        {
+            while (*s == '0')
+            {
+                ++s; /* a leading zero: only its place counts */
+            }
+        }
+        sig_from = s;
+        s = take_digits(s, end, &w);
+        n_sig += s - sig_from;
+        if (s - frac > 400)
+        {
+            return 0; /* hundreds of zeros after the point: strtod's */
+        }
+        e10 = -(int)(s - frac);
+        any_digit = any_digit || s > frac;
+    }
+    if (!any_digit || n_sig > 19)
+    {
+        return 0; /* no digit; or w >= 10^19, beyond 64 bits soon */
     }
     if (*s == 'e' || *s == 'E')
     {
@@ -562,14 +720,20 @@ int aenl_parse_decimal(const char *s, double *v)
     return 1;
 #else
     (void)s;
+    (void)n;
     (void)v;
     return 0; /* wider evaluation would round twice: strtod */
 #endif
 }
 
+int aenl_parse_decimal(const char *s, double *v)
+{
+    return parse_decimal_n(s, strlen(s), v);
+}
+
 /* One cell → value (NaN for a missing cell). `cell` is already trimmed. */
-static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cell, double *value,
-                                aenl_err_t *err)
+static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cell, size_t n,
+                                double *value, aenl_err_t *err)
 {
     char *end = NULL;
     double v;
@@ -578,7 +742,7 @@ static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cel
         *value = (double)NAN;
         return AENL_OK;
     }
-    if (aenl_parse_decimal(cell, value))
+    if (parse_decimal_n(cell, n, value))
     {
         return AENL_OK;
     }
@@ -642,7 +806,9 @@ static aenl_status_t parse_row(const aenl_csv_t *csv, char *line, double *row, a
                          (unsigned long)csv->n_cols);
             return AENL_E_ARG;
         }
-        st = parse_cell(csv, c, trim(cell), &row[c], err);
+        size_t n = (next != NULL) ? (size_t)(next - cell) : strlen(cell);
+        char *const value = trim_n(cell, &n);
+        st = parse_cell(csv, c, value, n, &row[c], err);
         if (st != AENL_OK)
         {
             return st;
