@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "aenl_evalsuite.h"
+#include "aenl_test_sanitized.h"
 #include "unity.h"
 
 #define DEG 0.017453292519943295
@@ -522,11 +523,9 @@ static void test_cli_identify_plot(void)
  * the record alone's verdict in the table. */
 static void test_cli_identify_with_model(void)
 {
-#ifdef AENL_TEST_SANITIZED
     /* the diagnosis end to end runs under the sanitizers in test_diagnose, and the command's
      * --model path in the linear test below */
-    TEST_IGNORE_MESSAGE("a diagnosis end to end: left to the plain build");
-#else
+    AENL_PLAIN_BUILD_ONLY("a diagnosis end to end: left to the plain build");
     char ini[600], base[600];
     (void)snprintf(ini, sizeof(ini), "%s/tools/examples/diagnose_truth_airfoil2dof.ini",
                    source_root());
@@ -575,7 +574,6 @@ static void test_cli_identify_with_model(void)
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "one orbit does not tell"), out);
     /* one law: no second effect */
     TEST_ASSERT_NULL_MESSAGE(strstr(out, "and a second effect"), out);
-#endif
 }
 
 /* --model on a linear record: a rap test of the 3-DOF section without any law (the conditions
@@ -599,12 +597,13 @@ static void test_cli_identify_with_model_linear(void)
     TEST_ASSERT_EQUAL_STRING_MESSAGE(
         "linear", cJSON_GetObjectItemCaseSensitive(v, "class")->valuestring, r.out);
     cJSON_Delete(root);
-#ifndef AENL_TEST_SANITIZED /* the same diagnosis again, printed as a table: strict build only */
-    const char *table[] = {"identify", data, "--model", base, NULL};
-    const char *out = run_table(table, &r);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "and its summaries agree (p "), out);
-    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict (model-based): linear"), out);
-#endif
+    if (!AENL_TEST_IS_SANITIZED) /* the same diagnosis again, printed as a table */
+    {
+        const char *table[] = {"identify", data, "--model", base, NULL};
+        const char *out = run_table(table, &r);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "and its summaries agree (p "), out);
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(out, "\nverdict (model-based): linear"), out);
+    }
 }
 
 /* --model on two freeplays at once (tools/examples/section3dof_two_freeplays.ini: pitch gap
@@ -614,12 +613,11 @@ static void test_cli_identify_with_model_linear(void)
  * width: the pitch gap is a tenth of the flap's), plunge linear. */
 static void test_cli_identify_with_model_two_freeplays(void)
 {
-#ifdef AENL_TEST_SANITIZED
     /* Four diagnoses end to end take minutes under the sanitizers; the diagnosis runs there in
      * test_cli_diagnose and test_diagnose, and the command's --model path in the linear test
      * above; this one runs in the strict build. */
-    TEST_IGNORE_MESSAGE("four diagnoses: left to the strict build (minutes under the sanitizers)");
-#else
+    AENL_PLAIN_BUILD_ONLY(
+        "four diagnoses: left to the strict build (minutes under the sanitizers)");
     char ini[600], base[600];
     (void)snprintf(ini, sizeof(ini), "%s/tools/examples/section3dof_two_freeplays.ini",
                    source_root());
@@ -660,7 +658,6 @@ static void test_cli_identify_with_model_two_freeplays(void)
         }
     }
     cJSON_Delete(root);
-#endif
 }
 
 typedef struct

@@ -21,6 +21,7 @@
 #include "aenl_cli_test.h"
 #include "aenl_nlt_internal.h"
 #include "aenl_test_rand.h"
+#include "aenl_test_sanitized.h"
 #include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_nltest.h"
 #include "aenl_tools/aenl_sim.h"
@@ -211,25 +212,17 @@ static void test_record(double *y, size_t n, aenl_nlt_result_t *r)
 }
 
 /* Linear records: at level 0.01 the number of nonlinear verdicts among 20 is binomial(20, 0.01)
- * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. The sanitizer build
- * runs 2 of them (minutes otherwise), where P(X >= 2) = 0.0001. */
-#ifdef AENL_TEST_SANITIZED
-#define NULL_RECORDS      2u
-#define NULL_MAX_REJECTED 1u
-#else
+ * when the test holds its level; P(X >= 3) = 0.001, so three or more fail. */
 #define NULL_RECORDS      20u
 #define NULL_MAX_REJECTED 2u
-#endif
 /* Linear controls count their own nonlinear verdicts: at level 0.01 the controls of a linear
  * gust record are linear (at most one of six, a binomial bound); at level 0.5, where each of the
  * two channels rejects a linear record half the time, some are called nonlinear and some not. */
 static void test_nlt_controls_count_their_verdicts(void)
 {
-#ifdef AENL_TEST_SANITIZED
     /* fourteen runs of the test; the controls' code runs under the sanitizers in
      * test_parallel and in the --controls runs of the command line here */
-    TEST_IGNORE_MESSAGE("fourteen runs of the test: left to the plain build");
-#else
+    AENL_PLAIN_BUILD_ONLY("fourteen runs of the test: left to the plain build");
     size_t n = 0;
     double *y = airfoil_record(NULL, 7100u, &n);
     aenl_nlt_opts_t o;
@@ -247,11 +240,12 @@ static void test_nlt_controls_count_their_verdicts(void)
            r.n_controls);
     TEST_ASSERT_TRUE(r.n_controls_nonlinear >= 1u && r.n_controls_nonlinear < r.n_controls);
     free(y);
-#endif
 }
 
 static void test_nlt_linear_records_hold_the_level(void)
 {
+    /* linear records run through the test under the sanitizers in test_cli_bench_null */
+    AENL_PLAIN_BUILD_ONLY("twenty runs of the test: left to the plain build");
     size_t rejected = 0;
     size_t impulses = 0;
     size_t samples = 0;
@@ -286,6 +280,9 @@ static void test_nlt_linear_records_hold_the_level(void)
  * switching points within 10 % of the gap's width, each inside its interval's neighbourhood. */
 static void test_nlt_freeplay_named_with_its_gap(void)
 {
+    /* every run fits every law: the freeplay's code runs under the sanitizers in the command's
+     * runs below */
+    AENL_PLAIN_BUILD_ONLY("another run of the test: left to the plain build");
     const aenl_sim_law_t law = pitch_freeplay();
     size_t n = 0;
     double *y = airfoil_record(&law, 4242u, &n);
@@ -430,6 +427,7 @@ static void test_nlt_kicked_freeplay_is_found_with_its_jumps(void)
  * alpha, and hardening: the frequency rises with amplitude. */
 static void test_nlt_hardening_cubic(void)
 {
+    AENL_PLAIN_BUILD_ONLY("another run of the test: left to the plain build");
     const aenl_sim_law_t law = pitch_cubic(3e5);
     size_t n = 0;
     double *y = airfoil_record(&law, 5151u, &n);
@@ -461,7 +459,9 @@ static void test_nlt_hardening_cubic(void)
 static void test_nlt_noise_free_records_dithered(void)
 {
     const aenl_sim_law_t law = pitch_cubic(100.0);
-    for (int k = 0; k < 2; ++k)
+    /* under the sanitizers the dithering's code runs once; every record in the plain build */
+    const int n_records = AENL_TEST_IS_SANITIZED ? 1 : 2;
+    for (int k = 0; k < n_records; ++k)
     {
         size_t n = 0;
         double *y = airfoil_run(k == 0 ? NULL : &law, noise_free_release, 0u, &n);
@@ -476,6 +476,10 @@ static void test_nlt_noise_free_records_dithered(void)
         TEST_ASSERT_TRUE(r.ch[0].dithered && r.ch[1].dithered);
         TEST_ASSERT_EQUAL_INT(k == 0 ? -1 : 0, r.verdict);
         TEST_ASSERT_EQUAL_INT(k == 0 ? AENL_CLASS_LINEAR : AENL_CLASS_POLYNOMIAL, r.verdict_class);
+    }
+    if (AENL_TEST_IS_SANITIZED)
+    {
+        return;
     }
     size_t n = 0;
     double *y = airfoil_record(NULL, 7001u, &n);

@@ -19,6 +19,7 @@
 #include "aenl_evalsuite.h"
 #include "aenl_tools/aenl_rng.h"
 #include "aenl_diagnose_internal.h"
+#include "aenl_test_sanitized.h"
 #include "unity.h"
 
 #define PI 3.14159265358979323846
@@ -31,11 +32,7 @@
  * here), and every unit test: each of those diagnoses fits every candidate effect, so the code
  * they walk is the same in the other end-to-end runs, whose accuracy the plain build checks
  * (minutes each under the sanitizers). */
-#ifdef AENL_TEST_SANITIZED
-#define PLAIN_BUILD_ONLY() TEST_IGNORE_MESSAGE("another end-to-end run: left to the plain build")
-#else
-#define PLAIN_BUILD_ONLY() ((void)0)
-#endif
+#define PLAIN_BUILD_ONLY() AENL_PLAIN_BUILD_ONLY("another end-to-end run: left to the plain build")
 
 void setUp(void)
 {
