@@ -135,150 +135,163 @@ static void ref_mul(double c[RX][RX], double a[RX][RX], double b[RX][RX], int bt
     }
 }
 
-static double ref_skf_run(const aenl_skf_model_t *m, const double *z, size_t n)
+/* x_p = A x + b and P <- A P A' + Q in mode s. */
+static void ref_predict(const aenl_skf_model_t *m, uint32_t s, const double x[RX], double xp[RX],
+                        double P[RX][RX])
 {
-    double x[RX], P[RX][RX], T[RX][RX], U[RX][RX], IKC[RX][RX], K[RX][RZ], nis_sum = 0.0;
-    double prev = 0.0;
-    int rising = 1;
-    memcpy(x, m->x0, sizeof(x));
+    double As[RX][RX], T[RX][RX], U[RX][RX];
+    for (int i = 0; i < RX; ++i)
+    {
+        xp[i] = m->b[s][i];
+        for (int k = 0; k < RX; ++k)
+        {
+            xp[i] += m->A[s][i][k] * x[k];
+            As[i][k] = m->A[s][i][k];
+        }
+    }
+    ref_mul(T, As, P, 0);
+    ref_mul(U, T, As, 1);
     for (int i = 0; i < RX; ++i)
     {
         for (int j = 0; j < RX; ++j)
         {
-            P[i][j] = m->P0[i][j];
+            P[i][j] = U[i][j] + m->Q[s][i][j];
         }
+    }
+}
+
+/* The innovation e of z against xp, its covariance S = C P C' + R inverted (Gauss-Jordan; S is
+ * positive definite) and the gain K = P C' S^-1; returns e' S^-1 e. */
+static double ref_gain(const aenl_skf_model_t *m, const double *z, const double xp[RX],
+                       double P[RX][RX], double e[RZ], double K[RX][RZ])
+{
+    double S[RZ][RZ], Si[RZ][RZ], PCt[RX][RZ];
+    for (int i = 0; i < RX; ++i)
+    {
+        for (int r = 0; r < RZ; ++r)
+        {
+            PCt[i][r] = 0.0;
+            for (int k = 0; k < RX; ++k)
+            {
+                PCt[i][r] += P[i][k] * m->C[r][k];
+            }
+        }
+    }
+    for (int r = 0; r < RZ; ++r)
+    {
+        e[r] = z[r];
+        for (int k = 0; k < RX; ++k)
+        {
+            e[r] -= m->C[r][k] * xp[k];
+        }
+        for (int c = 0; c < RZ; ++c)
+        {
+            S[r][c] = m->R[r][c];
+            for (int k = 0; k < RX; ++k)
+            {
+                S[r][c] += m->C[r][k] * PCt[k][c];
+            }
+            Si[r][c] = (r == c) ? 1.0 : 0.0;
+        }
+    }
+    for (int c = 0; c < RZ; ++c)
+    {
+        const double d = S[c][c];
+        for (int j = 0; j < RZ; ++j)
+        {
+            S[c][j] /= d;
+            Si[c][j] /= d;
+        }
+        for (int r = 0; r < RZ; ++r)
+        {
+            const double f = (r == c) ? 0.0 : S[r][c];
+            for (int j = 0; j < RZ; ++j)
+            {
+                S[r][j] -= f * S[c][j];
+                Si[r][j] -= f * Si[c][j];
+            }
+        }
+    }
+    double nis = 0.0;
+    for (int r = 0; r < RZ; ++r)
+    {
+        for (int c = 0; c < RZ; ++c)
+        {
+            nis += e[r] * Si[r][c] * e[c];
+        }
+    }
+    for (int i = 0; i < RX; ++i)
+    {
+        for (int r = 0; r < RZ; ++r)
+        {
+            K[i][r] = 0.0;
+            for (int c = 0; c < RZ; ++c)
+            {
+                K[i][r] += PCt[i][c] * Si[c][r];
+            }
+        }
+    }
+    return nis;
+}
+
+/* x = xp + K e and the Joseph form P <- (I - K C) P (I - K C)' + K R K'. */
+static void ref_joseph(const aenl_skf_model_t *m, const double xp[RX], const double e[RZ],
+                       double K[RX][RZ], double x[RX], double P[RX][RX])
+{
+    double IKC[RX][RX], T[RX][RX], U[RX][RX];
+    for (int i = 0; i < RX; ++i)
+    {
+        x[i] = xp[i];
+        for (int r = 0; r < RZ; ++r)
+        {
+            x[i] += K[i][r] * e[r];
+        }
+        for (int j = 0; j < RX; ++j)
+        {
+            double kc = 0.0;
+            for (int r = 0; r < RZ; ++r)
+            {
+                kc += K[i][r] * m->C[r][j];
+            }
+            IKC[i][j] = ((i == j) ? 1.0 : 0.0) - kc;
+        }
+    }
+    ref_mul(T, IKC, P, 0);
+    ref_mul(U, T, IKC, 1);
+    for (int i = 0; i < RX; ++i)
+    {
+        for (int j = 0; j < RX; ++j)
+        {
+            double krk = 0.0;
+            for (int r = 0; r < RZ; ++r)
+            {
+                for (int c = 0; c < RZ; ++c)
+                {
+                    krk += K[i][r] * m->R[r][c] * K[j][c];
+                }
+            }
+            P[i][j] = U[i][j] + krk;
+        }
+    }
+}
+
+static double ref_skf_run(const aenl_skf_model_t *m, const double *z, size_t n)
+{
+    double x[RX], xp[RX], P[RX][RX], K[RX][RZ], e[RZ], nis_sum = 0.0, prev = 0.0;
+    int rising = 1;
+    memcpy(x, m->x0, sizeof(x));
+    for (int i = 0; i < RX; ++i)
+    {
+        memcpy(P[i], m->P0[i], sizeof(P[i]));
     }
     for (size_t t = 0; t < n; ++t)
     {
         const double v = x[m->switch_state];
         rising = (v > prev) ? 1 : (v < prev) ? 0 : rising;
         prev = v;
-        const uint32_t s = aenl_skf_mode_of(m, v, rising);
-        double xp[RX];
-        for (int i = 0; i < RX; ++i)
-        {
-            xp[i] = m->b[s][i];
-            for (int k = 0; k < RX; ++k)
-            {
-                xp[i] += m->A[s][i][k] * x[k];
-            }
-        }
-        double As[RX][RX];
-        for (int i = 0; i < RX; ++i)
-        {
-            for (int j = 0; j < RX; ++j)
-            {
-                As[i][j] = m->A[s][i][j];
-            }
-        }
-        ref_mul(T, As, P, 0);
-        ref_mul(U, T, As, 1);
-        for (int i = 0; i < RX; ++i)
-        {
-            for (int j = 0; j < RX; ++j)
-            {
-                P[i][j] = U[i][j] + m->Q[s][i][j];
-            }
-        }
-        double S[RZ][RZ], Si[RZ][RZ], PCt[RX][RZ], e[RZ];
-        for (int i = 0; i < RX; ++i)
-        {
-            for (int r = 0; r < RZ; ++r)
-            {
-                PCt[i][r] = 0.0;
-                for (int k = 0; k < RX; ++k)
-                {
-                    PCt[i][r] += P[i][k] * m->C[r][k];
-                }
-            }
-        }
-        for (int r = 0; r < RZ; ++r)
-        {
-            e[r] = z[RZ * t + (size_t)r];
-            for (int k = 0; k < RX; ++k)
-            {
-                e[r] -= m->C[r][k] * xp[k];
-            }
-            for (int c = 0; c < RZ; ++c)
-            {
-                S[r][c] = m->R[r][c];
-                for (int k = 0; k < RX; ++k)
-                {
-                    S[r][c] += m->C[r][k] * PCt[k][c];
-                }
-                Si[r][c] = (r == c) ? 1.0 : 0.0;
-            }
-        }
-        for (int c = 0; c < RZ; ++c) /* Gauss-Jordan without pivoting: S is positive definite */
-        {
-            const double d = S[c][c];
-            for (int j = 0; j < RZ; ++j)
-            {
-                S[c][j] /= d;
-                Si[c][j] /= d;
-            }
-            for (int r = 0; r < RZ; ++r)
-            {
-                const double f = (r == c) ? 0.0 : S[r][c];
-                for (int j = 0; j < RZ; ++j)
-                {
-                    S[r][j] -= f * S[c][j];
-                    Si[r][j] -= f * Si[c][j];
-                }
-            }
-        }
-        for (int i = 0; i < RX; ++i)
-        {
-            for (int r = 0; r < RZ; ++r)
-            {
-                K[i][r] = 0.0;
-                for (int c = 0; c < RZ; ++c)
-                {
-                    K[i][r] += PCt[i][c] * Si[c][r];
-                }
-            }
-        }
-        for (int r = 0; r < RZ; ++r)
-        {
-            for (int c = 0; c < RZ; ++c)
-            {
-                nis_sum += e[r] * Si[r][c] * e[c];
-            }
-        }
-        for (int i = 0; i < RX; ++i)
-        {
-            x[i] = xp[i];
-            for (int r = 0; r < RZ; ++r)
-            {
-                x[i] += K[i][r] * e[r];
-            }
-            for (int j = 0; j < RX; ++j)
-            {
-                double kc = 0.0;
-                for (int r = 0; r < RZ; ++r)
-                {
-                    kc += K[i][r] * m->C[r][j];
-                }
-                IKC[i][j] = ((i == j) ? 1.0 : 0.0) - kc;
-            }
-        }
-        ref_mul(T, IKC, P, 0);
-        ref_mul(U, T, IKC, 1);
-        for (int i = 0; i < RX; ++i)
-        {
-            for (int j = 0; j < RX; ++j)
-            {
-                double krk = 0.0;
-                for (int r = 0; r < RZ; ++r)
-                {
-                    for (int c = 0; c < RZ; ++c)
-                    {
-                        krk += K[i][r] * m->R[r][c] * K[j][c];
-                    }
-                }
-                P[i][j] = U[i][j] + krk;
-            }
-        }
+        ref_predict(m, aenl_skf_mode_of(m, v, rising), x, xp, P);
+        nis_sum += ref_gain(m, &z[RZ * t], xp, P, e, K);
+        ref_joseph(m, xp, e, K, x, P);
     }
     return nis_sum;
 }
