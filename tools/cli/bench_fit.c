@@ -277,8 +277,12 @@ static void ref_joseph(const aenl_skf_model_t *m, const double xp[RX], const dou
 
 static double ref_skf_run(const aenl_skf_model_t *m, const double *z, size_t n)
 {
-    double x[RX], xp[RX], P[RX][RX], K[RX][RZ], e[RZ], nis_sum = 0.0, prev = 0.0;
-    int rising = 1;
+    double x[RX], xp[RX], P[RX][RX], K[RX][RZ], e[RZ], nis_sum = 0.0;
+    struct
+    {
+        double prev; /* x[switch_state] of the step before */
+        int rising;  /* its direction, kept through a step without change */
+    } dir = {0.0, 1};
     memcpy(x, m->x0, sizeof(x));
     for (int i = 0; i < RX; ++i)
     {
@@ -287,9 +291,9 @@ static double ref_skf_run(const aenl_skf_model_t *m, const double *z, size_t n)
     for (size_t t = 0; t < n; ++t)
     {
         const double v = x[m->switch_state];
-        rising = (v > prev) ? 1 : (v < prev) ? 0 : rising;
-        prev = v;
-        ref_predict(m, aenl_skf_mode_of(m, v, rising), x, xp, P);
+        dir.rising = (v > dir.prev) ? 1 : (v < dir.prev) ? 0 : dir.rising;
+        dir.prev = v;
+        ref_predict(m, aenl_skf_mode_of(m, v, dir.rising), x, xp, P);
         nis_sum += ref_gain(m, &z[RZ * t], xp, P, e, K);
         ref_joseph(m, xp, e, K, x, P);
     }
