@@ -67,22 +67,8 @@ static int is_blank(char c)
 }
 
 /* Trim blanks on both sides in place; returns the new start. */
-static char *trim(char *s)
-{
-    size_t n;
-    while (is_blank(*s))
-    {
-        ++s;
-    }
-    n = strlen(s);
-    while (n > 0 && is_blank(s[n - 1]))
-    {
-        s[--n] = '\0';
-    }
-    return s;
-}
-
-/* trim for a cell of *n bytes ending at s[*n] (a NUL): no strlen, *n updated. */
+/* Blanks off both ends: s[0 .. *n) ends at a NUL; the trailing blanks become NULs and *n the
+ * length of what is left. */
 static char *trim_n(char *s, size_t *n)
 {
     size_t k = *n;
@@ -97,6 +83,12 @@ static char *trim_n(char *s, size_t *n)
     }
     *n = k;
     return s;
+}
+
+static char *trim(char *s)
+{
+    size_t n = strlen(s);
+    return trim_n(s, &n);
 }
 
 static int is_digit(char c)
@@ -680,7 +672,7 @@ static int parse_decimal_n(const char *s, size_t n, double *v)
         const int eneg = *s == '-';
         s += (*s == '-' || *s == '+') ? 1 : 0;
         int x = 0, nx = 0;
-        for (; *s >= '0' && *s <= '9'; ++s)
+        for (; is_digit(*s); ++s)
         {
             if (++nx > 4)
             {
