@@ -1108,6 +1108,88 @@ static uint64_t bits_of(double d)
     return b;
 }
 
+/* Values a few units in the last place either side of every power of ten from 1e-8 to 1e8, in
+ * ascending order (where a decade's exponent is decided by log10's rounding): the verdicts, the
+ * finest resolution and the most digits the same as the definition's at every value. */
+static void test_time_steps_decade_edges(void)
+{
+    aenl_time_steps_t s;
+    ref_steps_t r;
+    memset(&s, 0, sizeof(s));
+    memset(&r, 0, sizeof(r));
+    size_t seen = 0;
+    for (int e = -8; e <= 8; ++e)
+    {
+        char txt[16];
+        (void)snprintf(txt, sizeof(txt), "1e%d", e);
+        double v = strtod(txt, NULL);
+        for (int i = 0; i < 4; ++i)
+        {
+            v = nextafter(v, 0.0);
+        }
+        for (int i = 0; i < 9; ++i)
+        {
+            double step = 0.0;
+            double ref = 0.0;
+            double step_r = 0.0;
+            double ref_r = 0.0;
+            const int ok = aenl_time_steps_take(&s, v, &step, &ref);
+            TEST_ASSERT_EQUAL_INT(ref_steps_take(&r, v, &step_r, &ref_r), ok);
+            TEST_ASSERT_EQUAL_DOUBLE(r.q_dec, s.q_dec);
+            TEST_ASSERT_EQUAL_INT(r.digits, s.digits);
+            ++seen;
+            v = nextafter(v, HUGE_VAL);
+        }
+    }
+    TEST_ASSERT_EQUAL_size_t(17u * 9u, seen);
+}
+
+/* A record whose first lines are longer (long_first) or shorter than the rest, so that the
+ * reader's guess of its rows from the file's size and its first lines is too low or too high;
+ * row k holds k, 1e-3 k and -k / 7, written to round trip. */
+static void write_uneven(const char *path, int long_first, long rows)
+{
+    FILE *fp = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(fp);
+    (void)fputs("t,a,b\n", fp);
+    for (long k = 0; k < rows; ++k)
+    {
+        const int first = k < 3000;
+        const int pad = (first == long_first) ? 40 : 0;
+        (void)fprintf(fp, "%ld,%*s%.17g,%.17g\n", k, pad, "", 1e-3 * (double)k, -(double)k / 7.0);
+    }
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+}
+
+/* A table sized ahead from its first lines holds every row when the guess is too low (it grows)
+ * and when it is too high (it shrinks), each value as written. */
+static void test_table_read_sized_ahead(void)
+{
+    const char *path = tmp_path("uneven.csv");
+    const long rows = 200000;
+    for (int long_first = 0; long_first <= 1; ++long_first)
+    {
+        write_uneven(path, long_first, rows);
+        aenl_table_t t;
+        TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+        TEST_ASSERT_EQUAL_size_t((size_t)rows, t.n_rows);
+        TEST_ASSERT_EQUAL_size_t(3u, t.n_cols);
+        size_t bad = 0;
+        for (long k = 0; k < rows; ++k)
+        {
+            const double want[3] = {(double)k, 1e-3 * (double)k, -(double)k / 7.0};
+            for (size_t c = 0; c < 3; ++c)
+            {
+                bad += bits_of(aenl_table_col(&t, c)[k]) != bits_of(want[c]) ? 1u : 0u;
+            }
+        }
+        TEST_ASSERT_EQUAL_size_t(0u, bad);
+        TEST_ASSERT_EQUAL_size_t(0u, t.n_nan[0] + t.n_nan[1] + t.n_nan[2]);
+        aenl_table_free(&t);
+    }
+    (void)remove(path);
+}
+
 /* The decimals of a double printed to round trip (%.17g, as the project's own CSV writer does,
  * and %.16g to %.19g), 10^6 of them over 10^-30 .. 10^30, against strtod bit for bit; integers
  * that lie exactly halfway between two doubles (2^54 .. 2^63 plus half a step), which strtod
@@ -1268,6 +1350,8 @@ int main(void)
     RUN_TEST(test_parse_decimal_long_decimals);
     RUN_TEST(test_time_steps);
     RUN_TEST(test_time_steps_against_definition);
+    RUN_TEST(test_time_steps_decade_edges);
+    RUN_TEST(test_table_read_sized_ahead);
     RUN_TEST(test_table_round_trip_is_bit_exact);
     RUN_TEST(test_csv_writer_streams_rows);
     RUN_TEST(test_csv_writer_rejects_bad_names_and_inf);

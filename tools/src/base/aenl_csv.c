@@ -19,6 +19,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "aenl_tools/aenl_csv.h"
+#include "aenl_tools/aenl_mem.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -28,6 +29,8 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
 
 struct aenl_csv
 {
@@ -46,6 +49,7 @@ struct aenl_csv
     aenl_status_t failed; /* sticky: once a read failed, later calls fail too */
     size_t data_rows;     /* data rows read so far */
     char sep;             /* the separator: ',', or the header's ';' or tab when it has no comma */
+    uint64_t pos;         /* bytes read from the file so far */
 };
 
 /* ---- small helpers ------------------------------------------------------------------------- */
@@ -200,6 +204,7 @@ static int read_line(aenl_csv_t *csv, aenl_err_t *err)
         errno = 0;
         const size_t got = fread(csv->buf + csv->end, 1, csv->cap - 1u - csv->end, csv->fp);
         csv->end += got;
+        csv->pos += got;
         if (got == 0)
         {
             if (ferror(csv->fp))
@@ -934,105 +939,183 @@ static double *grow_columns(double *data, size_t n_cols, size_t n_rows, size_t c
     return grown;
 }
 
-aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *err)
+/* Rows read so far: column-major, column stride cap. */
+typedef struct
 {
-    aenl_csv_t *csv = NULL;
-    aenl_status_t st;
-    double *row = NULL;
-    double *data = NULL;
-    size_t *n_nan = NULL;
-    size_t n_cols;
-    size_t n_rows = 0;
-    size_t cap = 0;
-    size_t c;
-    int rc;
+    double *data;
+    size_t cap, n_rows;
+    size_t *n_nan; /* per column */
+} rows_t;
 
-    if (out == NULL)
+static void rows_free(rows_t *r)
+{
+    free(r->data);
+    free(r->n_nan);
+    memset(r, 0, sizeof(*r));
+}
+
+/* Room for cap rows in r (empty), so that a table whose size is known ahead is not grown and
+ * moved row block by row block: 0, or -1 when memory lacks (r is then unchanged). */
+static int rows_reserve(rows_t *r, size_t n_cols, size_t cap)
+{
+    if (cap == 0 || cap > SIZE_MAX / sizeof(double) / n_cols)
     {
-        aenl_err_set(err, "aenl_table_read: NULL table");
-        return AENL_E_ARG;
+        return -1;
     }
-    table_zero(out);
-    st = aenl_csv_open(&csv, path, err);
-    if (st != AENL_OK)
+    double *d = (double *)aenl_alloc_large(n_cols * cap * sizeof(double));
+    if (d == NULL)
     {
-        return st;
+        return -1;
     }
-    n_cols = csv->n_cols;
-    row = (double *)calloc(n_cols, sizeof *row);
-    n_nan = (size_t *)calloc(n_cols, sizeof *n_nan);
-    if (row == NULL || n_nan == NULL)
+    free(r->data);
+    r->data = d;
+    r->cap = cap;
+    return 0;
+}
+
+/* The rows that bytes more of csv's file likely hold: its lines so far (those in its buffer)
+ * give the bytes a line, and a twentieth more is allowed. */
+static size_t rows_likely(const aenl_csv_t *csv, uint64_t bytes)
+{
+    size_t lines = 0;
+    for (const char *p = csv->buf + csv->beg, *end = csv->buf + csv->end;
+         (p = (const char *)memchr(p, '\n', (size_t)(end - p))) != NULL; ++p)
     {
-        aenl_err_set(err, "%s: out of memory", path);
-        st = AENL_E_IO;
-        goto fail;
+        ++lines;
     }
+    if (lines < 16u)
+    {
+        return 0;
+    }
+    const double per_line = (double)(csv->end - csv->beg) / (double)lines;
+    return (size_t)(1.05 * (double)bytes / per_line) + 1024u;
+}
+
+/* The data rows of csv from where it stands to its end, appended to r. */
+static aenl_status_t read_rows(aenl_csv_t *csv, rows_t *r, aenl_err_t *err)
+{
+    const size_t n_cols = csv->n_cols;
+    double *row = (double *)calloc(n_cols, sizeof *row);
+    if (row == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", csv->path);
+        return AENL_E_IO;
+    }
+    size_t *n_nan = r->n_nan;
+    double *data = r->data;
+    size_t cap = r->cap;
+    size_t n_rows = r->n_rows;
+    aenl_status_t st = AENL_OK;
+    int rc;
     while ((rc = aenl_csv_next(csv, row, err)) == 1)
     {
         if (n_rows == cap)
         {
-            size_t new_cap = (cap == 0) ? 1024U : 2U * cap;
-            double *grown;
+            const size_t new_cap = (cap == 0) ? 1024U : 2U * cap;
             if (new_cap > SIZE_MAX / sizeof(double) / n_cols)
             {
-                aenl_err_set(err, "%s:%lu: table too large", path, csv->line_no);
+                aenl_err_set(err, "%s:%lu: table too large", csv->path, csv->line_no);
                 st = AENL_E_IO;
-                goto fail;
+                break;
             }
-            grown = grow_columns(data, n_cols, n_rows, cap, new_cap);
+            double *grown = grow_columns(data, n_cols, n_rows, cap, new_cap);
             if (grown == NULL)
             {
-                aenl_err_set(err, "%s:%lu: out of memory (%lu rows)", path, csv->line_no,
+                aenl_err_set(err, "%s:%lu: out of memory (%lu rows)", csv->path, csv->line_no,
                              (unsigned long)n_rows);
                 st = AENL_E_IO;
-                goto fail;
+                break;
             }
             data = grown;
             cap = new_cap;
         }
-        for (c = 0; c < n_cols; ++c)
+        for (size_t c = 0; c < n_cols; ++c)
         {
             data[c * cap + n_rows] = row[c];
             n_nan[c] += isnan(row[c]) ? 1U : 0U;
         }
         ++n_rows;
     }
-    if (rc < 0)
+    if (st == AENL_OK && rc < 0)
     {
         st = (aenl_status_t)rc;
-        goto fail;
     }
-    /* Compact to stride n_rows (destinations below sources: move first to last), then shrink. */
-    if (data != NULL && n_rows < cap)
+    r->data = data;
+    r->cap = cap;
+    r->n_rows = n_rows;
+    free(row);
+    return st;
+}
+
+/* The size of the regular file csv reads, 0 for anything else (a pipe, a device) or when it
+ * cannot be told. */
+static uint64_t file_size(const aenl_csv_t *csv)
+{
+    struct stat sb;
+    if (!csv->own_fp || fstat(fileno(csv->fp), &sb) != 0 || !S_ISREG(sb.st_mode) || sb.st_size < 0)
     {
-        double *shrunk;
-        for (c = 1; c < n_cols; ++c)
+        return 0;
+    }
+    return (uint64_t)sb.st_size;
+}
+
+aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *err)
+{
+    if (out == NULL)
+    {
+        aenl_err_set(err, "aenl_table_read: NULL table");
+        return AENL_E_ARG;
+    }
+    table_zero(out);
+    aenl_csv_t *csv = NULL;
+    aenl_status_t st = aenl_csv_open(&csv, path, err);
+    if (st != AENL_OK)
+    {
+        return st;
+    }
+    rows_t r = {NULL, 0, 0, NULL};
+    /* sized ahead from the file's size and its first lines: a table grown by doubling is moved
+     * once a doubling, and its new pages faulted in each time (a tenth of reading a large
+     * record); a wrong guess only costs a growth or the shrink at the end */
+    const uint64_t size = file_size(csv);
+    if (size > csv->pos)
+    {
+        (void)rows_reserve(&r, csv->n_cols, rows_likely(csv, size - csv->pos));
+    }
+    r.n_nan = (size_t *)calloc(csv->n_cols, sizeof(size_t));
+    st = r.n_nan != NULL ? read_rows(csv, &r, err) : AENL_E_IO;
+    if (r.n_nan == NULL)
+    {
+        aenl_err_set(err, "%s: out of memory", path);
+    }
+    if (st != AENL_OK)
+    {
+        aenl_csv_close(csv);
+        rows_free(&r);
+        return st;
+    }
+    const size_t n_cols = csv->n_cols;
+    /* Compact to stride n_rows (destinations below sources: move first to last), then shrink. */
+    if (r.data != NULL && r.n_rows < r.cap)
+    {
+        for (size_t c = 1; c < n_cols; ++c)
         {
-            memmove(data + c * n_rows, data + c * cap, n_rows * sizeof *data);
+            memmove(r.data + c * r.n_rows, r.data + c * r.cap, r.n_rows * sizeof *r.data);
         }
-        shrunk = (double *)realloc(data, n_cols * n_rows * sizeof *data);
+        double *shrunk = (double *)realloc(r.data, n_cols * r.n_rows * sizeof *r.data);
         if (shrunk != NULL)
         {
-            data = shrunk;
+            r.data = shrunk;
         }
     }
     out->names = csv->names; /* take the header names over from the reader */
     csv->names = NULL;
     out->n_cols = n_cols;
-    out->n_rows = n_rows;
-    out->data = data;
-    out->n_nan = n_nan;
+    out->n_rows = r.n_rows;
+    out->data = r.data;
+    out->n_nan = r.n_nan;
     aenl_csv_close(csv);
-    free(row);
     return AENL_OK;
-
-fail:
-    aenl_csv_close(csv);
-    free(row);
-    free(data);
-    free(n_nan);
-    table_zero(out);
-    return st;
 }
 
 aenl_status_t aenl_table_alloc(aenl_table_t *t, size_t n_rows, size_t n_cols,
@@ -1323,11 +1406,19 @@ static int near_whole(double v)
     return fabs(v - nearbyint(v)) <= 1e-9 * fmax(1.0, fabs(v));
 }
 
-/* 10^k by repeated multiplication (exact for k <= 22), as the resolution test scales. */
+/* 10^k by repeated multiplication (exact for k <= 22), as the resolution test scales: from a
+ * table up to 22 (the test runs on every time value of a record), multiplied on beyond. */
 static double pow10_exact(int k)
 {
-    double p = 1.0;
-    for (int i = 0; i < k; ++i)
+    static const double p10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                   1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                   1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+    if (k <= 0)
+    {
+        return 1.0;
+    }
+    double p = p10[k < 22 ? k : 22];
+    for (int i = 22; i < k; ++i)
     {
         p *= 10.0;
     }
@@ -1369,6 +1460,23 @@ static double rounding_of(const aenl_time_steps_t *s, double t)
     return fmax(s->q_dec, sig);
 }
 
+/* floor(log10(a)) for a > 0. A time column stays in one decade for most of its rows, and the
+ * logarithm of every value was a tenth of reading a long record: a value well inside the last
+ * value's decade takes its exponent. Within 1e-12 of a decade's ends, where log10's rounding
+ * decides the floor, it is computed, so the result is always floor(log10(a)). */
+static int decade_of(aenl_time_steps_t *s, double a)
+{
+    if (a > s->dec_lo && a < s->dec_hi)
+    {
+        return s->dec_e;
+    }
+    const int e = (int)floor(log10(a));
+    s->dec_e = e;
+    s->dec_lo = pow(10.0, (double)e) * (1.0 + 1e-12);
+    s->dec_hi = pow(10.0, (double)e + 1.0) * (1.0 - 1e-12);
+    return e;
+}
+
 /* The finest resolution and the most significant digits, with t seen. A value whole at the
  * fewer of the finest decimals seen and the decimals that the most digits give at its
  * magnitude changes neither (a value whole at k decimals is whole at more, beyond 1e-9 of
@@ -1381,7 +1489,7 @@ static void note_resolution(aenl_time_steps_t *s, double t)
     {
         return; /* zero is exact at any resolution */
     }
-    const int e = (int)floor(log10(a));
+    const int e = decade_of(s, a);
     if (a > 1e-9 && s->q_dec > 0.0)
     {
         const int k_dig = s->digits - 1 - e;

@@ -13,6 +13,7 @@
 
 #include "aenl/aenl_filter.h"
 #include "aenl_tools/aenl_bandwidth.h"
+#include "aenl_tools/aenl_mem.h"
 #include "aenl_tools/aenl_sort.h"
 
 #define DEFAULT_NODES 64u
@@ -228,7 +229,7 @@ static double *prefiltered(const double *x, size_t n, double cutoff, aenl_err_t 
         aenl_err_set(err, "pre-filter cutoff %g is outside (0, 0.5) of the sample rate", cutoff);
         return NULL;
     }
-    double *y = malloc((n ? n : 1u) * sizeof(double));
+    double *y = (double *)aenl_alloc_large(n * sizeof(double));
     if (y == NULL)
     {
         aenl_err_set(err, "out of memory (pre-filtered copy of %zu samples)", n);
@@ -347,7 +348,7 @@ static aenl_status_t signal_range(const double *x, size_t n, const aenl_curves_o
     {
         max_lag = opts->lags[i] > max_lag ? opts->lags[i] : max_lag;
     }
-    double *v = malloc(n_fin * sizeof(double));
+    double *v = (double *)aenl_alloc_large(n_fin * sizeof(double));
     if (v == NULL)
     {
         aenl_err_set(err, "out of memory (%zu samples)", n_fin);
