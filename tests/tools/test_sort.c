@@ -4,8 +4,10 @@
  * @brief aenl_sort_doubles against the C library's qsort (the reference) on random, repeated,
  *        ordered, reversed, constant and organ-pipe inputs of lengths around the short-run
  *        threshold and up to a record's length; aenl_select_doubles and aenl_quantile_select
- *        against the sorted order on the same inputs; aenl_median_mad on a known set.
+ *        against the sorted order on the same inputs; aenl_quantiles_finite against the sorted
+ *        finite values; aenl_median_mad on a known set.
  */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -139,6 +141,77 @@ static void test_select_matches_sorted(void)
     for_each_input(12u, check_select);
 }
 
+/* aenl_quantiles_finite against the sorted finite values (qsort, aenl_quantile_sorted), bit for
+ * bit, on every pattern at lengths from 1 to 300 007, with missing (NaN) and infinite
+ * values sprinkled in or not; and on a record whose values at the sample's stride are all one
+ * value, so that the sample places every bracket wrong and the copy decides. x is not changed. */
+static void check_quantiles(const double *x, size_t n)
+{
+    static const double ps[2][3] = {{0.0, 0.001, 0.3}, {0.5, 0.999, 1.0}};
+    double *fin = malloc((n ? n : 1u) * sizeof(double));
+    double *keep = malloc((n ? n : 1u) * sizeof(double));
+    TEST_ASSERT_NOT_NULL(fin);
+    TEST_ASSERT_NOT_NULL(keep);
+    size_t n_fin = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            fin[n_fin++] = x[i];
+        }
+    }
+    memcpy(keep, x, n * sizeof(double));
+    qsort(fin, n_fin, sizeof(double), aenl_cmp_double);
+    for (size_t h = 0; h < 2 && n_fin > 0; ++h)
+    {
+        double got[3];
+        TEST_ASSERT_EQUAL_INT(0, aenl_quantiles_finite(x, n, n_fin, ps[h], 3, got));
+        for (size_t q = 0; q < 3; ++q)
+        {
+            const double want = aenl_quantile_sorted(fin, n_fin, ps[h][q]);
+            TEST_ASSERT_EQUAL_MEMORY_MESSAGE(&want, &got[q], sizeof(double),
+                                             "quantile differs from the sorted one");
+        }
+    }
+    TEST_ASSERT_EQUAL_MEMORY(keep, x, n * sizeof(double));
+    free(fin);
+    free(keep);
+}
+
+static void test_quantiles_finite(void)
+{
+    static const size_t ns[] = {1, 5, 100, 65535, 65536, 200000, 300007};
+    aenl_rng_t g;
+    aenl_rng_seed(&g, 13u);
+    double *x = malloc(300007u * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    for (size_t k = 0; k < sizeof(ns) / sizeof(ns[0]); ++k)
+    {
+        const size_t n = ns[k];
+        for (int p = 0; p < P_COUNT; ++p)
+        {
+            for (int holes = 0; holes <= 1; ++holes)
+            {
+                fill(x, n, p, &g);
+                for (size_t i = 0; holes && i < n; ++i)
+                {
+                    const double u = aenl_rng_uniform(&g);
+                    x[i] = u < 0.02 ? (double)NAN : (u < 0.025 ? (u < 0.0225 ? HUGE_VAL : -HUGE_VAL) : x[i]);
+                }
+                check_quantiles(x, n);
+            }
+        }
+        /* every value at the sample's stride the same: the brackets miss */
+        const size_t stride = n / 8192u;
+        for (size_t i = 0; i < n; ++i)
+        {
+            x[i] = (stride > 0 && i % stride == 0) ? 0.0 : aenl_rng_gauss(&g);
+        }
+        check_quantiles(x, n);
+    }
+    free(x);
+}
+
 /* 1, 2, 3, 4, 100: median 3, absolute deviations 2, 1, 0, 1, 97, their median 1. */
 static void test_median_mad(void)
 {
@@ -154,6 +227,7 @@ int main(void)
     UNITY_BEGIN();
     RUN_TEST(test_sort_matches_qsort);
     RUN_TEST(test_select_matches_sorted);
+    RUN_TEST(test_quantiles_finite);
     RUN_TEST(test_median_mad);
     return UNITY_END();
 }

@@ -36,6 +36,18 @@ void aenl_select_doubles(double *v, size_t n, size_t k);
 double aenl_quantile_select(double *v, size_t n, double p);
 
 /**
+ * @brief The quantiles p[0..np-1] (each in [0, 1]) of the finite values of x[0..n-1], of which
+ *        there are n_fin >= 1, into q: the values aenl_quantile_select gives on a copy holding
+ *        them, bit for bit, without the copy and mostly in one pass (x is not changed). A
+ *        sample of x brackets each quantile's two order statistics, one pass counts the values
+ *        below each bracket and keeps those inside it, and they are selected among the kept;
+ *        where a bracket misses (an unlucky sample, a short record) the quantile is selected
+ *        on a copy. At most 4 quantiles. 0, or -1 when memory lacks.
+ */
+int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double *p, size_t np,
+                          double *q);
+
+/**
  * @brief Quantile p in [0, 1] of sorted s[0..n-1] (n >= 1) by linear interpolation between the
  *        order statistics at position (n - 1) p.
  */

@@ -5,6 +5,7 @@
  */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "aenl_tools/aenl_sort.h"
 
@@ -220,6 +221,164 @@ double aenl_quantile_select(double *v, size_t n, double p)
     }
     const double f = pos - (double)i;
     return v[i] + f * (next - v[i]);
+}
+
+#define QF_SAMPLE 8192u /* values of x that place the brackets */
+#define QF_MAX_Q  4u
+
+/* The quantile p of the n_fin finite values of x, selected on a copy of them. */
+static int quantile_on_copy(const double *x, size_t n, size_t n_fin, double p, double *q)
+{
+    double *v = (double *)malloc(n_fin * sizeof(double));
+    if (v == NULL)
+    {
+        return -1;
+    }
+    for (size_t i = 0, j = 0; i < n && j < n_fin; ++i)
+    {
+        if (isfinite(x[i]))
+        {
+            v[j++] = x[i];
+        }
+    }
+    *q = aenl_quantile_select(v, n_fin, p);
+    free(v);
+    return 0;
+}
+
+/* One quantile's bracket: the order statistics rank and rank + 1 of the finite values are sought
+ * among the values in [a, b]; below counts those under a. */
+typedef struct
+{
+    size_t rank;
+    double f; /* the interpolation's weight of rank + 1 */
+    double a, b;
+    size_t below, n_in, cap;
+    double *in;
+    int full; /* 1: more values fell inside than cap: the bracket is given up */
+} qf_bracket_t;
+
+/* The bracket of quantile p from the sorted sample s[0..m-1]: the sample ranks around the one
+ * that stands for rank, widened by four standard deviations of a sample count and a few ranks,
+ * and room for the values the bracket is expected to hold, twice over. */
+static void qf_place(qf_bracket_t *k, const double *s, size_t m, size_t n_fin, double p)
+{
+    const double pos = p * (double)(n_fin - 1u);
+    k->rank = (size_t)pos;
+    k->f = pos - (double)k->rank;
+    const double share = (double)k->rank / (double)n_fin;
+    const double sd = sqrt((double)m * fmax(share * (1.0 - share), 1.0 / (double)m));
+    const double j = share * (double)m;
+    const double lo = j - 4.0 * sd - 4.0;
+    const double hi = j + 4.0 * sd + 5.0;
+    k->a = lo < 0.0 ? -HUGE_VAL : s[(size_t)lo];
+    k->b = hi >= (double)(m - 1u) ? HUGE_VAL : s[(size_t)hi];
+    k->cap = (size_t)(2.0 * (hi - lo + 1.0) * (double)n_fin / (double)m) + 64u;
+}
+
+int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double *p, size_t np,
+                          double *q)
+{
+    if (np > QF_MAX_Q || n_fin == 0)
+    {
+        return -1;
+    }
+    if (n_fin < (size_t)8u * QF_SAMPLE)
+    {
+        for (size_t k = 0; k < np; ++k)
+        {
+            if (quantile_on_copy(x, n, n_fin, p[k], &q[k]) != 0)
+            {
+                return -1;
+            }
+        }
+        return 0;
+    }
+    /* the sample: finite values at an even stride */
+    double *s = (double *)malloc(QF_SAMPLE * sizeof(double));
+    if (s == NULL)
+    {
+        return -1;
+    }
+    size_t m = 0;
+    const size_t stride = n / QF_SAMPLE;
+    for (size_t i = 0; i < QF_SAMPLE; ++i)
+    {
+        const double v = x[i * stride];
+        if (isfinite(v))
+        {
+            s[m++] = v;
+        }
+    }
+    aenl_sort_doubles(s, m);
+    qf_bracket_t br[QF_MAX_Q];
+    memset(br, 0, sizeof(br));
+    int ok = m >= QF_SAMPLE / 2u;
+    for (size_t k = 0; k < np && ok; ++k)
+    {
+        qf_place(&br[k], s, m, n_fin, p[k]);
+        br[k].in = (double *)malloc(br[k].cap * sizeof(double));
+        ok = br[k].in != NULL;
+    }
+    free(s);
+    /* one pass: each bracket counts the values below it and keeps those inside it */
+    for (size_t i = 0; i < n && ok; ++i)
+    {
+        const double v = x[i];
+        if (!isfinite(v))
+        {
+            continue;
+        }
+        for (size_t k = 0; k < np; ++k)
+        {
+            qf_bracket_t *b = &br[k];
+            if (v < b->a)
+            {
+                ++b->below;
+            }
+            else if (v <= b->b && !b->full)
+            {
+                if (b->n_in == b->cap)
+                {
+                    b->full = 1;
+                }
+                else
+                {
+                    b->in[b->n_in++] = v;
+                }
+            }
+        }
+    }
+    int rc = 0;
+    for (size_t k = 0; k < np && rc == 0; ++k)
+    {
+        qf_bracket_t *b = &br[k];
+        const size_t r = b->rank - (b->rank >= b->below ? b->below : 0u);
+        const size_t last = b->rank + 1u < n_fin ? b->rank + 1u : b->rank;
+        /* both order statistics inside the bracket, or the quantile on a copy */
+        if (!ok || b->full || b->rank < b->below || last >= b->below + b->n_in)
+        {
+            rc = quantile_on_copy(x, n, n_fin, p[k], &q[k]);
+            continue;
+        }
+        aenl_select_doubles(b->in, b->n_in, r);
+        if (b->rank + 1u >= n_fin)
+        {
+            q[k] = b->in[r];
+            continue;
+        }
+        double next = b->in[r + 1u];
+        for (size_t j = r + 2u; j < b->n_in; ++j)
+        {
+            next = b->in[j] < next ? b->in[j] : next;
+        }
+        q[k] = b->in[r] + b->f * (next - b->in[r]);
+    }
+    for (size_t k = 0; k < np; ++k)
+    {
+        free(br[k].in);
+    }
+    return rc;
 }
 
 double aenl_quantile_sorted(const double *s, size_t n, double p)
