@@ -1108,9 +1108,37 @@ static uint64_t bits_of(double d)
     return b;
 }
 
-/* Values a few units in the last place either side of every power of ten from 1e-8 to 1e8, in
- * ascending order (where a decade's exponent is decided by log10's rounding): the verdicts, the
- * finest resolution and the most digits the same as the definition's at every value. */
+/* The values a few units in the last place either side of 10^e, ascending, fed to both checks:
+ * every verdict, the finest resolution and the most digits the same. */
+static size_t decade_edge(aenl_time_steps_t *s, ref_steps_t *r, int e, double sign)
+{
+    char txt[16];
+    (void)snprintf(txt, sizeof(txt), "1e%d", e);
+    double v = strtod(txt, NULL);
+    for (int i = 0; i < 4; ++i)
+    {
+        v = nextafter(v, 0.0);
+    }
+    size_t seen = 0;
+    for (int i = 0; i < 9; ++i)
+    {
+        double step = 0.0;
+        double ref = 0.0;
+        double step_r = 0.0;
+        double ref_r = 0.0;
+        const int ok = aenl_time_steps_take(s, sign * v, &step, &ref);
+        TEST_ASSERT_EQUAL_INT(ref_steps_take(r, sign * v, &step_r, &ref_r), ok);
+        TEST_ASSERT_EQUAL_DOUBLE(r->q_dec, s->q_dec);
+        TEST_ASSERT_EQUAL_INT(r->digits, s->digits);
+        ++seen;
+        v = nextafter(v, HUGE_VAL);
+    }
+    return seen;
+}
+
+/* Values around every power of ten from 1e-8 to 1e8 (where a decade's exponent is decided by
+ * log10's rounding), ascending, then negative and descending, then near 1e+-300: the check's
+ * verdicts, finest resolution and most digits are the definition's at every value. */
 static void test_time_steps_decade_edges(void)
 {
     aenl_time_steps_t s;
@@ -1120,28 +1148,22 @@ static void test_time_steps_decade_edges(void)
     size_t seen = 0;
     for (int e = -8; e <= 8; ++e)
     {
-        char txt[16];
-        (void)snprintf(txt, sizeof(txt), "1e%d", e);
-        double v = strtod(txt, NULL);
-        for (int i = 0; i < 4; ++i)
-        {
-            v = nextafter(v, 0.0);
-        }
-        for (int i = 0; i < 9; ++i)
-        {
-            double step = 0.0;
-            double ref = 0.0;
-            double step_r = 0.0;
-            double ref_r = 0.0;
-            const int ok = aenl_time_steps_take(&s, v, &step, &ref);
-            TEST_ASSERT_EQUAL_INT(ref_steps_take(&r, v, &step_r, &ref_r), ok);
-            TEST_ASSERT_EQUAL_DOUBLE(r.q_dec, s.q_dec);
-            TEST_ASSERT_EQUAL_INT(r.digits, s.digits);
-            ++seen;
-            v = nextafter(v, HUGE_VAL);
-        }
+        seen += decade_edge(&s, &r, e, 1.0);
     }
-    TEST_ASSERT_EQUAL_size_t(17u * 9u, seen);
+    memset(&s, 0, sizeof(s));
+    memset(&r, 0, sizeof(r));
+    for (int e = 8; e >= -8; --e)
+    {
+        seen += decade_edge(&s, &r, e, -1.0);
+    }
+    memset(&s, 0, sizeof(s));
+    memset(&r, 0, sizeof(r));
+    for (int e = -300; e <= 300; e += 600)
+    {
+        seen += decade_edge(&s, &r, e, 1.0);
+        seen += decade_edge(&s, &r, e + 1, 1.0);
+    }
+    TEST_ASSERT_EQUAL_size_t(2u * 17u * 9u + 4u * 9u, seen);
 }
 
 /* A record whose first lines are longer (long_first) or shorter than the rest, so that the
@@ -1162,7 +1184,8 @@ static void write_uneven(const char *path, int long_first, long rows)
 }
 
 /* A table sized ahead from its first lines holds every row when the guess is too low (it grows)
- * and when it is too high (it shrinks), each value as written. */
+ * and when it is too high (it shrinks), each value as written; a large file of no data row is
+ * an empty table. */
 static void test_table_read_sized_ahead(void)
 {
     const char *path = tmp_path("uneven.csv");
@@ -1187,6 +1210,21 @@ static void test_table_read_sized_ahead(void)
         TEST_ASSERT_EQUAL_size_t(0u, t.n_nan[0] + t.n_nan[1] + t.n_nan[2]);
         aenl_table_free(&t);
     }
+    /* a header and 20 000 comment lines: more than the first block, and no data row */
+    FILE *fp = fopen(path, "wb");
+    TEST_ASSERT_NOT_NULL(fp);
+    (void)fputs("t,a,b\n", fp);
+    for (int k = 0; k < 20000; ++k)
+    {
+        (void)fputs(k % 2 == 0 ? "# a comment\n" : "   \n", fp);
+    }
+    TEST_ASSERT_EQUAL_INT(0, fclose(fp));
+    aenl_table_t t;
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, aenl_table_read(path, &t, &g_err), g_err.msg);
+    TEST_ASSERT_EQUAL_size_t(0u, t.n_rows);
+    TEST_ASSERT_EQUAL_size_t(3u, t.n_cols);
+    TEST_ASSERT_NULL(t.data);
+    aenl_table_free(&t);
     (void)remove(path);
 }
 

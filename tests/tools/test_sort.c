@@ -201,14 +201,53 @@ static void test_quantiles_finite(void)
                 check_quantiles(x, n);
             }
         }
-        /* every value at the sample's stride the same: the brackets miss */
+        /* every value at the sample's stride the same, or shifted up or down: the brackets
+         * miss or hold one order statistic but not the next */
         const size_t stride = n / 8192u;
-        for (size_t i = 0; i < n; ++i)
+        for (int shift = -1; shift <= 2; ++shift)
         {
-            x[i] = (stride > 0 && i % stride == 0) ? 0.0 : aenl_rng_gauss(&g);
+            for (size_t i = 0; i < n; ++i)
+            {
+                const double v = aenl_rng_gauss(&g);
+                const int at = stride > 0 && i % stride == 0;
+                x[i] = at ? (shift == 2 ? 0.0 : v + 3.0 * (double)shift) : v;
+            }
+            check_quantiles(x, n);
         }
-        check_quantiles(x, n);
     }
+    free(x);
+}
+
+/* A bracket that ends at a quantile's first order statistic: the record's values at the
+ * sample's stride are all 0 and its other values distinct, half below 0 and half above, so the
+ * bracket [0, 0] holds the 0s; the quantile halfway between the last 0 and the next value needs
+ * the next one, which lies outside, and is selected on a copy. */
+static void test_quantiles_bracket_edge(void)
+{
+    const size_t n = 131072u;
+    const size_t stride = n / 8192u;
+    double *x = malloc(n * sizeof(double));
+    TEST_ASSERT_NOT_NULL(x);
+    size_t below = 0;
+    size_t other = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        if (i % stride == 0)
+        {
+            x[i] = 0.0;
+            continue;
+        }
+        const size_t mag = 1u + other / 2u; /* 1, 1, 2, 2, ...: -1, 1, -2, 2, ... */
+        x[i] = (other % 2u == 0u ? -1.0 : 1.0) * (double)mag;
+        below += x[i] < 0.0 ? 1u : 0u;
+        ++other;
+    }
+    const size_t last_zero = below + n / stride - 1u;
+    const double p[1] = {((double)last_zero + 0.5) / (double)(n - 1u)};
+    double got = 0.0;
+    TEST_ASSERT_EQUAL_INT(0, aenl_quantiles_finite(x, n, n, p, 1, &got));
+    TEST_ASSERT_EQUAL_DOUBLE(0.5, got); /* halfway between the last 0 and the smallest 1 */
+    check_quantiles(x, n);
     free(x);
 }
 
@@ -228,6 +267,7 @@ int main(void)
     RUN_TEST(test_sort_matches_qsort);
     RUN_TEST(test_select_matches_sorted);
     RUN_TEST(test_quantiles_finite);
+    RUN_TEST(test_quantiles_bracket_edge);
     RUN_TEST(test_median_mad);
     return UNITY_END();
 }

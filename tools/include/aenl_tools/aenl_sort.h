@@ -42,7 +42,7 @@ double aenl_quantile_select(double *v, size_t n, double p);
  *        sample of x brackets each quantile's two order statistics, one pass counts the values
  *        below each bracket and keeps those inside it, and they are selected among the kept;
  *        where a bracket misses (an unlucky sample, a short record) the quantile is selected
- *        on a copy. At most 4 quantiles. 0, or -1 when memory lacks.
+ *        on a copy. 0; -1 when memory lacks, or for more than 4 quantiles or n_fin 0.
  */
 int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double *p, size_t np,
                           double *q);

@@ -974,7 +974,9 @@ static int rows_reserve(rows_t *r, size_t n_cols, size_t cap)
 }
 
 /* The rows that bytes more of csv's file likely hold: its lines so far (those in its buffer)
- * give the bytes a line, and a twentieth more is allowed. */
+ * give the bytes a line, and a twentieth more is allowed; never more than the bytes can hold, a
+ * row being at least n_cols bytes (its separators and its newline), so that short lines at the
+ * top (comments) cannot ask for far more than the file. */
 static size_t rows_likely(const aenl_csv_t *csv, uint64_t bytes)
 {
     size_t lines = 0;
@@ -988,7 +990,9 @@ static size_t rows_likely(const aenl_csv_t *csv, uint64_t bytes)
         return 0;
     }
     const double per_line = (double)(csv->end - csv->beg) / (double)lines;
-    return (size_t)(1.05 * (double)bytes / per_line) + 1024u;
+    const double most = (double)bytes / (double)csv->n_cols + 1.0;
+    const double guess = fmin(1.05 * (double)bytes / per_line + 1024.0, most);
+    return guess < (double)(SIZE_MAX / 2u) ? (size_t)guess : 0u;
 }
 
 /* The data rows of csv from where it stands to its end, appended to r. */
@@ -1075,8 +1079,8 @@ aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *e
     }
     rows_t r = {NULL, 0, 0, NULL};
     /* sized ahead from the file's size and its first lines: a table grown by doubling is moved
-     * once a doubling, and its new pages faulted in each time (a tenth of reading a large
-     * record); a wrong guess only costs a growth or the shrink at the end */
+     * once a doubling, and its new pages are faulted in each time (a tenth of reading a large
+     * record); a guess too low costs a growth, one too high the shrink at the end */
     const uint64_t size = file_size(csv);
     if (size > csv->pos)
     {
@@ -1095,6 +1099,14 @@ aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *e
         return st;
     }
     const size_t n_cols = csv->n_cols;
+    if (r.n_rows == 0)
+    {
+        /* no data row (a header, then only comments or blank lines): no table, as a table that
+         * was never grown has none (realloc to 0 bytes would free it behind our back) */
+        free(r.data);
+        r.data = NULL;
+        r.cap = 0;
+    }
     /* Compact to stride n_rows (destinations below sources: move first to last), then shrink. */
     if (r.data != NULL && r.n_rows < r.cap)
     {
@@ -1460,8 +1472,8 @@ static double rounding_of(const aenl_time_steps_t *s, double t)
     return fmax(s->q_dec, sig);
 }
 
-/* floor(log10(a)) for a > 0. A time column stays in one decade for most of its rows, and the
- * logarithm of every value was a tenth of reading a long record: a value well inside the last
+/* floor(log10(a)) for a > 0. A time column stays in one decade for most of its rows, and a
+ * logarithm of every value is a tenth of reading a long record: a value well inside the last
  * value's decade takes its exponent. Within 1e-12 of a decade's ends, where log10's rounding
  * decides the floor, it is computed, so the result is always floor(log10(a)). */
 static int decade_of(aenl_time_steps_t *s, double a)

@@ -334,9 +334,15 @@ static aenl_status_t signal_range(const double *x, size_t n, const aenl_curves_o
                                   curves_range_t *rg, aenl_err_t *err)
 {
     size_t n_fin = 0;
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
     for (size_t i = 0; i < n; ++i)
     {
-        n_fin += isfinite(x[i]) ? 1u : 0u;
+        if (isfinite(x[i]))
+        {
+            ++n_fin;
+            lo = fmin(lo, x[i]);
+            hi = fmax(hi, x[i]);
+        }
     }
     if (n_fin == 0)
     {
@@ -347,15 +353,6 @@ static aenl_status_t signal_range(const double *x, size_t n, const aenl_curves_o
     for (uint16_t i = 0; i < opts->n_lags; ++i)
     {
         max_lag = opts->lags[i] > max_lag ? opts->lags[i] : max_lag;
-    }
-    double lo = HUGE_VAL, hi = -HUGE_VAL;
-    for (size_t i = 0; i < n; ++i)
-    {
-        if (isfinite(x[i]))
-        {
-            lo = fmin(lo, x[i]);
-            hi = fmax(hi, x[i]);
-        }
     }
     /* selections without a copy, not a sort, which would take a fifth of the whole job on a
      * long record */
