@@ -196,7 +196,8 @@ static void test_quantiles_finite(void)
                 for (size_t i = 0; holes && i < n; ++i)
                 {
                     const double u = aenl_rng_uniform(&g);
-                    x[i] = u < 0.02 ? (double)NAN : (u < 0.025 ? (u < 0.0225 ? HUGE_VAL : -HUGE_VAL) : x[i]);
+                    x[i] = u < 0.02 ? (double)NAN
+                                    : (u < 0.025 ? (u < 0.0225 ? HUGE_VAL : -HUGE_VAL) : x[i]);
                 }
                 check_quantiles(x, n);
             }

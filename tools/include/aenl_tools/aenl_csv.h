@@ -69,11 +69,11 @@ int aenl_parse_decimal(const char *s, double *v);
 /** Check of uniform sampling, one time value at a time (zero it before the first). */
 typedef struct aenl_time_steps
 {
-    double t0, t_prev; /* first and last value seen */
-    size_t k;          /* values seen */
-    double q_dec;      /* finest decimal resolution seen (0: none yet) */
-    int k_dec;         /* its decimals: q_dec = 10^-k_dec */
-    int digits;        /* most significant digits seen */
+    double t0, t_prev;     /* first and last value seen */
+    size_t k;              /* values seen */
+    double q_dec;          /* finest decimal resolution seen (0: none yet) */
+    int k_dec;             /* its decimals: q_dec = 10^-k_dec */
+    int digits;            /* most significant digits seen */
     double dec_lo, dec_hi; /* the decade of the last value, shrunk by 1e-12 at both ends */
     int dec_e;             /* its exponent: floor(log10 |t|) inside (dec_lo, dec_hi) */
 } aenl_time_steps_t;

@@ -49,7 +49,6 @@ struct aenl_csv
     aenl_status_t failed; /* sticky: once a read failed, later calls fail too */
     size_t data_rows;     /* data rows read so far */
     char sep;             /* the separator: ',', or the header's ';' or tab when it has no comma */
-    uint64_t pos;         /* bytes read from the file so far */
 };
 
 /* ---- small helpers ------------------------------------------------------------------------- */
@@ -204,7 +203,6 @@ static int read_line(aenl_csv_t *csv, aenl_err_t *err)
         errno = 0;
         const size_t got = fread(csv->buf + csv->end, 1, csv->cap - 1u - csv->end, csv->fp);
         csv->end += got;
-        csv->pos += got;
         if (got == 0)
         {
             if (ferror(csv->fp))
@@ -954,31 +952,43 @@ static void rows_free(rows_t *r)
     memset(r, 0, sizeof(*r));
 }
 
-/* Room for cap rows in r (empty), so that a table whose size is known ahead is not grown and
- * moved row block by row block: 0, or -1 when memory lacks (r is then unchanged). */
-static int rows_reserve(rows_t *r, size_t n_cols, size_t cap)
+/* Room for cap rows in the empty r, so that a table whose size is known ahead is not grown and
+ * moved row block by row block; r stays empty (and grows as it goes) when memory lacks. */
+static void rows_reserve(rows_t *r, size_t n_cols, size_t cap)
 {
     if (cap == 0 || cap > SIZE_MAX / sizeof(double) / n_cols)
     {
-        return -1;
+        return;
     }
-    double *d = (double *)aenl_alloc_large(n_cols * cap * sizeof(double));
-    if (d == NULL)
-    {
-        return -1;
-    }
-    free(r->data);
-    r->data = d;
-    r->cap = cap;
-    return 0;
+    r->data = (double *)aenl_alloc_large(n_cols * cap * sizeof(double));
+    r->cap = r->data != NULL ? cap : 0u;
 }
 
-/* The rows that bytes more of csv's file likely hold: its lines so far (those in its buffer)
- * give the bytes a line, and a twentieth more is allowed; never more than the bytes can hold, a
- * row being at least n_cols bytes (its separators and its newline), so that short lines at the
- * top (comments) cannot ask for far more than the file. */
-static size_t rows_likely(const aenl_csv_t *csv, uint64_t bytes)
+/* The bytes of the regular file csv reads that its reader has not taken in yet, its size less
+ * its position, into *left: 0 for anything else (a pipe, a device) or when it cannot be told. */
+static int bytes_left(const aenl_csv_t *csv, uint64_t *left)
 {
+    struct stat sb;
+    if (!csv->own_fp || fstat(fileno(csv->fp), &sb) != 0 || !S_ISREG(sb.st_mode))
+    {
+        return 0;
+    }
+    const off_t at = ftello(csv->fp);
+    *left = (at >= 0 && sb.st_size > at) ? (uint64_t)(sb.st_size - at) : 0u;
+    return at >= 0;
+}
+
+/* The data rows csv's file likely holds from where its reader stands (0: not known): the lines
+ * in its buffer give the bytes a line, and a twentieth more is allowed; never more than the
+ * bytes can hold, a row being at least n_cols bytes (its separators and its newline), so that
+ * short lines at the top (comments) cannot ask for far more than the file. */
+static size_t rows_likely(const aenl_csv_t *csv)
+{
+    uint64_t left = 0;
+    if (!bytes_left(csv, &left))
+    {
+        return 0;
+    }
     size_t lines = 0;
     for (const char *p = csv->buf + csv->beg, *end = csv->buf + csv->end;
          (p = (const char *)memchr(p, '\n', (size_t)(end - p))) != NULL; ++p)
@@ -989,9 +999,10 @@ static size_t rows_likely(const aenl_csv_t *csv, uint64_t bytes)
     {
         return 0;
     }
-    const double per_line = (double)(csv->end - csv->beg) / (double)lines;
-    const double most = (double)bytes / (double)csv->n_cols + 1.0;
-    const double guess = fmin(1.05 * (double)bytes / per_line + 1024.0, most);
+    const double buffered = (double)(csv->end - csv->beg);
+    const double bytes = buffered + (double)left;
+    const double guess =
+        fmin(1.05 * bytes * (double)lines / buffered + 1024.0, bytes / (double)csv->n_cols + 1.0);
     return guess < (double)(SIZE_MAX / 2u) ? (size_t)guess : 0u;
 }
 
@@ -1051,18 +1062,6 @@ static aenl_status_t read_rows(aenl_csv_t *csv, rows_t *r, aenl_err_t *err)
     return st;
 }
 
-/* The size of the regular file csv reads, 0 for anything else (a pipe, a device) or when it
- * cannot be told. */
-static uint64_t file_size(const aenl_csv_t *csv)
-{
-    struct stat sb;
-    if (!csv->own_fp || fstat(fileno(csv->fp), &sb) != 0 || !S_ISREG(sb.st_mode) || sb.st_size < 0)
-    {
-        return 0;
-    }
-    return (uint64_t)sb.st_size;
-}
-
 aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *err)
 {
     if (out == NULL)
@@ -1077,20 +1076,19 @@ aenl_status_t aenl_table_read(const char *path, aenl_table_t *out, aenl_err_t *e
     {
         return st;
     }
-    rows_t r = {NULL, 0, 0, NULL};
-    /* sized ahead from the file's size and its first lines: a table grown by doubling is moved
-     * once a doubling, and its new pages are faulted in each time (a tenth of reading a large
-     * record); a guess too low costs a growth, one too high the shrink at the end */
-    const uint64_t size = file_size(csv);
-    if (size > csv->pos)
-    {
-        (void)rows_reserve(&r, csv->n_cols, rows_likely(csv, size - csv->pos));
-    }
-    r.n_nan = (size_t *)calloc(csv->n_cols, sizeof(size_t));
-    st = r.n_nan != NULL ? read_rows(csv, &r, err) : AENL_E_IO;
+    rows_t r = {NULL, 0, 0, (size_t *)calloc(csv->n_cols, sizeof(size_t))};
     if (r.n_nan == NULL)
     {
         aenl_err_set(err, "%s: out of memory", path);
+        st = AENL_E_IO;
+    }
+    else
+    {
+        /* sized ahead from the file's size and its first lines: a table grown by doubling is
+         * moved once a doubling, and its new pages are faulted in each time (a tenth of reading
+         * a large record); a guess too low costs a growth, one too high the shrink at the end */
+        rows_reserve(&r, csv->n_cols, rows_likely(csv));
+        st = read_rows(csv, &r, err);
     }
     if (st != AENL_OK)
     {

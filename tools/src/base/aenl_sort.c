@@ -226,8 +226,10 @@ double aenl_quantile_select(double *v, size_t n, double p)
 #define QF_SAMPLE 8192u /* values of x that place the brackets */
 #define QF_MAX_Q  4u
 
-/* The quantile p of the n_fin finite values of x, selected on a copy of them. */
-static int quantile_on_copy(const double *x, size_t n, size_t n_fin, double p, double *q)
+/* The quantiles p[k] of the n_fin finite values of x with need[k] set, selected on one copy of
+ * them. */
+static int quantiles_on_copy(const double *x, size_t n, size_t n_fin, const double *p, size_t np,
+                             const int *need, double *q)
 {
     double *v = (double *)malloc(n_fin * sizeof(double));
     if (v == NULL)
@@ -241,7 +243,10 @@ static int quantile_on_copy(const double *x, size_t n, size_t n_fin, double p, d
             v[j++] = x[i];
         }
     }
-    *q = aenl_quantile_select(v, n_fin, p);
+    for (size_t k = 0; k < np; ++k)
+    {
+        q[k] = need[k] ? aenl_quantile_select(v, n_fin, p[k]) : q[k];
+    }
     free(v);
     return 0;
 }
@@ -283,16 +288,10 @@ int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double 
     {
         return -1;
     }
+    int need[QF_MAX_Q] = {1, 1, 1, 1}; /* the quantiles left to the copy */
     if (n_fin < (size_t)8u * QF_SAMPLE)
     {
-        for (size_t k = 0; k < np; ++k)
-        {
-            if (quantile_on_copy(x, n, n_fin, p[k], &q[k]) != 0)
-            {
-                return -1;
-            }
-        }
-        return 0;
+        return quantiles_on_copy(x, n, n_fin, p, np, need, q);
     }
     /* the sample: finite values at an even stride */
     double *s = (double *)malloc(QF_SAMPLE * sizeof(double));
@@ -349,16 +348,17 @@ int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double 
             }
         }
     }
-    int rc = 0;
-    for (size_t k = 0; k < np && rc == 0; ++k)
+    int missed = 0;
+    for (size_t k = 0; k < np; ++k)
     {
         qf_bracket_t *b = &br[k];
         const size_t r = b->rank - (b->rank >= b->below ? b->below : 0u);
         const size_t last = b->rank + 1u < n_fin ? b->rank + 1u : b->rank;
-        /* both order statistics inside the bracket, or the quantile on a copy */
-        if (!ok || b->full || b->rank < b->below || last >= b->below + b->n_in)
+        /* both order statistics inside the bracket, or the quantile on the copy below */
+        need[k] = !ok || b->full || b->rank < b->below || last >= b->below + b->n_in;
+        missed |= need[k];
+        if (need[k])
         {
-            rc = quantile_on_copy(x, n, n_fin, p[k], &q[k]);
             continue;
         }
         aenl_select_doubles(b->in, b->n_in, r);
@@ -378,7 +378,7 @@ int aenl_quantiles_finite(const double *x, size_t n, size_t n_fin, const double 
     {
         free(br[k].in);
     }
-    return rc;
+    return missed ? quantiles_on_copy(x, n, n_fin, p, np, need, q) : 0;
 }
 
 double aenl_quantile_sorted(const double *s, size_t n, double p)
