@@ -133,35 +133,98 @@ static inline void aenl_la_mv(aenl_real_t *y, const aenl_real_t *a, uint32_t lda
 }
 
 /** A = (A + A') / 2 in place (n x n). */
-void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n);
+static inline void aenl_la_symmetrise_loop(aenl_real_t *a, uint32_t lda, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; ++i)
+    {
+        for (uint32_t j = 0; j < i; ++j)
+        {
+            const aenl_real_t v = AENL_R(0.5) * (a[(size_t)i * lda + j] + a[(size_t)j * lda + i]);
+            a[(size_t)i * lda + j] = v;
+            a[(size_t)j * lda + i] = v;
+        }
+    }
+}
 
 /**
  * @brief In-place lower Cholesky A = L L' (upper triangle set to zero).
  * @return AENL_OK; AENL_E_NOT_PD when a pivot is <= 0 or not finite (A is then partly
  *         overwritten: factor a copy when the original must survive).
  */
+static inline aenl_status_t aenl_la_chol_loop(aenl_real_t *a, uint32_t lda, uint32_t n)
+{
+    for (uint32_t j = 0; j < n; ++j)
+    {
+        aenl_real_t d = a[(size_t)j * lda + j];
+        for (uint32_t r = 0; r < j; ++r)
+        {
+            d -= a[(size_t)j * lda + r] * a[(size_t)j * lda + r];
+        }
+        if (!(d > AENL_R(0.0)) || !aenl_is_finite(d))
+        {
+            return AENL_E_NOT_PD;
+        }
+        const aenl_real_t ljj = aenl_sqrt(d);
+        a[(size_t)j * lda + j] = ljj;
+        const aenl_real_t inv = AENL_R(1.0) / ljj;
+        for (uint32_t i = (uint32_t)(j + 1u); i < n; ++i)
+        {
+            aenl_real_t s = a[(size_t)i * lda + j];
+            for (uint32_t r = 0; r < j; ++r)
+            {
+                s -= a[(size_t)i * lda + r] * a[(size_t)j * lda + r];
+            }
+            a[(size_t)i * lda + j] = s * inv;
+        }
+        for (uint32_t i = 0; i < j; ++i)
+        {
+            a[(size_t)i * lda + j] = AENL_R(0.0);
+        }
+    }
+    return AENL_OK;
+}
+
+#if AENL_LA_INLINE
+static inline void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n)
+{
+    aenl_la_symmetrise_loop(a, lda, n);
+}
+
+static inline aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n)
+{
+    return aenl_la_chol_loop(a, lda, n);
+}
+#else
+void aenl_la_symmetrise(aenl_real_t *a, uint32_t lda, uint32_t n);
 aenl_status_t aenl_la_chol(aenl_real_t *a, uint32_t lda, uint32_t n);
+#endif
 
 /**
  * Solve T X = B in place (B n x m, rows ldb apart), T triangular with a nonzero diagonal, read as
  * T(i, j) = t[i ti + j tj] (a transposed or differently strided view costs nothing): lower
- * (forward substitution) or, with upper, upper (backward). Each row subtracts its known terms in
- * ascending j.
+ * (forward substitution) or, with upper, upper (backward). Each entry subtracts its known terms in
+ * ascending j; a row of B at a time, so that the innermost loop runs along the row.
  */
 static inline void aenl_la_solve_tri_loop(const aenl_real_t *t, size_t ti, size_t tj, uint32_t n,
                                           aenl_real_t *b, size_t ldb, uint32_t m, int upper)
 {
-    for (size_t c = 0; c < m; ++c)
+    for (size_t step = 0; step < n; ++step)
     {
-        for (size_t step = 0; step < n; ++step)
+        const size_t i = upper ? n - 1u - step : step;
+        aenl_real_t *bi = b + i * ldb;
+        for (size_t j = upper ? i + 1u : 0u; j < (upper ? n : i); ++j)
         {
-            const size_t i = upper ? n - 1u - step : step;
-            aenl_real_t s = b[i * ldb + c];
-            for (size_t j = upper ? i + 1u : 0u; j < (upper ? n : i); ++j)
+            const aenl_real_t tij = t[i * ti + j * tj];
+            const aenl_real_t *bj = b + j * ldb;
+            for (size_t c = 0; c < m; ++c)
             {
-                s -= t[i * ti + j * tj] * b[j * ldb + c];
+                bi[c] -= tij * bj[c];
             }
-            b[i * ldb + c] = s / t[i * (ti + tj)];
+        }
+        const aenl_real_t tii = t[i * (ti + tj)];
+        for (size_t c = 0; c < m; ++c)
+        {
+            bi[c] /= tii;
         }
     }
 }
@@ -192,11 +255,46 @@ static inline void aenl_la_solve_lower_t(const aenl_real_t *l, uint32_t ldl, uin
 }
 
 /** Solve (L L') X = B in place, L from aenl_la_chol. */
-void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
-                        uint32_t ldb, uint32_t m);
+static inline void aenl_la_chol_solve_loop(const aenl_real_t *l, uint32_t ldl, uint32_t n,
+                                           aenl_real_t *b, uint32_t ldb, uint32_t m)
+{
+    aenl_la_solve_lower(l, ldl, n, b, ldb, m);
+    aenl_la_solve_lower_t(l, ldl, n, b, ldb, m);
+}
 
 /** 1 when every entry of the n x m block is finite. */
+static inline int aenl_la_all_finite_loop(const aenl_real_t *a, uint32_t lda, uint32_t n,
+                                          uint32_t m)
+{
+    for (uint32_t i = 0; i < n; ++i)
+    {
+        for (uint32_t j = 0; j < m; ++j)
+        {
+            if (!aenl_is_finite(a[(size_t)i * lda + j]))
+            {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+#if AENL_LA_INLINE
+static inline void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n,
+                                      aenl_real_t *b, uint32_t ldb, uint32_t m)
+{
+    aenl_la_chol_solve_loop(l, ldl, n, b, ldb, m);
+}
+
+static inline int aenl_la_all_finite(const aenl_real_t *a, uint32_t lda, uint32_t n, uint32_t m)
+{
+    return aenl_la_all_finite_loop(a, lda, n, m);
+}
+#else
+void aenl_la_chol_solve(const aenl_real_t *l, uint32_t ldl, uint32_t n, aenl_real_t *b,
+                        uint32_t ldb, uint32_t m);
 int aenl_la_all_finite(const aenl_real_t *a, uint32_t lda, uint32_t n, uint32_t m);
+#endif
 
 /** 1 when A (n x n) is symmetric to rel_tol * (|a_ij| + |a_ji|) (exactly, for rel_tol = 0). */
 int aenl_la_is_symmetric(const aenl_real_t *a, uint32_t lda, uint32_t n, aenl_real_t rel_tol);

@@ -225,6 +225,27 @@ void aenl_skf_reset(aenl_skf_t *f)
 /* ---- one mode-matched Kalman step -------------------------------------------------------------
  */
 
+/* P_p = T A' + Q into pp, T = A P (rows LDX apart): T A' is symmetric, so its upper triangle,
+ * mirrored, with Q's symmetric part. */
+static inline void covariance_predicted(aenl_real_t *pp, const aenl_real_t *t, const aenl_real_t *a,
+                                        const aenl_real_t *q, uint32_t nx)
+{
+    for (uint32_t i = 0; i < nx; ++i)
+    {
+        for (uint32_t j = i; j < nx; ++j)
+        {
+            aenl_real_t acc = AENL_R(0.0);
+            for (uint32_t k = 0; k < nx; ++k)
+            {
+                acc += t[(size_t)i * LDX + k] * a[(size_t)j * LDX + k];
+            }
+            acc += AENL_R(0.5) * (q[(size_t)i * LDX + j] + q[(size_t)j * LDX + i]);
+            pp[(size_t)i * LDX + j] = acc;
+            pp[(size_t)j * LDX + i] = acc;
+        }
+    }
+}
+
 /* x_p = A x + b, P_p = A P A' + Q into work.xp / work.Pp. */
 static inline void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, const aenl_real_t *P,
                            uint32_t nx)
@@ -236,22 +257,22 @@ static inline void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, cons
     {
         w->xp[i] += m->b[s][i];
     }
-    aenl_la_mul(&w->T[0][0], LDX, &m->A[s][0][0], LDX, P, LDX, nx, nx, nx);
-    /* (A P) A' is symmetric: the upper triangle, mirrored, with Q's symmetric part */
-    for (uint32_t i = 0; i < nx; ++i)
+#if AENL_LA_INLINE
+    if (nx == LDX)
     {
-        for (uint32_t j = i; j < nx; ++j)
-        {
-            aenl_real_t acc = AENL_R(0.0);
-            for (uint32_t k = 0; k < nx; ++k)
-            {
-                acc += w->T[i][k] * m->A[s][j][k];
-            }
-            acc += AENL_R(0.5) * (m->Q[s][i][j] + m->Q[s][j][i]);
-            w->Pp[i][j] = acc;
-            w->Pp[j][i] = acc;
-        }
+        /* A, P and A P on the stack, where the compiler knows that nothing else writes them
+         * and keeps their rows in registers across the unrolled loops (the same sums in the same
+         * order) */
+        aenl_real_t a[LDX][LDX], p[LDX][LDX], t[LDX][LDX];
+        memcpy(a, m->A[s], sizeof(a));
+        memcpy(p, P, sizeof(p));
+        aenl_la_mul(&t[0][0], LDX, &a[0][0], LDX, &p[0][0], LDX, LDX, LDX, LDX);
+        covariance_predicted(&w->Pp[0][0], &t[0][0], &a[0][0], &m->Q[s][0][0], LDX);
+        return;
     }
+#endif
+    aenl_la_mul(&w->T[0][0], LDX, &m->A[s][0][0], LDX, P, LDX, nx, nx, nx);
+    covariance_predicted(&w->Pp[0][0], &w->T[0][0], &m->A[s][0][0], &m->Q[s][0][0], nx);
 }
 
 /*
