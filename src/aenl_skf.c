@@ -277,12 +277,13 @@ static inline void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, cons
 
 /*
  * Update work.xp / work.Pp with the used components (work.idx[0..n_used)) of z into x_out,
- * P_out (which must not alias the work buffers). Returns NOT_PD / NUMERIC without touching
- * anything outside the work area and the outputs.
+ * P_out (which must not alias the work buffers, each other or the model: restrict lets the
+ * compiler keep the work rows in registers while it writes P_out). Returns NOT_PD / NUMERIC
+ * without touching anything outside the work area and the outputs.
  */
 static inline aenl_status_t update(aenl_skf_t *f, const aenl_real_t *z, uint32_t nu,
-                                   aenl_real_t *x_out, aenl_real_t *P_out, aenl_real_t *nis,
-                                   aenl_real_t *ll, uint32_t nx)
+                                   aenl_real_t *restrict x_out, aenl_real_t *restrict P_out,
+                                   aenl_real_t *nis, aenl_real_t *ll, uint32_t nx)
 {
     const aenl_skf_model_t *m = f->model;
     aenl_skf_work_t *w = &f->work;
