@@ -260,14 +260,14 @@ static inline void predict(aenl_skf_t *f, uint32_t s, const aenl_real_t *x, cons
 #if AENL_LA_INLINE
     if (nx == LDX)
     {
-        /* A, P and A P on the stack, where the compiler knows that nothing else writes them
-         * and keeps their rows in registers across the unrolled loops (the same sums in the same
-         * order) */
-        aenl_real_t a[LDX][LDX], p[LDX][LDX], t[LDX][LDX];
+        /* A and P on the stack, where the compiler knows that nothing else writes them and
+         * keeps their rows in registers across the unrolled loops (the same sums in the same
+         * order); their frame is 512 B in float32 at the default capacity */
+        aenl_real_t a[LDX][LDX], p[LDX][LDX];
         memcpy(a, m->A[s], sizeof(a));
         memcpy(p, P, sizeof(p));
-        aenl_la_mul(&t[0][0], LDX, &a[0][0], LDX, &p[0][0], LDX, LDX, LDX, LDX);
-        covariance_predicted(&w->Pp[0][0], &t[0][0], &a[0][0], &m->Q[s][0][0], LDX);
+        aenl_la_mul(&w->T[0][0], LDX, &a[0][0], LDX, &p[0][0], LDX, LDX, LDX, LDX);
+        covariance_predicted(&w->Pp[0][0], &w->T[0][0], &a[0][0], &m->Q[s][0][0], LDX);
         return;
     }
 #endif
