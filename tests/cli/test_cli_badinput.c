@@ -298,6 +298,32 @@ static void test_cli_badinput_moments(void)
     run_cases(cases, sizeof(cases) / sizeof(cases[0]));
 }
 
+/* A run's outputs never replace its input or each other, and a run that fails leaves a file it
+ * had already replaced as it was. */
+static void test_cli_badinput_outputs_keep_user_files(void)
+{
+    static char before[65536], after[65536];
+    const char *in = signal_csv("k_in.csv", "t,alpha,xi", 0, NULL);
+    const size_t n_before = cli_slurp(in, before, sizeof(before));
+    const char *as_input[] = {"moments", in, "--channel", "alpha", "-o", in, NULL};
+    cli_expect_refused(as_input, "k_in.csv: is an input of this run");
+    TEST_ASSERT_EQUAL_size_t(n_before, cli_slurp(in, after, sizeof(after)));
+    TEST_ASSERT_EQUAL_STRING(before, after);
+    /* the CSV is written before the figure fails: it is put back */
+    const char *keep = cli_file("k_keep.csv", "KEEP\n");
+    const char *late[] = {
+        "moments", in, "--channel", "alpha", "-o", keep, "--plot", "/nonexistent/dir/k.png", NULL};
+    cli_expect_refused(late, "/nonexistent/dir");
+    (void)cli_slurp(keep, after, sizeof(after));
+    TEST_ASSERT_EQUAL_STRING("KEEP\n", after);
+    TEST_ASSERT_TRUE(cli_no_file_like(".k_keep"));
+    const char *same[] = {"moments",    in,       "--channel",  "alpha", "-o",
+                          "k_same.png", "--plot", "k_same.png", NULL};
+    cli_expect_refused(same, "k_same.png: is already an output of this run");
+    TEST_ASSERT_TRUE(cli_no_file_like("k_same"));
+    TEST_ASSERT_TRUE(cli_no_file_like(".k_same"));
+}
+
 static void test_cli_badinput_identify(void)
 {
     const csv_set_t s = make_csv_set();
@@ -776,6 +802,7 @@ int main(void)
     RUN_TEST(test_cli_badinput_plot_moments);
     RUN_TEST(test_cli_badinput_simulate);
     RUN_TEST(test_cli_badinput_flutter);
+    RUN_TEST(test_cli_badinput_outputs_keep_user_files);
     RUN_TEST(test_cli_badinput_fit);
     RUN_TEST(test_cli_badinput_diagnose);
     RUN_TEST(test_cli_badinput_bench_demo);

@@ -26,6 +26,7 @@
 
 #include "aenl_tools/aenl_csv.h"
 #include "aenl_tools/aenl_io.h"
+#include "aenl_tools/aenl_plot.h"
 
 #ifndef AENL_TEST_TMP_DIR
 #define AENL_TEST_TMP_DIR "."
@@ -676,6 +677,149 @@ static void test_outfile_existing_file_kept_until_commit(void)
     (void)fclose(fp);
     TEST_ASSERT_EQUAL_STRING("old\n", buf);
     (void)remove(path);
+}
+
+/* The first line of path into buf (empty when it cannot be read). */
+static void first_line(const char *path, char *buf, size_t n)
+{
+    FILE *fp = fopen(path, "r");
+    buf[0] = '\0';
+    if (fp != NULL)
+    {
+        if (fgets(buf, (int)n, fp) == NULL)
+        {
+            buf[0] = '\0';
+        }
+        (void)fclose(fp);
+    }
+}
+
+static aenl_status_t commit_text(const char *path, const char *text)
+{
+    aenl_outfile_t of;
+    aenl_status_t st = aenl_outfile_open(&of, path, &g_err);
+    if (st == AENL_OK)
+    {
+        fputs(text, of.fp);
+        st = aenl_outfile_commit(&of, &g_err);
+    }
+    return st;
+}
+
+/* A run that fails puts back every file its commits replaced and removes the ones they made; a
+ * run that succeeds keeps its outputs and leaves no copy of what they replaced. */
+static void test_outfile_run_failure_restores_files(void)
+{
+    char old[1024], fresh[1024], buf[32];
+    (void)snprintf(old, sizeof old, "%s", tmp_path("run_old.txt"));
+    (void)snprintf(fresh, sizeof fresh, "%s", tmp_path("run_fresh.txt"));
+    write_text(old, "old\n");
+    (void)remove(fresh);
+    aenl_outfile_run_begin();
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, commit_text(old, "new\n"), g_err.msg);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, commit_text(fresh, "fresh\n"), g_err.msg);
+    first_line(old, buf, sizeof buf);
+    TEST_ASSERT_EQUAL_STRING("new\n", buf); /* in place while the run goes on */
+    TEST_ASSERT_EQUAL_INT(1, count_entries_with(".run_old.txt.bak."));
+    aenl_outfile_abort_all(); /* the run failed */
+    first_line(old, buf, sizeof buf);
+    TEST_ASSERT_EQUAL_STRING("old\n", buf);
+    TEST_ASSERT_FALSE(file_exists(fresh));
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".bak."));
+    aenl_outfile_run_keep();
+    /* the same, succeeding */
+    aenl_outfile_run_begin();
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, commit_text(old, "new\n"), g_err.msg);
+    aenl_outfile_run_keep();
+    aenl_outfile_abort_all(); /* after the run: nothing to undo */
+    first_line(old, buf, sizeof buf);
+    TEST_ASSERT_EQUAL_STRING("new\n", buf);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".bak."));
+    (void)remove(old);
+}
+
+/* Inside a run no output replaces an input (by any path: a symbolic or a hard link is the same
+ * file), nor another output of the run (by any spelling of its path). */
+static void test_outfile_run_refuses_inputs_and_repeats(void)
+{
+    char in[1024], sym[1024], hard[1024], out[1024], out2[1024], late[1024], buf[32];
+    aenl_outfile_t of;
+    (void)snprintf(in, sizeof in, "%s", tmp_path("run_in.csv"));
+    (void)snprintf(sym, sizeof sym, "%s", tmp_path("run_in_sym.csv"));
+    (void)snprintf(hard, sizeof hard, "%s", tmp_path("run_in_hard.csv"));
+    (void)snprintf(out, sizeof out, "%s", tmp_path("run_out.txt"));
+    (void)snprintf(out2, sizeof out2, "%s/./run_out.txt", AENL_TEST_TMP_DIR);
+    (void)snprintf(late, sizeof late, "%s", tmp_path("run_late.txt"));
+    write_text(in, "t,x\n0,1\n");
+    (void)remove(sym);
+    (void)remove(hard);
+    (void)remove(out);
+    TEST_ASSERT_EQUAL_INT(0, symlink(in, sym));
+    TEST_ASSERT_EQUAL_INT(0, link(in, hard));
+    aenl_outfile_run_begin();
+    aenl_input_note(in);
+    const char *const as_input[] = {in, sym, hard};
+    for (size_t i = 0; i < 3; ++i)
+    {
+        aenl_err_clear(&g_err);
+        TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_outfile_open(&of, as_input[i], &g_err));
+        TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "is an input of this run"), g_err.msg);
+    }
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, commit_text(out, "one\n"), g_err.msg);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_outfile_open(&of, out2, &g_err));
+    TEST_ASSERT_NOT_NULL_MESSAGE(strstr(g_err.msg, "already an output of this run"), g_err.msg);
+    /* a file read after its output was opened is refused at the commit, and kept as it was */
+    write_text(late, "late\n");
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT(AENL_OK, aenl_outfile_open(&of, late, &g_err));
+    fputs("replaced\n", of.fp);
+    aenl_input_note(late);
+    TEST_ASSERT_EQUAL_INT(AENL_E_ARG, aenl_outfile_commit(&of, &g_err));
+    first_line(late, buf, sizeof buf);
+    TEST_ASSERT_EQUAL_STRING("late\n", buf);
+    TEST_ASSERT_EQUAL_INT(0, count_entries_with(".tmp."));
+    aenl_outfile_run_keep();
+    /* outside a run the library writes where it is told */
+    aenl_err_clear(&g_err);
+    TEST_ASSERT_EQUAL_INT_MESSAGE(AENL_OK, commit_text(out2, "two\n"), g_err.msg);
+    (void)remove(in);
+    (void)remove(sym);
+    (void)remove(hard);
+    (void)remove(out);
+    (void)remove(late);
+}
+
+/* A figure is complete when it ends as its format does; a full disk leaves gnuplot's file empty
+ * or cut short, and such a file must not replace anything. */
+static void test_figure_cut_short_is_incomplete(void)
+{
+    static const unsigned char png[] = {0x89, 'P',  'N',  'G',  0x0D, 0x0A, 0x1A, 0x0A, 0x00, 0x00,
+                                        0x00, 0x00, 0x49, 0x45, 0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82};
+    static const char svg[] = "<?xml version=\"1.0\"?>\n<svg>\n<g/>\n</svg>\n\n";
+    static const char pdf[] = "%PDF-1.4\n1 0 obj\n<<>>\nendobj\ntrailer\n<<>>\n%%EOF\n";
+    const struct
+    {
+        const char *fmt;
+        const void *bytes;
+        size_t n;
+        size_t cut; /* bytes left when cut short */
+    } k[] = {{"png", png, sizeof(png), sizeof(png) - 1u},
+             {"svg", svg, sizeof(svg) - 1u, sizeof(svg) - 9u},
+             {"pdf", pdf, sizeof(pdf) - 1u, sizeof(pdf) - 4u}};
+    char path[1024];
+    (void)snprintf(path, sizeof path, "%s", tmp_path("figure.bin"));
+    for (size_t i = 0; i < sizeof(k) / sizeof(k[0]); ++i)
+    {
+        write_bytes(path, k[i].bytes, k[i].n);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(1, aenl_plot_file_complete(path, k[i].fmt), k[i].fmt);
+        write_bytes(path, k[i].bytes, k[i].cut);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, aenl_plot_file_complete(path, k[i].fmt), k[i].fmt);
+        write_bytes(path, k[i].bytes, 0);
+        TEST_ASSERT_EQUAL_INT_MESSAGE(0, aenl_plot_file_complete(path, k[i].fmt), k[i].fmt);
+    }
+    (void)remove(path);
+    TEST_ASSERT_EQUAL_INT(0, aenl_plot_file_complete(path, "png")); /* no file */
 }
 
 static void test_outfile_missing_folder_fails_cleanly(void)
@@ -1414,6 +1558,9 @@ int main(void)
     RUN_TEST(test_outfile_abort_leaves_no_file);
     RUN_TEST(test_outfile_existing_file_kept_until_commit);
     RUN_TEST(test_outfile_missing_folder_fails_cleanly);
+    RUN_TEST(test_outfile_run_failure_restores_files);
+    RUN_TEST(test_outfile_run_refuses_inputs_and_repeats);
+    RUN_TEST(test_figure_cut_short_is_incomplete);
     RUN_TEST(test_outfile_commit_failure_removes_temporary);
     RUN_TEST(test_outfile_abort_all_removes_pending);
     RUN_TEST(test_outfile_device_written_not_replaced);

@@ -243,14 +243,21 @@ int main(int argc, char **argv)
                 aenl_cli_error(argv[1], "out of memory");
                 return AENL_EXIT_FAIL;
             }
-            const int rc = k_subcommands[i].run(n_args, args);
+            aenl_outfile_run_begin();
+            int rc = k_subcommands[i].run(n_args, args);
             free_args(args, owned);
-            aenl_outfile_abort_all(); /* nothing half-written survives, whatever the path out */
             if (fflush(stdout) != 0 && rc == AENL_EXIT_OK)
             {
                 aenl_cli_error(argv[1], "writing to standard output failed");
-                return AENL_EXIT_FAIL;
+                rc = AENL_EXIT_FAIL;
             }
+            if (rc == AENL_EXIT_OK)
+            {
+                aenl_outfile_run_keep();
+            }
+            /* nothing half-written survives, and a failed run leaves the user's files as they
+             * were, whatever the path out */
+            aenl_outfile_abort_all();
             return rc;
         }
     }

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file cli_figures.c
- * @brief The figures' folder a subcommand owns: the files written so far (removed again when a
- *        later one fails) and the folders made on the way.
+ * @brief The figures' folder a subcommand owns: the files written so far and the folders made
+ *        on the way (both undone when a later step fails).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -17,10 +17,9 @@
 
 void aenl_cli_figs_rollback(aenl_cli_figs_t *o)
 {
-    for (size_t i = 0; i < o->n_files; ++i)
-    {
-        (void)remove(o->files[i]);
-    }
+    /* the run fails: every file it wrote goes, every file it replaced comes back (by name
+     * alone, a figure the user had before the run would be deleted), then the folders it made */
+    aenl_outfile_abort_all();
     for (size_t i = o->n_dirs; i > 0; --i)
     {
         (void)rmdir(o->dirs[i - 1u]); /* only if still empty */

@@ -122,7 +122,7 @@ static aenl_status_t write_report(const aenl_diagnose_result_t *r, const char *p
     return aenl_outfile_commit(&of, err);
 }
 
-/* Outputs under dir; every file written there is removed on failure. */
+/* Outputs under dir; a failure undoes them when the run ends (aenl_outfile_abort_all). */
 static aenl_status_t write_outputs(const aenl_diagnose_result_t *r, const char *dir,
                                    const char *source, int plots, char *ini_path, size_t n,
                                    aenl_err_t *err)
@@ -142,34 +142,6 @@ static aenl_status_t write_outputs(const aenl_diagnose_result_t *r, const char *
     if (st == AENL_OK && plots)
     {
         st = make_figures(r, dir, err);
-    }
-    if (st != AENL_OK)
-    {
-        static const char *const files[] = {"updated.ini",
-                                            "report.txt",
-                                            "gaps.csv",
-                                            "candidates.csv",
-                                            "timeseries.csv",
-                                            "diagnose_gaps.png",
-                                            "diagnose_timeseries.png"};
-        char p[4096];
-        for (size_t i = 0; i < sizeof(files) / sizeof(files[0]); ++i)
-        {
-            (void)snprintf(p, sizeof(p), "%s/%s", dir, files[i]);
-            (void)remove(p);
-        }
-        static const char *const per_ch[] = {"curves_%s.csv", "spectrum_%s.csv",
-                                             "diagnose_curves_%s.png", "diagnose_spectrum_%s.png"};
-        for (size_t c = 0; c < r->n_channels; ++c)
-        {
-            for (size_t i = 0; i < sizeof(per_ch) / sizeof(per_ch[0]); ++i)
-            {
-                char name[256];
-                (void)snprintf(name, sizeof(name), per_ch[i], r->names[c]);
-                (void)snprintf(p, sizeof(p), "%s/%s", dir, name);
-                (void)remove(p);
-            }
-        }
     }
     return st;
 }
@@ -382,7 +354,8 @@ int aenl_cmd_diagnose(int argc, char **argv)
     const int rc0 = diagnose_and_write(d.measured, d.model, d.out, d.json, plots, &d.o);
     if (rc0 != AENL_EXIT_OK && created)
     {
-        (void)rmdir(d.out); /* only when we made it and it stayed empty */
+        aenl_outfile_abort_all(); /* the outputs written so far go first */
+        (void)rmdir(d.out);       /* only when we made it and it stayed empty */
     }
     return rc0;
 }

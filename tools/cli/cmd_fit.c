@@ -791,11 +791,8 @@ static aenl_status_t write_model(const fit_args_t *a, const aenl_em_model_t *m, 
             ident_from_path(a->out_h, ident_buf, sizeof(ident_buf));
             ident = ident_buf;
         }
+        /* on failure the INI written above is undone when the run ends */
         st = aenl_em_write_c_header(m, ident, a->out_h, err);
-        if (st != AENL_OK && a->out_ini != NULL && remove(a->out_ini) != 0)
-        {
-            aenl_cli_error(k_cmd, "could not remove %s: %s", a->out_ini, strerror(errno));
-        }
     }
     return st;
 }

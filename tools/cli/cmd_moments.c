@@ -359,11 +359,8 @@ static aenl_status_t write_expansion(const aenl_curves_t *c, const char *data, c
             *p = (char)((*p == '\'' || *p == '\n') ? ' ' : *p);
         }
         const aenl_plot_var_t vars[] = {{"in", csv}, {"title", title}, {"xlabel", chan}};
+        /* on failure the CSV written above is undone when the run ends */
         st = aenl_plot_run("expansion", vars, sizeof(vars) / sizeof(vars[0]), png, err);
-        if (st != AENL_OK && path != NULL)
-        {
-            (void)remove(path);
-        }
     }
     if (tmp[0] != '\0')
     {

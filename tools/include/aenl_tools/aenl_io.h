@@ -66,8 +66,30 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err);
 /** Close and remove the temporary. Safe on a zeroed, aborted or committed outfile. */
 void aenl_outfile_abort(aenl_outfile_t *of);
 
-/** Remove every temporary still open (called at exit; also usable by a signal handler). */
+/**
+ * Remove every temporary still open and, inside a run, put back every file the run's commits
+ * replaced and remove every file they created (called at exit; also usable by a signal handler).
+ */
 void aenl_outfile_abort_all(void);
+
+/**
+ * @brief Begin a run (the `aenl` command: one per process). Inside a run an output may name
+ *        neither a file the run has read (aenl_input_note) nor another of its outputs
+ *        (AENL_E_ARG from aenl_outfile_open or aenl_outfile_commit), and each commit keeps the
+ *        file it replaces until the run ends: aenl_outfile_run_keep when it succeeded, else
+ *        aenl_outfile_abort_all (also at exit) restores them.
+ */
+void aenl_outfile_run_begin(void);
+
+/** End a run that succeeded: its outputs stay, the files they replaced are removed. */
+void aenl_outfile_run_keep(void);
+
+/**
+ * Note a file the run reads (a regular file; "-" and others, and any file outside a run, are
+ * ignored), so that no output of the run replaces it: aenl_outfile_open and aenl_outfile_commit
+ * refuse it (AENL_E_ARG).
+ */
+void aenl_input_note(const char *path);
 
 /**
  * @brief The path of one of aenl's own files (`rel`: "plot/moments.gp", "examples/x.ini", a

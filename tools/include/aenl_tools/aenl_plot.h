@@ -27,6 +27,13 @@ typedef struct aenl_plot_var
 int aenl_plot_available(void);
 
 /**
+ * 1 when the figure file at path ends as a whole file of its format does ("png": the IEND
+ * chunk; "svg": the closing tag; "pdf": the end-of-file marker), 0 when it is empty, cut short
+ * or unreadable. aenl_plot_run checks every figure so before it replaces anything.
+ */
+int aenl_plot_file_complete(const char *path, const char *fmt);
+
+/**
  * @brief Run the gnuplot script plot/`script`.gp (aenl_share_path) with the given variables,
  *        writing the figure to `out_path` as PNG, SVG or PDF after its extension (.png, .svg,
  *        .pdf, any case; PNG for a path without one, such as "-" or a device).

@@ -424,6 +424,7 @@ aenl_status_t aenl_csv_open(aenl_csv_t **out, const char *path, aenl_err_t *err)
     {
         csv->fp = fopen(path, "r");
         csv->own_fp = 1;
+        aenl_input_note(path);
         if (csv->fp == NULL)
         {
             aenl_err_set(err, "%s: cannot open (%s)", path, strerror(errno));

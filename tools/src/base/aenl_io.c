@@ -99,6 +99,8 @@ static void pending_remove(const char *tmp_path)
     }
 }
 
+static void journal_rollback(void);
+
 void aenl_outfile_abort_all(void)
 {
     size_t i;
@@ -112,6 +114,7 @@ void aenl_outfile_abort_all(void)
             g_pending[i] = NULL;
         }
     }
+    journal_rollback();
 }
 
 static void pending_release_table(void)
@@ -130,10 +133,13 @@ static void pending_release_table(void)
 }
 
 /* atexit handler: remove the temporaries, then release the (now empty) table. */
+static void run_free(void);
+
 static void outfile_at_exit(void)
 {
     aenl_outfile_abort_all();
     pending_release_table();
+    run_free();
 }
 
 /* ---- output files -------------------------------------------------------------------------- */
@@ -150,7 +156,7 @@ static char *dup_str(const char *s)
 }
 
 /* "<dir>/.<base>.tmp.<pid>.<counter>" for path "<dir>/<base>" (dir may be empty). */
-static char *make_tmp_name(const char *path, unsigned long counter)
+static char *make_tmp_name(const char *path, const char *kind, unsigned long counter)
 {
     const char *slash = strrchr(path, '/');
     size_t dir_len = (slash != NULL) ? (size_t)(slash - path) + 1U : 0U;
@@ -162,7 +168,8 @@ static char *make_tmp_name(const char *path, unsigned long counter)
         return NULL;
     }
     memcpy(tmp, path, dir_len);
-    (void)snprintf(tmp + dir_len, need - dir_len, ".%s.tmp.%ld.%lu", base, (long)getpid(), counter);
+    (void)snprintf(tmp + dir_len, need - dir_len, ".%s.%s.%ld.%lu", base, kind, (long)getpid(),
+                   counter);
     return tmp;
 }
 
@@ -172,6 +179,298 @@ static void outfile_zero(aenl_outfile_t *of)
     of->path = NULL;
     of->tmp_path = NULL;
     of->direct = 0;
+}
+
+/* ---- the run: its inputs, its outputs and what its outputs replaced ----------------------------
+ * A run (aenl_outfile_run_begin) remembers every file it reads (aenl_input_note: device and
+ * inode, so a hard or symbolic link to an input is the input) and every output it opens (the
+ * canonical path: the folder's real path and the name), so that no output replaces one of the
+ * run's inputs or another of its outputs. A commit inside a run keeps the file it replaces as a
+ * hard link ".<name>.bak.<pid>.<n>" beside it and journals the replacement, so that when the run
+ * fails, aenl_outfile_abort_all puts every replaced file back and removes every new one: a run
+ * that fails leaves the user's files as they were. aenl_outfile_run_keep ends a run that
+ * succeeded and removes the kept copies. The rollback only calls rename() and unlink(), so a
+ * signal handler may run it. */
+
+typedef struct
+{
+    dev_t dev;
+    ino_t ino;
+} file_id_t;
+
+typedef struct
+{
+    char *target; /* the output's final path */
+    char *backup; /* hard link to the file it replaced; NULL when none was kept */
+    int existed;  /* a file was there before the commit */
+} journal_t;
+
+static int g_run;
+static file_id_t *g_inputs;
+static size_t g_n_inputs, g_inputs_cap;
+static char **g_outputs; /* canonical paths of the run's outputs */
+static size_t g_n_outputs, g_outputs_cap;
+static journal_t *g_journal;
+static size_t g_journal_len;           /* entries whose strings the journal owns */
+static volatile size_t g_journal_live; /* the first entries not yet rolled back */
+static size_t g_journal_cap;
+
+/* Room in *v (elem bytes each, *cap of them) for one more than n; 0 on success. */
+static int grow(void **v, size_t *cap, size_t n, size_t elem)
+{
+    if (n < *cap)
+    {
+        return 0;
+    }
+    const size_t new_cap = (*cap == 0) ? 8 : 2 * *cap;
+    void *g = realloc(*v, new_cap * elem);
+    if (g == NULL)
+    {
+        return -1;
+    }
+    *v = g;
+    *cap = new_cap;
+    return 0;
+}
+
+void aenl_input_note(const char *path)
+{
+    struct stat st;
+    /* only inside a run: outside one a noted file may be deleted and its inode given to another */
+    if (!g_run || path == NULL || strcmp(path, "-") == 0 || stat(path, &st) != 0 ||
+        !S_ISREG(st.st_mode))
+    {
+        return;
+    }
+    for (size_t i = 0; i < g_n_inputs; ++i)
+    {
+        if (g_inputs[i].dev == st.st_dev && g_inputs[i].ino == st.st_ino)
+        {
+            return;
+        }
+    }
+    if (grow((void **)&g_inputs, &g_inputs_cap, g_n_inputs, sizeof(*g_inputs)) == 0)
+    {
+        g_inputs[g_n_inputs].dev = st.st_dev;
+        g_inputs[g_n_inputs].ino = st.st_ino;
+        g_n_inputs++;
+    }
+}
+
+/* Inside a run, 1 when path names (through links) a file the run has read. */
+static int is_input(const char *path)
+{
+    struct stat st;
+    if (!g_run || g_n_inputs == 0 || stat(path, &st) != 0)
+    {
+        return 0;
+    }
+    for (size_t i = 0; i < g_n_inputs; ++i)
+    {
+        if (g_inputs[i].dev == st.st_dev && g_inputs[i].ino == st.st_ino)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* final_path's identity as "device:inode of its folder/name" (malloc'd), the same for every
+ * spelling of the path; NULL when the folder cannot be examined (opening the output fails on it
+ * then) or memory is out. */
+static char *canonical_path(const char *final_path)
+{
+    const char *slash = strrchr(final_path, '/');
+    const char *base = (slash != NULL) ? slash + 1 : final_path;
+    char dir[4096];
+    struct stat st;
+    if (slash == NULL)
+    {
+        (void)snprintf(dir, sizeof dir, ".");
+    }
+    else if (slash == final_path)
+    {
+        (void)snprintf(dir, sizeof dir, "/");
+    }
+    else
+    {
+        (void)snprintf(dir, sizeof dir, "%.*s", (int)(slash - final_path), final_path);
+    }
+    if (stat(dir, &st) != 0)
+    {
+        return NULL;
+    }
+    const size_t need = strlen(base) + 48U;
+    char *out = (char *)malloc(need);
+    if (out != NULL)
+    {
+        (void)snprintf(out, need, "%lu:%lu/%s", (unsigned long)st.st_dev, (unsigned long)st.st_ino,
+                       base);
+    }
+    return out;
+}
+
+/* Inside a run, AENL_E_ARG when final_path is one of the run's inputs or outputs; otherwise the
+ * output is noted. path is the name the user gave (for the message). */
+static aenl_status_t run_claim_output(const char *path, const char *final_path, aenl_err_t *err)
+{
+    if (is_input(final_path))
+    {
+        aenl_err_set(err, "%s: is an input of this run; write the output under another name", path);
+        return AENL_E_ARG;
+    }
+    if (!g_run)
+    {
+        return AENL_OK;
+    }
+    char *canon = canonical_path(final_path);
+    if (canon == NULL)
+    {
+        return AENL_OK;
+    }
+    for (size_t i = 0; i < g_n_outputs; ++i)
+    {
+        if (strcmp(g_outputs[i], canon) == 0)
+        {
+            free(canon);
+            aenl_err_set(err, "%s: is already an output of this run; give each output its own name",
+                         path);
+            return AENL_E_ARG;
+        }
+    }
+    if (grow((void **)&g_outputs, &g_outputs_cap, g_n_outputs, sizeof(*g_outputs)) != 0)
+    {
+        free(canon);
+        aenl_err_set(err, "%s: out of memory", path);
+        return AENL_E_IO;
+    }
+    g_outputs[g_n_outputs++] = canon;
+    return AENL_OK;
+}
+
+/* Before a commit inside a run replaces target: room in the journal and, when a regular file is
+ * there, a hard link to it beside it (kept until the run ends). Nonzero when memory is out. A
+ * folder that refuses hard links leaves that replacement without a way back (backup NULL). */
+static int journal_prepare(const char *target, journal_t *j)
+{
+    struct stat st;
+    j->target = NULL;
+    j->backup = NULL;
+    j->existed = 0;
+    if (grow((void **)&g_journal, &g_journal_cap, g_journal_len, sizeof(*g_journal)) != 0)
+    {
+        return 1;
+    }
+    j->target = dup_str(target);
+    if (j->target == NULL)
+    {
+        return 1;
+    }
+    if (lstat(target, &st) != 0)
+    {
+        return 0;
+    }
+    j->existed = 1;
+    for (int attempt = 0; S_ISREG(st.st_mode) && attempt < 100; ++attempt)
+    {
+        j->backup = make_tmp_name(target, "bak", g_tmp_counter++);
+        if (j->backup == NULL)
+        {
+            return 1;
+        }
+        if (link(target, j->backup) == 0)
+        {
+            break;
+        }
+        const int again = errno == EEXIST;
+        free(j->backup);
+        j->backup = NULL;
+        if (!again)
+        {
+            break;
+        }
+    }
+    return 0;
+}
+
+/* Undo journal_prepare when the commit fails. */
+static void journal_discard(journal_t *j)
+{
+    if (j->backup != NULL)
+    {
+        (void)unlink(j->backup);
+    }
+    free(j->backup);
+    free(j->target);
+    j->backup = NULL;
+    j->target = NULL;
+}
+
+/* Put back what the run's commits replaced, newest first, and remove what they created. */
+static void journal_rollback(void)
+{
+    for (size_t i = g_journal_live; i > 0; --i)
+    {
+        const journal_t *j = &g_journal[i - 1U];
+        if (j->backup != NULL)
+        {
+            (void)rename(j->backup, j->target);
+        }
+        else if (!j->existed)
+        {
+            (void)unlink(j->target);
+        }
+    }
+    g_journal_live = 0; /* the strings stay allocated: freeing is not async-signal-safe */
+}
+
+/* The run's tables freed; the kept copies of the entries not rolled back are removed. */
+static void run_free(void)
+{
+    for (size_t i = 0; i < g_journal_len; ++i)
+    {
+        if (i < g_journal_live && g_journal[i].backup != NULL)
+        {
+            (void)unlink(g_journal[i].backup);
+        }
+        free(g_journal[i].target);
+        free(g_journal[i].backup);
+    }
+    free(g_journal);
+    g_journal = NULL;
+    g_journal_len = 0;
+    g_journal_live = 0;
+    g_journal_cap = 0;
+    for (size_t i = 0; i < g_n_outputs; ++i)
+    {
+        free(g_outputs[i]);
+    }
+    free((void *)g_outputs);
+    g_outputs = NULL;
+    g_n_outputs = 0;
+    g_outputs_cap = 0;
+    free(g_inputs);
+    g_inputs = NULL;
+    g_n_inputs = 0;
+    g_inputs_cap = 0;
+}
+
+static void outfile_at_exit(void);
+
+void aenl_outfile_run_begin(void)
+{
+    run_free(); /* a run starts with nothing read and nothing written */
+    g_run = 1;
+    if (!g_atexit_done && atexit(outfile_at_exit) == 0)
+    {
+        g_atexit_done = 1;
+    }
+}
+
+void aenl_outfile_run_keep(void)
+{
+    run_free();
+    g_run = 0;
 }
 
 /* The file a path names once symbolic links are followed (a dangling link names the file it
@@ -283,6 +582,12 @@ static aenl_status_t open_direct(aenl_outfile_t *of, const char *path, char *tar
 {
     struct stat st;
     int fd;
+    if (is_input(target))
+    {
+        free(target);
+        aenl_err_set(err, "%s: is an input of this run; write the output under another name", path);
+        return AENL_E_ARG;
+    }
     /* Through a kernel link a regular file is truncated, as a shell's '>' would do. */
     const int trunc = (stat(target, &st) == 0 && S_ISREG(st.st_mode)) ? O_TRUNC : 0;
     fd = open(target, O_WRONLY | O_NOCTTY | trunc);
@@ -358,6 +663,12 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
     {
         return open_direct(of, path, final_path, err);
     }
+    const aenl_status_t claim = run_claim_output(path, final_path, err);
+    if (claim != AENL_OK)
+    {
+        free(final_path);
+        return claim;
+    }
     if (exists && access(final_path, W_OK) != 0)
     {
         /* Replacing by rename would succeed in a writable folder; a shell's '>' would not. */
@@ -368,7 +679,7 @@ aenl_status_t aenl_outfile_open(aenl_outfile_t *of, const char *path, aenl_err_t
     }
     for (attempt = 0; attempt < 100; ++attempt)
     {
-        tmp = make_tmp_name(final_path, g_tmp_counter++);
+        tmp = make_tmp_name(final_path, "tmp", g_tmp_counter++);
         if (tmp == NULL)
         {
             break;
@@ -504,6 +815,21 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
         what = "close";
     }
     of->fp = NULL;
+    if (!failed && is_input(of->path))
+    {
+        /* an input read after the output was opened */
+        aenl_err_set(err, "%s: is an input of this run; write the output under another name",
+                     of->path);
+        aenl_outfile_abort(of);
+        return AENL_E_ARG;
+    }
+    journal_t j = {NULL, NULL, 0};
+    if (!failed && g_run && journal_prepare(of->path, &j) != 0)
+    {
+        failed = 1;
+        e = ENOMEM;
+        what = "keep the file it replaces";
+    }
     if (!failed && rename(of->tmp_path, of->path) != 0)
     {
         failed = 1;
@@ -512,9 +838,15 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
     }
     if (failed)
     {
+        journal_discard(&j);
         aenl_err_set(err, "%s: cannot %s (%s)", of->path, what, strerror(e));
         aenl_outfile_abort(of); /* removes the temporary, frees, zeroes */
         return AENL_E_IO;
+    }
+    if (g_run)
+    {
+        g_journal[g_journal_len++] = j; /* journal_prepare made the room */
+        g_journal_live = g_journal_len;
     }
     pending_remove(of->tmp_path);
     free(of->tmp_path);

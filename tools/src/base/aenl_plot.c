@@ -248,10 +248,55 @@ static int read_gnuplot_log(int logfd, char *tail, size_t n)
     return failed;
 }
 
+/* gnuplot reports no error when its output cannot be written (a full disk leaves the file cut
+ * short or empty), so the file itself is read. */
+int aenl_plot_file_complete(const char *path, const char *fmt)
+{
+    static const unsigned char k_iend[12] = {0x00, 0x00, 0x00, 0x00, 0x49, 0x45,
+                                             0x4E, 0x44, 0xAE, 0x42, 0x60, 0x82};
+    unsigned char tail[64];
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+    {
+        return 0;
+    }
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) == 0)
+    {
+        size = ftell(f);
+    }
+    const long k = size < (long)sizeof(tail) ? size : (long)sizeof(tail);
+    size_t got = 0;
+    if (k > 0 && fseek(f, size - k, SEEK_SET) == 0)
+    {
+        got = fread(tail, 1, (size_t)k, f);
+    }
+    (void)fclose(f); /* read-only */
+    if (k <= 0 || got != (size_t)k)
+    {
+        return 0;
+    }
+    if (strcmp(fmt, "png") == 0)
+    {
+        return got >= sizeof(k_iend) &&
+               memcmp(tail + got - sizeof(k_iend), k_iend, sizeof(k_iend)) == 0;
+    }
+    const char *mark = strcmp(fmt, "svg") == 0 ? "</svg>" : "%%EOF";
+    const size_t ml = strlen(mark);
+    for (size_t i = 0; i + ml <= got; ++i)
+    {
+        if (memcmp(tail + i, mark, ml) == 0)
+        {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 /* Runs gnuplot on expr and the script gp, then commits the figure of, or aborts it when gnuplot
- * fails. Takes over of. */
+ * fails or leaves the file incomplete. Takes over of. */
 static aenl_status_t plot_and_commit(aenl_outfile_t *of, char *expr, char *gp, const char *script,
-                                     const char *out_path, aenl_err_t *err)
+                                     const char *out_path, const char *fmt, aenl_err_t *err)
 {
     char logname[] = "/tmp/aenl_gnuplot_XXXXXX";
     const int logfd = mkstemp(logname);
@@ -272,6 +317,15 @@ static aenl_status_t plot_and_commit(aenl_outfile_t *of, char *expr, char *gp, c
         tail[strcspn(tail, "\n")] = '\0';
         aenl_err_set(err, "gnuplot failed on %s.gp for %s: %s", script, out_path,
                      tail[0] ? tail : "no message");
+        return AENL_E_IO;
+    }
+    if (of->tmp_path != NULL && !aenl_plot_file_complete(of->tmp_path, fmt))
+    {
+        aenl_outfile_abort(of);
+        aenl_err_set(err,
+                     "%s: cannot write the figure (the file gnuplot wrote is incomplete: a "
+                     "full disk?)",
+                     out_path);
         return AENL_E_IO;
     }
     return aenl_outfile_commit(of, err);
@@ -322,7 +376,7 @@ aenl_status_t aenl_plot_run(const char *script, const aenl_plot_var_t *vars, siz
         aenl_err_set(err, "out of memory");
         return AENL_E_IO;
     }
-    st = plot_and_commit(&of, expr, gp, script, out_path, err);
+    st = plot_and_commit(&of, expr, gp, script, out_path, fmt, err);
     free(expr);
     return st;
 }

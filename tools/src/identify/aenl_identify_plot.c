@@ -41,11 +41,7 @@ static aenl_status_t run_plot(const fig_ctx_t *fc, const aenl_identify_channel_t
     aenl_status_t st = aenl_plot_run(script, vars, n_vars, png, err);
     if (st == AENL_OK)
     {
-        st = fc->done(fc->done_ctx, png, err);
-        if (st != AENL_OK)
-        {
-            (void)remove(png);
-        }
+        st = fc->done(fc->done_ctx, png, err); /* a failure is undone when the run ends */
     }
     return st;
 }

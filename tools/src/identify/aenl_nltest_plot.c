@@ -39,9 +39,9 @@ static aenl_status_t draw(const fig_t *f, const char *channel, const char *kind,
     (void)snprintf(png, sizeof(png), "%s/%s_%s_%s.png", f->dir, f->stem, piece, kind);
     (void)snprintf(script, sizeof(script), "identify_%s", kind);
     aenl_status_t st = aenl_plot_run(script, vars, n_vars, png, err);
-    if (st == AENL_OK && (st = f->done(f->done_ctx, png, err)) != AENL_OK)
+    if (st == AENL_OK)
     {
-        (void)remove(png);
+        st = f->done(f->done_ctx, png, err); /* a failure is undone when the run ends */
     }
     return st;
 }

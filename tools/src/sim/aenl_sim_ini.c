@@ -1072,6 +1072,7 @@ aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_
         aenl_err_set(err, "%s: cannot open: %s", path, strerror(errno));
         return AENL_E_IO;
     }
+    aenl_input_note(path);
     rc = ini_parse_stream(reader, &c, handler, &c);
     (void)fclose(c.fp);
     if (c.oom || rc == -2)
