@@ -324,6 +324,41 @@ static void test_cli_badinput_outputs_keep_user_files(void)
     TEST_ASSERT_TRUE(cli_no_file_like(".k_same"));
 }
 
+/* Text strtod would read but no record means (hexadecimal), a time step too small to divide by,
+ * and a note that would come before the error: each refused with one message. */
+static void test_cli_badinput_numbers_and_notes(void)
+{
+    const char *hex = signal_csv("h_hex.csv", "t,alpha,xi", 10, "0.10,0x10,0.2");
+    const char *good = signal_csv("h_good.csv", "t,alpha,xi", 0, NULL);
+    size_t pos = (size_t)snprintf(g_text, sizeof(g_text), "t,alpha,xi\n");
+    for (size_t i = 0; i < g_rows; ++i)
+    {
+        pos += (size_t)snprintf(g_text + pos, sizeof(g_text) - pos, "%.6g,%.6f,%.6f\n",
+                                1e-320 * (double)i, sin(0.3 * (double)i), cos(0.3 * (double)i));
+    }
+    const char *tiny = put_file("h_tiny.csv", g_text);
+    const char *no_time = put_file("h_notime.csv", "alpha,xi\n1,2\n2,3\n");
+    const bad_case_t cases[] = {
+        {"hexadecimal cell",
+         {"moments", hex, "--channel", "alpha", "-o", "bad_out.csv", NULL},
+         "h_hex.csv:12:2 (alpha): not a number '0x10'",
+         NULL},
+        {"hexadecimal option value",
+         {"identify", good, "--level", "0x0.1", NULL},
+         "--level: '0x0.1' is not a finite number",
+         NULL},
+        {"subnormal time step",
+         {"fit", tiny, "--channels", "alpha", "--thresholds", "alpha:0", NULL},
+         "h_tiny.csv: column 't', data row 2: time step",
+         NULL},
+        {"no time column, then an error",
+         {"fit", no_time, "--thresholds", "xi:0", NULL},
+         "no time column",
+         NULL},
+    };
+    run_cases(cases, sizeof(cases) / sizeof(cases[0]));
+}
+
 static void test_cli_badinput_identify(void)
 {
     const csv_set_t s = make_csv_set();
@@ -573,6 +608,14 @@ static void test_cli_badinput_simulate(void)
         {"missing model argument", {"simulate", NULL}, "no MODEL.ini", NULL},
         {"missing option value", {"simulate", good, "-o", NULL}, "-o needs a value", NULL},
         {"bad --rk4", {"simulate", good, "--rk4", "0", "-o", "bad_out.csv", NULL}, "--rk4", NULL},
+        {"--rk4 above the sample step",
+         {"simulate", good, "--rk4", "1e300", "-o", "bad_out.csv", NULL},
+         "larger than the sample step",
+         NULL},
+        {"--rk4 of too many steps",
+         {"simulate", good, "--rk4", "1e-12", "-o", "bad_out.csv", NULL},
+         "give a larger step",
+         NULL},
         {"missing input file", SIM("/nonexistent/m.ini"), "/nonexistent/m.ini", NULL},
         {"unwritable output",
          {"simulate", good, "-o", "/nonexistent/dir/bad_out.csv", NULL},
@@ -803,6 +846,7 @@ int main(void)
     RUN_TEST(test_cli_badinput_simulate);
     RUN_TEST(test_cli_badinput_flutter);
     RUN_TEST(test_cli_badinput_outputs_keep_user_files);
+    RUN_TEST(test_cli_badinput_numbers_and_notes);
     RUN_TEST(test_cli_badinput_fit);
     RUN_TEST(test_cli_badinput_diagnose);
     RUN_TEST(test_cli_badinput_bench_demo);

@@ -69,7 +69,7 @@ int aenl_cli_parse_double(const char *cmd, const char *opt, const char *s, doubl
         aenl_cli_error(cmd, "%s needs a number", opt);
         return -1;
     }
-    const double v = strtod(s, &end);
+    const double v = aenl_strtod_decimal(s, &end);
     if (end == s || *end != '\0' || !isfinite(v))
     {
         aenl_cli_error(cmd, "%s: '%s' is not a finite number", opt, s);
@@ -251,6 +251,7 @@ int main(int argc, char **argv)
                 aenl_cli_error(argv[1], "writing to standard output failed");
                 rc = AENL_EXIT_FAIL;
             }
+            aenl_cli_flush_notes(rc == AENL_EXIT_OK);
             if (rc == AENL_EXIT_OK)
             {
                 aenl_outfile_run_keep();

@@ -61,6 +61,8 @@ void aenl_cli_bar_end(aenl_cli_bar_t *b);
 
 /** The note on stderr for a record without a time column (how it is read, how to name one). */
 void aenl_cli_note_no_time(const char *cmd, const char *path);
+/** The run's notes on stderr when print (the run succeeded), else dropped; either way emptied. */
+void aenl_cli_flush_notes(int print);
 /** That note's text (without the command's prefix) into buf, for a JSON output's notes. */
 void aenl_cli_no_time_text(const char *path, char *buf, size_t n);
 /** 1 for the record's time column: the one --time names, else aenl_csv_is_time_name's. */

@@ -173,7 +173,7 @@ static int parse(int argc, char **argv, null_args_t *a)
         else if (strcmp(s, "--level") == 0)
         {
             char *end = NULL;
-            a->level = strtod(v, &end);
+            a->level = aenl_strtod_decimal(v, &end);
             if (end == v || *end != '\0' || !(a->level > 0.0 && a->level < 0.5))
             {
                 aenl_cli_error(k_cmd, "--level: '%s' is not a test level (0 < A < 0.5)", v);

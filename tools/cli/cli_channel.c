@@ -3,6 +3,7 @@
  * @file cli_channel.c
  * @brief Reading one channel of a CSV record for the subcommands.
  */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,15 +46,33 @@ void aenl_cli_no_time_text(const char *path, char *buf, size_t n)
                    path);
 }
 
+/* The run's notes, each once, printed by aenl_cli_flush_notes when the run succeeds: a run that
+ * fails prints its one error message and nothing else. */
+static char g_note_buf[8192];
+
 void aenl_cli_note_no_time(const char *cmd, const char *path)
 {
     if (!g_notes)
     {
         return;
     }
-    char line[4096 + 256];
-    aenl_cli_no_time_text(path, line, sizeof(line));
-    fprintf(stderr, "aenl %s: note: %s\n", cmd, line);
+    char text[4096 + 256], line[4096 + 512];
+    aenl_cli_no_time_text(path, text, sizeof(text));
+    (void)snprintf(line, sizeof(line), "aenl %s: note: %s\n", cmd, text);
+    const size_t used = strlen(g_note_buf);
+    if (strstr(g_note_buf, line) == NULL && used + strlen(line) < sizeof(g_note_buf))
+    {
+        memcpy(g_note_buf + used, line, strlen(line) + 1u);
+    }
+}
+
+void aenl_cli_flush_notes(int print)
+{
+    if (print)
+    {
+        fputs(g_note_buf, stderr);
+    }
+    g_note_buf[0] = '\0';
 }
 
 /* The column names of t, comma-separated, into buf (cut when too long). */
@@ -121,6 +140,15 @@ int aenl_cli_time_value_check(aenl_time_steps_t *s, double t, double t_prev, siz
                      "%s: column '%s', data row %zu: time %.10g does not increase (previous "
                      "%.10g)",
                      path, column, row, t, t_prev);
+        return -1;
+    }
+    if (row > 1u && t - t_prev < DBL_MIN)
+    {
+        /* a step below the smallest normal number has no finite rate (1 / step) */
+        aenl_err_set(err,
+                     "%s: column '%s', data row %zu: time step %.6g is too small to compute "
+                     "with; give the time column in a larger unit",
+                     path, column, row, t - t_prev);
         return -1;
     }
     double step = 0.0;

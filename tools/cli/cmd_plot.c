@@ -178,7 +178,7 @@ static int mark_words_of(const char *marks, char *words, size_t n)
     {
         double v;
         char *end;
-        v = strtod(p, &end);
+        v = aenl_strtod_decimal(p, &end);
         if (end == p || (*end != ',' && *end != '\0') || !isfinite(v))
         {
             aenl_cli_error(k_cmd, "--marks: '%s' is not a comma-separated list of numbers", marks);

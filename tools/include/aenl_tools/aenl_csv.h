@@ -60,6 +60,12 @@ int aenl_csv_is_time_column(const char *name, const char *time_column);
  */
 int aenl_parse_decimal(const char *s, double *v);
 
+/**
+ * strtod for decimal text only: a hexadecimal number ("0x10", "0x1p-3"), which strtod reads but
+ * no data file or option of aenl means, is not a number (*end = s, 0 returned).
+ */
+double aenl_strtod_decimal(const char *s, char **end);
+
 /** Largest relative departure of a time step from the record's step (jitter), beyond the
  *  rounding of the two printed times. */
 #define AENL_TIME_STEP_TOL 0.1

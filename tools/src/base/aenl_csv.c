@@ -727,6 +727,22 @@ int aenl_parse_decimal(const char *s, double *v)
     return parse_decimal_n(s, strlen(s), v);
 }
 
+double aenl_strtod_decimal(const char *s, char **end)
+{
+    const char *p = s;
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r' || *p == '\f' || *p == '\v')
+    {
+        ++p;
+    }
+    p += (*p == '+' || *p == '-') ? 1 : 0;
+    if (p[0] == '0' && (p[1] == 'x' || p[1] == 'X'))
+    {
+        *end = (char *)(uintptr_t)s; /* strtod's convention: nothing read */
+        return 0.0;
+    }
+    return strtod(s, end);
+}
+
 /* One cell → value (NaN for a missing cell). `cell` is already trimmed. */
 static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cell, size_t n,
                                 double *value, aenl_err_t *err)
@@ -743,7 +759,7 @@ static aenl_status_t parse_cell(const aenl_csv_t *csv, size_t c, const char *cel
         return AENL_OK;
     }
     errno = 0;
-    v = strtod(cell, &end);
+    v = aenl_strtod_decimal(cell, &end);
     if (end == cell || *end != '\0' || isnan(v))
     {
         /* a unit where the first data row starts is most often a row of units */

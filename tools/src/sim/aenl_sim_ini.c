@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "aenl_sim_internal.h"
+#include "aenl_tools/aenl_csv.h"
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -225,7 +226,7 @@ static aenl_status_t parse_num(ini_ctx_t *c, const entry_t *e, int range, double
     char *end;
     double v;
     errno = 0;
-    v = strtod(e->value, &end);
+    v = aenl_strtod_decimal(e->value, &end);
     if (end == e->value || *end != '\0')
     {
         return bad(c, e, "not a number");
@@ -310,7 +311,7 @@ static aenl_status_t parse_list(ini_ctx_t *c, const entry_t *e, aenl_sim_law_t *
             ++p;
         }
         errno = 0;
-        v = strtod(p, &end);
+        v = aenl_strtod_decimal(p, &end);
         if (end == p)
         {
             return bad(c, e, "expected a comma-separated list of numbers");

@@ -1020,6 +1020,8 @@ static void naive_mode(const sim_sys_t *s, const double *x, sim_mode_t *mode)
     }
 }
 
+#define RK4_MAX_STEPS 1e9 /* a bound on the work, far above any run the option is for */
+
 aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_sim_run_t *run,
                                     double h, aenl_sim_result_t *res, aenl_err_t *err)
 {
@@ -1043,8 +1045,30 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         aenl_err_set(err, "RK4 step must be > 0");
         return AENL_E_ARG;
     }
-    if ((st = aenl_sim_validate(model, run, err)) != AENL_OK ||
-        (st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
+    if ((st = aenl_sim_validate(model, run, err)) != AENL_OK)
+    {
+        return st;
+    }
+    /* the step divides the sample step into whole substeps; a step above it would silently be
+     * the sample step, and a run of more steps than RK4_MAX_STEPS would not end in a usable time */
+    const double subs = ceil(run->dt / h - 1e-9);
+    const double steps = subs * (floor(run->duration / run->dt + 1e-9) + 1.0);
+    if (h > run->dt * (1.0 + 1e-12))
+    {
+        aenl_err_set(err,
+                     "RK4 step %g is larger than the sample step %g: give at most the sample step",
+                     h, run->dt);
+        return AENL_E_ARG;
+    }
+    if (!(steps <= RK4_MAX_STEPS))
+    {
+        aenl_err_set(err,
+                     "RK4 step %g makes %.3g steps in all (%.3g a sample), more than %.0e: give a "
+                     "larger step",
+                     h, steps, subs, RK4_MAX_STEPS);
+        return AENL_E_ARG;
+    }
+    if ((st = sim_sys_build(model, aenl_sim_velocity(model), sim_gust_states(run), run->turb_length,
                             &sys, err)) != AENL_OK ||
         (st = alloc_result(&sys, run, res, err)) != AENL_OK ||
         (st = force_setup(&sys, run, res, &force, err)) != AENL_OK)
@@ -1052,7 +1076,7 @@ aenl_status_t aenl_sim_simulate_rk4(const aenl_sim_model_t *model, const aenl_si
         return st;
     }
     n = res->n_samples;
-    n_sub = (size_t)ceil(run->dt / h - 1e-9);
+    n_sub = (size_t)subs;
     if (n_sub < 1)
     {
         n_sub = 1;
