@@ -325,8 +325,9 @@ static void test_cli_badinput_outputs_keep_user_files(void)
 }
 
 /* Text strtod would read but no record means (hexadecimal), a time step too small to divide by,
- * and a note that would come before the error: each refused with one message. */
-static void test_cli_badinput_numbers_and_notes(void)
+ * a note that would come before the error, a grid beside the samples, a channel named twice, a
+ * folder for a model and a keyword for a C name: each refused with one message. */
+static void test_cli_badinput_values_and_names(void)
 {
     const char *hex = signal_csv("h_hex.csv", "t,alpha,xi", 10, "0.10,0x10,0.2");
     const char *good = signal_csv("h_good.csv", "t,alpha,xi", 0, NULL);
@@ -354,6 +355,23 @@ static void test_cli_badinput_numbers_and_notes(void)
         {"no time column, then an error",
          {"fit", no_time, "--thresholds", "xi:0", NULL},
          "no time column",
+         NULL},
+        {"grid beside the samples",
+         {"moments", good, "--channel", "alpha", "--grid", "10:20:10", "-o", "bad_out.csv", NULL},
+         "holds none of the channel's samples",
+         NULL},
+        {"channel named twice",
+         {"fit", good, "--channels", "alpha,alpha", "--thresholds", "alpha:0", NULL},
+         "--channels: 'alpha' is named twice",
+         NULL},
+        {"folder as the model",
+         {"simulate", AENL_TEST_TMP_DIR, "-o", "bad_out.csv", NULL},
+         "is a folder, not a model file",
+         NULL},
+        {"C keyword as the model's name",
+         {"fit", good, "--channels", "alpha", "--thresholds", "alpha:0", "--c-header", "bad_out.h",
+          "--name", "int", NULL},
+         "'int' is a C keyword",
          NULL},
     };
     run_cases(cases, sizeof(cases) / sizeof(cases[0]));
@@ -846,7 +864,7 @@ int main(void)
     RUN_TEST(test_cli_badinput_simulate);
     RUN_TEST(test_cli_badinput_flutter);
     RUN_TEST(test_cli_badinput_outputs_keep_user_files);
-    RUN_TEST(test_cli_badinput_numbers_and_notes);
+    RUN_TEST(test_cli_badinput_values_and_names);
     RUN_TEST(test_cli_badinput_fit);
     RUN_TEST(test_cli_badinput_diagnose);
     RUN_TEST(test_cli_badinput_bench_demo);

@@ -357,6 +357,14 @@ static int pick_outputs(const aenl_table_t *t, const fit_args_t *a, const char *
             {
                 return -1;
             }
+            for (size_t k = 0; k < *n_out; ++k)
+            {
+                if (cols[k] == c)
+                {
+                    aenl_cli_error(k_cmd, "--channels: '%s' is named twice", items[i]);
+                    return -1;
+                }
+            }
             cols[(*n_out)++] = c;
         }
     }

@@ -3166,6 +3166,21 @@ aenl_status_t aenl_em_write_c_header(const aenl_em_model_t *m, const char *name,
             return AENL_E_ARG;
         }
     }
+    /* the header declares `static const aenl_skf_model_t NAME`: a keyword does not compile */
+    static const char *const k_keywords[] = {
+        "auto",     "break",  "case",   "char",     "const",     "continue", "default",  "do",
+        "double",   "else",   "enum",   "extern",   "float",     "for",      "goto",     "if",
+        "inline",   "int",    "long",   "register", "restrict",  "return",   "short",    "signed",
+        "sizeof",   "static", "struct", "switch",   "typedef",   "union",    "unsigned", "void",
+        "volatile", "while",  "_Bool",  "_Complex", "_Imaginary"};
+    for (size_t i = 0; i < sizeof(k_keywords) / sizeof(k_keywords[0]); ++i)
+    {
+        if (strcmp(name, k_keywords[i]) == 0)
+        {
+            aenl_err_set(err, "'%s' is a C keyword, not a usable name", name);
+            return AENL_E_ARG;
+        }
+    }
     char guard[160];
     const int glen = snprintf(guard, sizeof(guard), "AENL_MODEL_%s_H", name);
     if (glen < 0 || (size_t)glen >= sizeof(guard))

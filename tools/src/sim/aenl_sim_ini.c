@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "aenl_sim_internal.h"
 #include "aenl_tools/aenl_csv.h"
@@ -1066,6 +1067,12 @@ aenl_status_t aenl_sim_load_ini(const char *path, aenl_sim_model_t *model, aenl_
     {
         c.model_only = 1;
         run = &dummy.run;
+    }
+    struct stat sb;
+    if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+    {
+        aenl_err_set(err, "%s: is a folder, not a model file", path);
+        return AENL_E_ARG;
     }
     c.fp = fopen(path, "r");
     if (c.fp == NULL)
