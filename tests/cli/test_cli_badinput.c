@@ -598,6 +598,10 @@ static void test_cli_badinput_simulate(void)
                                                 "duration = 20\ndt = 0\n");
     const char *many = put_file("m_many.ini", "[model]\ntype = airfoil2dof\nustar = 4\n[run]\n"
                                               "duration = 1e300\ndt = 0.5\n");
+    const char *diverging =
+        put_file("m_div.ini", "[model]\ntype = airfoil2dof\nustar = 4\n[initial]\nalpha_deg = 1\n"
+                              "[run]\nduration = 50\ndt = 0.5\n[pitch]\nlaw = polynomial\n"
+                              "coeffs = 1, 0, 1e300\n");
 #define SIM(file)                                                                                  \
     {                                                                                              \
         "simulate", file, "-o", "bad_out.csv", NULL                                                \
@@ -621,6 +625,7 @@ static void test_cli_badinput_simulate(void)
         {"zero time step", SIM(dt_zero), "m_dt0.ini:6: [run] dt", NULL},
         {"negative duration", SIM(s.neg_duration), "m_negdur.ini:5: [run] duration", NULL},
         {"huge duration", SIM(many), "m_many.ini", NULL},
+        {"diverging model", SIM(diverging), "m_div.ini: step size underflow", NULL},
         {"huge initial angle", SIM(s.huge_alpha), "[initial] alpha_deg", NULL},
         {"unknown option", {"simulate", good, "--bogus", NULL}, "--bogus", NULL},
         {"missing model argument", {"simulate", NULL}, "no MODEL.ini", NULL},

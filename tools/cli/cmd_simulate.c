@@ -97,7 +97,9 @@ int aenl_cmd_simulate(int argc, char **argv)
     if (st != AENL_OK)
     {
         aenl_cli_error(k_cmd, "%s: %s", ini, err.msg);
-        return st == AENL_E_ARG ? AENL_EXIT_USAGE : AENL_EXIT_FAIL;
+        /* a motion the integrator cannot follow (it grows without bound, a law's force
+         * overflows) is the model's, so the input's: only memory running out is not */
+        return st == AENL_E_ARG || st == AENL_E_NUMERIC ? AENL_EXIT_USAGE : AENL_EXIT_FAIL;
     }
     st = aenl_sim_result_write_csv(&res, out, &err);
     if (st == AENL_OK && info)
