@@ -325,8 +325,9 @@ static void test_cli_badinput_outputs_keep_user_files(void)
 }
 
 /* Text strtod would read but no record means (hexadecimal), a time step too small to divide by,
- * a note that would come before the error, a grid beside the samples, a channel named twice, a
- * folder for a model and a keyword for a C name: each refused with one message. */
+ * a note that would come before the error, a grid beside the samples, an input that is constant
+ * or has a gap, a channel named twice, a folder for a model and a keyword for a C name: each
+ * refused with one message that names it. */
 static void test_cli_badinput_values_and_names(void)
 {
     const char *hex = signal_csv("h_hex.csv", "t,alpha,xi", 10, "0.10,0x10,0.2");
@@ -339,6 +340,14 @@ static void test_cli_badinput_values_and_names(void)
     }
     const char *tiny = put_file("h_tiny.csv", g_text);
     const char *no_time = put_file("h_notime.csv", "alpha,xi\n1,2\n2,3\n");
+    pos = (size_t)snprintf(g_text, sizeof(g_text), "t,alpha,force\n");
+    for (size_t i = 0; i < g_rows; ++i)
+    {
+        pos += (size_t)snprintf(g_text + pos, sizeof(g_text) - pos, "%.2f,%.6f,1\n",
+                                0.01 * (double)i, sin(0.3 * (double)i));
+    }
+    const char *flat_input = put_file("h_flatin.csv", g_text);
+    const char *gap_input = signal_csv("h_gapin.csv", "t,alpha,xi", 20, "0.20,0.1,nan");
     const bad_case_t cases[] = {
         {"hexadecimal cell",
          {"moments", hex, "--channel", "alpha", "-o", "bad_out.csv", NULL},
@@ -359,6 +368,14 @@ static void test_cli_badinput_values_and_names(void)
         {"grid beside the samples",
          {"moments", good, "--channel", "alpha", "--grid", "10:20:10", "-o", "bad_out.csv", NULL},
          "holds none of the channel's samples",
+         NULL},
+        {"constant input",
+         {"identify", flat_input, "--input", "force", NULL},
+         "h_flatin.csv: --input force is constant",
+         NULL},
+        {"input with a gap",
+         {"identify", gap_input, "--input", "xi", NULL},
+         "h_gapin.csv: --input xi: data row 21 is missing",
          NULL},
         {"channel named twice",
          {"fit", good, "--channels", "alpha,alpha", "--thresholds", "alpha:0", NULL},

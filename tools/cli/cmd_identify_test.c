@@ -66,8 +66,8 @@ static long input_columns(const aenl_table_t *t, const char *path, const char *l
     return n_in;
 }
 
-/* Each figure the library writes joins the run's list, which the command removes again when the
- * run fails after it. */
+/* Each figure the library writes joins the run's list; when the run fails after it, the run's
+ * outputs are undone and the folders it made removed (aenl_cli_figs_rollback). */
 static aenl_status_t fig_done(void *ctx, const char *path, aenl_err_t *err)
 {
     return aenl_cli_figs_add((aenl_cli_figs_t *)ctx, path, err);
@@ -238,6 +238,29 @@ static int load_record(const char *path, const aenl_identify_test_req_t *req, lo
     {
         aenl_cli_error(k_cmd, "%s: no data rows (header only)", path);
         bad = 1;
+    }
+    for (long k = 0; !bad && k < l->n_in; ++k)
+    {
+        /* checked here, where the column has its name: an input has no gap and moves */
+        const double *v = aenl_table_col(&l->t, l->in[k]);
+        const char *name = l->t.names[l->in[k]];
+        int moves = 0;
+        for (size_t r = 0; !bad && r < l->t.n_rows; ++r)
+        {
+            if (isnan(v[r]))
+            {
+                aenl_cli_error(k_cmd,
+                               "%s: --input %s: data row %zu is missing (an input has no gap)",
+                               path, name, r + 1u);
+                bad = 1;
+            }
+            moves |= v[r] < v[0] || v[r] > v[0];
+        }
+        if (!bad && !moves)
+        {
+            aenl_cli_error(k_cmd, "%s: --input %s is constant", path, name);
+            bad = 1;
+        }
     }
     bad = bad || aenl_cli_check_record(k_cmd, &l->t, path, only) != 0 ||
           aenl_cli_record_channels(k_cmd, &l->t, path, l->in, (size_t)l->n_in, only,
