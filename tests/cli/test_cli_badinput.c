@@ -367,7 +367,7 @@ static void test_cli_badinput_values_and_names(void)
          NULL},
         {"grid beside the samples",
          {"moments", good, "--channel", "alpha", "--grid", "10:20:10", "-o", "bad_out.csv", NULL},
-         "holds none of the channel's samples",
+         "holds none of the samples",
          NULL},
         {"constant input",
          {"identify", flat_input, "--input", "force", NULL},

@@ -5,6 +5,7 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -407,8 +408,24 @@ static int compute_curves(const moments_args_t *a, aenl_curves_t *c, char chan[2
     {
         return -1;
     }
-    const aenl_status_t st =
-        aenl_curves_compute(aenl_table_col(&t, (size_t)col), t.n_rows, &a->o, c, err);
+    const double *x = aenl_table_col(&t, (size_t)col);
+    double lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < t.n_rows; ++i)
+    {
+        lo = isnan(x[i]) ? lo : fmin(lo, x[i]);
+        hi = isnan(x[i]) ? hi : fmax(hi, x[i]);
+    }
+    if (a->o.grid_given && (a->o.x_max < lo || a->o.x_min > hi))
+    {
+        /* no node could hold a sample: every estimate would be NaN (the library computes such
+         * curves, which diagnose compares; asked for on the command line, they are a mistake) */
+        aenl_cli_error(
+            k_cmd, "%s, channel %s: --grid [%g, %g] holds none of the samples (they span [%g, %g])",
+            a->data, chan, a->o.x_min, a->o.x_max, lo, hi);
+        aenl_table_free(&t);
+        return -1;
+    }
+    const aenl_status_t st = aenl_curves_compute(x, t.n_rows, &a->o, c, err);
     aenl_table_free(&t);
     if (st != AENL_OK)
     {

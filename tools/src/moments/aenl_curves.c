@@ -391,14 +391,6 @@ static aenl_status_t estimator_cfg(const double *x, size_t n, const aenl_curves_
                                    aenl_curves_t *out, aenl_err_t *err)
 {
     memset(cfg, 0, sizeof(*cfg));
-    if (opts->grid_given && (opts->x_max < rg->lo_all || opts->x_min > rg->hi_all))
-    {
-        /* no node could hold a sample: every estimate would be NaN */
-        aenl_err_set(err,
-                     "--grid [%g, %g] holds none of the channel's samples (they span [%g, %g])",
-                     opts->x_min, opts->x_max, rg->lo_all, rg->hi_all);
-        return AENL_E_ARG;
-    }
     cfg->x_min = opts->grid_given ? opts->x_min : rg->lo_q;
     cfg->x_max = opts->grid_given ? opts->x_max : rg->hi_q;
     if (!(cfg->x_max > cfg->x_min))
