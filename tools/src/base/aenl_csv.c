@@ -735,12 +735,13 @@ double aenl_strtod_decimal(const char *s, char **end)
         ++p;
     }
     p += (*p == '+' || *p == '-') ? 1 : 0;
+    const double v = strtod(s, end);
     if (p[0] == '0' && (p[1] == 'x' || p[1] == 'X'))
     {
-        *end = (char *)(uintptr_t)s; /* strtod's convention: nothing read */
+        *end -= *end - s; /* strtod's convention for text it cannot read: *end = s */
         return 0.0;
     }
-    return strtod(s, end);
+    return v;
 }
 
 /* One cell → value (NaN for a missing cell). `cell` is already trimmed. */

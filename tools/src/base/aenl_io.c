@@ -455,8 +455,6 @@ static void run_free(void)
     g_inputs_cap = 0;
 }
 
-static void outfile_at_exit(void);
-
 void aenl_outfile_run_begin(void)
 {
     run_free(); /* a run starts with nothing read and nothing written */

@@ -260,19 +260,13 @@ int aenl_plot_file_complete(const char *path, const char *fmt)
     {
         return 0;
     }
-    long size = -1;
-    if (fseek(f, 0, SEEK_END) == 0)
-    {
-        size = ftell(f);
-    }
-    const long k = size < (long)sizeof(tail) ? size : (long)sizeof(tail);
-    size_t got = 0;
-    if (k > 0 && fseek(f, size - k, SEEK_SET) == 0)
-    {
-        got = fread(tail, 1, (size_t)k, f);
-    }
+    const long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1L;
+    const size_t k =
+        size <= 0 ? 0u : (size_t)(size < (long)sizeof(tail) ? size : (long)sizeof(tail));
+    const size_t got =
+        (k > 0u && fseek(f, size - (long)k, SEEK_SET) == 0) ? fread(tail, 1, k, f) : 0u;
     (void)fclose(f); /* read-only */
-    if (k <= 0 || got != (size_t)k)
+    if (k == 0u || got != k)
     {
         return 0;
     }
