@@ -317,6 +317,22 @@ static void test_cli_badinput_outputs_keep_user_files(void)
     (void)cli_slurp(keep, after, sizeof(after));
     TEST_ASSERT_EQUAL_STRING("KEEP\n", after);
     TEST_ASSERT_TRUE(cli_no_file_like(".k_keep"));
+    /* through a symbolic link: the file it names is put back, and the link stays */
+    char link_path[600];
+    (void)snprintf(link_path, sizeof(link_path), "%s/k_link.csv", AENL_TEST_TMP_DIR);
+    (void)unlink(link_path);
+    TEST_ASSERT_EQUAL_INT(0, symlink("k_keep.csv", link_path));
+    const char *late_link[] = {"moments", in,        "--channel", "alpha",
+                               "-o",      link_path, "--plot",    "/nonexistent/dir/k.png",
+                               NULL};
+    cli_expect_refused(late_link, "/nonexistent/dir");
+    struct stat lst;
+    TEST_ASSERT_EQUAL_INT(0, lstat(link_path, &lst));
+    TEST_ASSERT_TRUE(S_ISLNK(lst.st_mode));
+    (void)cli_slurp(keep, after, sizeof(after));
+    TEST_ASSERT_EQUAL_STRING("KEEP\n", after);
+    TEST_ASSERT_TRUE(cli_no_file_like(".k_keep"));
+    (void)unlink(link_path);
     const char *same[] = {"moments",    in,       "--channel",  "alpha", "-o",
                           "k_same.png", "--plot", "k_same.png", NULL};
     cli_expect_refused(same, "k_same.png: is already an output of this run");

@@ -204,7 +204,7 @@ static void free_args(char **v, char **owned)
 
 static void on_signal(int sig)
 {
-    /* abort_all only calls unlink(2), which is async-signal-safe (aenl_io.c). */
+    /* abort_all only calls unlink(2) and rename(2), which are async-signal-safe (aenl_io.c). */
     aenl_outfile_abort_all(); /* NOLINT(bugprone-signal-handler,cert-sig30-c) */
     (void)signal(sig, SIG_DFL);
     (void)raise(sig);
@@ -230,6 +230,7 @@ int main(int argc, char **argv)
     }
     (void)signal(SIGINT, on_signal); /* best effort: temporaries are also removed at exit */
     (void)signal(SIGTERM, on_signal);
+    (void)signal(SIGHUP, on_signal); /* the terminal closed */
     for (size_t i = 0; i < sizeof(k_subcommands) / sizeof(k_subcommands[0]); ++i)
     {
         if (strcmp(argv[1], k_subcommands[i].name) == 0)

@@ -102,7 +102,7 @@ int aenl_cli_check_record(const char *cmd, const aenl_table_t *t, const char *pa
 
 /* ---- figures (cli_figures.c) ---- */
 
-/** Figures written so far (removed again if a later one fails) and folders created. */
+/** Figures written so far and folders created (undone if a later step fails). */
 typedef struct
 {
     char **files;
@@ -111,7 +111,8 @@ typedef struct
     size_t n_dirs;
 } aenl_cli_figs_t;
 
-/** Remove every figure written so far and the folders made (those still empty). */
+/** The run fails: undo every output it wrote (aenl_outfile_abort_all), then remove the folders
+ *  it made (those left empty). */
 void aenl_cli_figs_rollback(aenl_cli_figs_t *o);
 /** Forget the lists (the files stay). */
 void aenl_cli_figs_free(aenl_cli_figs_t *o);

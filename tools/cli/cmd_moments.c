@@ -318,7 +318,9 @@ static int check_args(const moments_args_t *a)
     return 0;
 }
 
-/* An empty temporary file /tmp/aenl_<stem>_XXXXXX for a figure's data; its name into buf[64]. */
+/* A fresh name /tmp/aenl_<stem>_XXXXXX for a figure's data, into buf[64]. The file mkstemp makes
+ * is removed again at once: written through an output file, a name that exists is a file the run
+ * replaces, which a failed run would put back; a new one it removes. */
 static aenl_status_t make_tmp(char buf[64], const char *stem, aenl_err_t *err)
 {
     (void)snprintf(buf, 64, "/tmp/aenl_%s_XXXXXX", stem);
@@ -330,6 +332,7 @@ static aenl_status_t make_tmp(char buf[64], const char *stem, aenl_err_t *err)
         return AENL_E_IO;
     }
     (void)close(fd);
+    (void)unlink(buf);
     return AENL_OK;
 }
 
@@ -441,7 +444,8 @@ static int out_is_file(const char *out)
     return out != NULL && strcmp(out, "-") != 0;
 }
 
-/* The figure of the curves, from the CSV at csv_path; the output CSV is removed when it fails. */
+/* The figure of the curves, from the CSV at csv_path (when it fails, the run's end undoes the
+ * CSV already written: no CSV without its requested figure). */
 static aenl_status_t plot_moments(const moments_args_t *a, const aenl_curves_t *c, const char *chan,
                                   const char *csv_path, aenl_err_t *err)
 {
@@ -466,13 +470,7 @@ static aenl_status_t plot_moments(const moments_args_t *a, const aenl_curves_t *
     }
     const aenl_plot_var_t vars[] = {
         {"in", csv_path}, {"lags", lags}, {"title", title}, {"xlabel", chan}};
-    const aenl_status_t st =
-        aenl_plot_run("moments", vars, sizeof(vars) / sizeof(vars[0]), a->plot, err);
-    if (st != AENL_OK && out_is_file(a->out))
-    {
-        (void)remove(a->out); /* all or nothing: no CSV without its requested figure */
-    }
-    return st;
+    return aenl_plot_run("moments", vars, sizeof(vars) / sizeof(vars[0]), a->plot, err);
 }
 
 /* The curves' CSV (to the output file or standard output) and its figure. The figure needs the
@@ -511,22 +509,12 @@ static aenl_status_t write_curves(const moments_args_t *a, const aenl_curves_t *
     return st;
 }
 
-/* The lag expansion and its figure; when they fail, the CSV and figure already written are
- * removed too (all or nothing). */
+/* The lag expansion and its figure (when they fail, the run's end undoes the CSV and figure
+ * already written: all or nothing). */
 static aenl_status_t write_expansion_outputs(const moments_args_t *a, const aenl_curves_t *c,
                                              const char *chan, aenl_err_t *err)
 {
-    const aenl_status_t st =
-        write_expansion(c, a->data, chan, a->expansion, a->plot_expansion, err);
-    if (st != AENL_OK && a->plot != NULL)
-    {
-        (void)remove(a->plot);
-    }
-    if (st != AENL_OK && out_is_file(a->out))
-    {
-        (void)remove(a->out);
-    }
-    return st;
+    return write_expansion(c, a->data, chan, a->expansion, a->plot_expansion, err);
 }
 
 /* The summary on standard output, when the CSV went to a file. */

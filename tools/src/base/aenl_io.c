@@ -10,7 +10,8 @@
  * socket, and "-" (standard output), are opened and written as they are, never replaced.
  * Every open temporary is listed in a process-wide table; aenl_outfile_abort_all() (registered
  * with atexit on the first open) unlinks what is still listed. The table is not thread-safe: the
- * tools are single-threaded. abort_all only calls unlink(), so a signal handler may call it.
+ * tools are single-threaded. abort_all only calls unlink() and rename(), so a signal handler may
+ * call it.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -20,6 +21,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,6 +57,7 @@ void aenl_err_set(aenl_err_t *err, const char *fmt, ...)
 static char **g_pending;
 static size_t g_pending_cap;
 static volatile sig_atomic_t g_atexit_done;
+static pid_t g_run_owner; /* the process of the current run (not a forked child) */
 static unsigned long g_tmp_counter;
 
 static int pending_add(char *tmp_path)
@@ -104,6 +107,10 @@ static void journal_rollback(void);
 void aenl_outfile_abort_all(void)
 {
     size_t i;
+    if (g_run_owner != 0 && getpid() != g_run_owner)
+    {
+        return; /* a forked child before its exec: the files are its parent's */
+    }
     for (i = 0; i < g_pending_cap; ++i)
     {
         if (g_pending[i] != NULL)
@@ -201,8 +208,9 @@ typedef struct
 typedef struct
 {
     char *target; /* the output's final path */
-    char *backup; /* hard link to the file it replaced; NULL when none was kept */
+    char *backup; /* the file it replaced, under another name; NULL when none was kept */
     int existed;  /* a file was there before the commit */
+    int moved;    /* backup is the replaced file renamed (no hard link could be made) */
 } journal_t;
 
 static int g_run;
@@ -211,8 +219,8 @@ static size_t g_n_inputs, g_inputs_cap;
 static char **g_outputs; /* canonical paths of the run's outputs */
 static size_t g_n_outputs, g_outputs_cap;
 static journal_t *g_journal;
-static size_t g_journal_len;           /* entries whose strings the journal owns */
-static volatile size_t g_journal_live; /* the first entries not yet rolled back */
+static size_t g_journal_len;                 /* entries whose strings the journal owns */
+static volatile sig_atomic_t g_journal_live; /* the first entries not yet rolled back */
 static size_t g_journal_cap;
 
 /* Room in *v (elem bytes each, *cap of them) for one more than n; 0 on success. */
@@ -304,8 +312,7 @@ static char *canonical_path(const char *final_path)
     char *out = (char *)malloc(need);
     if (out != NULL)
     {
-        (void)snprintf(out, need, "%lu:%lu/%s", (unsigned long)st.st_dev, (unsigned long)st.st_ino,
-                       base);
+        (void)snprintf(out, need, "%ju:%ju/%s", (uintmax_t)st.st_dev, (uintmax_t)st.st_ino, base);
     }
     return out;
 }
@@ -357,6 +364,7 @@ static int journal_prepare(const char *target, journal_t *j)
     j->target = NULL;
     j->backup = NULL;
     j->existed = 0;
+    j->moved = 0;
     if (grow((void **)&g_journal, &g_journal_cap, g_journal_len, sizeof(*g_journal)) != 0)
     {
         return 1;
@@ -383,6 +391,13 @@ static int journal_prepare(const char *target, journal_t *j)
             break;
         }
         const int again = errno == EEXIST;
+        /* a file system without hard links (FAT, some network ones): the file itself moves
+         * aside, and the new one is renamed into the free name */
+        if (!again && rename(target, j->backup) == 0)
+        {
+            j->moved = 1;
+            break;
+        }
         free(j->backup);
         j->backup = NULL;
         if (!again)
@@ -396,7 +411,11 @@ static int journal_prepare(const char *target, journal_t *j)
 /* Undo journal_prepare when the commit fails. */
 static void journal_discard(journal_t *j)
 {
-    if (j->backup != NULL)
+    if (j->backup != NULL && j->moved)
+    {
+        (void)rename(j->backup, j->target);
+    }
+    else if (j->backup != NULL)
     {
         (void)unlink(j->backup);
     }
@@ -409,7 +428,7 @@ static void journal_discard(journal_t *j)
 /* Put back what the run's commits replaced, newest first, and remove what they created. */
 static void journal_rollback(void)
 {
-    for (size_t i = g_journal_live; i > 0; --i)
+    for (size_t i = (size_t)g_journal_live; i > 0; --i)
     {
         const journal_t *j = &g_journal[i - 1U];
         if (j->backup != NULL)
@@ -424,12 +443,36 @@ static void journal_rollback(void)
     g_journal_live = 0; /* the strings stay allocated: freeing is not async-signal-safe */
 }
 
-/* The run's tables freed; the kept copies of the entries not rolled back are removed. */
+/* The signals the command handles are held while the journal changes, so that the handler's
+ * rollback never sees an entry half made or a table half freed. */
+static void hold_signals(int hold, sigset_t *old)
+{
+    sigset_t set;
+    if (hold)
+    {
+        (void)sigemptyset(&set);
+        (void)sigaddset(&set, SIGINT);
+        (void)sigaddset(&set, SIGTERM);
+        (void)sigaddset(&set, SIGHUP);
+        (void)sigprocmask(SIG_BLOCK, &set, old);
+    }
+    else
+    {
+        (void)sigprocmask(SIG_SETMASK, old, NULL);
+    }
+}
+
+/* The run's tables freed; the kept copies of the entries not rolled back are removed (the run
+ * succeeded: the entries are taken out of the rollback's reach first). */
 static void run_free(void)
 {
+    sigset_t old;
+    hold_signals(1, &old);
+    const size_t live = (size_t)g_journal_live;
+    g_journal_live = 0;
     for (size_t i = 0; i < g_journal_len; ++i)
     {
-        if (i < g_journal_live && g_journal[i].backup != NULL)
+        if (i < live && g_journal[i].backup != NULL)
         {
             (void)unlink(g_journal[i].backup);
         }
@@ -453,12 +496,15 @@ static void run_free(void)
     g_inputs = NULL;
     g_n_inputs = 0;
     g_inputs_cap = 0;
+    hold_signals(0, &old);
 }
 
 void aenl_outfile_run_begin(void)
 {
-    run_free(); /* a run starts with nothing read and nothing written */
+    journal_rollback(); /* a run left unended failed */
+    run_free();         /* a run starts with nothing read and nothing written */
     g_run = 1;
+    g_run_owner = getpid();
     if (!g_atexit_done && atexit(outfile_at_exit) == 0)
     {
         g_atexit_done = 1;
@@ -469,6 +515,7 @@ void aenl_outfile_run_keep(void)
 {
     run_free();
     g_run = 0;
+    g_run_owner = 0;
 }
 
 /* The file a path names once symbolic links are followed (a dangling link names the file it
@@ -821,7 +868,9 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
         aenl_outfile_abort(of);
         return AENL_E_ARG;
     }
-    journal_t j = {NULL, NULL, 0};
+    journal_t j = {NULL, NULL, 0, 0};
+    sigset_t held;
+    hold_signals(1, &held);
     if (!failed && g_run && journal_prepare(of->path, &j) != 0)
     {
         failed = 1;
@@ -837,6 +886,7 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
     if (failed)
     {
         journal_discard(&j);
+        hold_signals(0, &held);
         aenl_err_set(err, "%s: cannot %s (%s)", of->path, what, strerror(e));
         aenl_outfile_abort(of); /* removes the temporary, frees, zeroes */
         return AENL_E_IO;
@@ -844,8 +894,9 @@ aenl_status_t aenl_outfile_commit(aenl_outfile_t *of, aenl_err_t *err)
     if (g_run)
     {
         g_journal[g_journal_len++] = j; /* journal_prepare made the room */
-        g_journal_live = g_journal_len;
+        g_journal_live = (sig_atomic_t)g_journal_len;
     }
+    hold_signals(0, &held);
     pending_remove(of->tmp_path);
     free(of->tmp_path);
     free(of->path);
