@@ -413,7 +413,7 @@ static int compute_curves(const moments_args_t *a, aenl_curves_t *c, char chan[2
     }
     const double *x = aenl_table_col(&t, (size_t)col);
     double lo = INFINITY, hi = -INFINITY;
-    for (size_t i = 0; i < t.n_rows; ++i)
+    for (size_t i = 0; a->o.grid_given && i < t.n_rows; ++i) /* a pass only for a given grid */
     {
         lo = isnan(x[i]) ? lo : fmin(lo, x[i]);
         hi = isnan(x[i]) ? hi : fmax(hi, x[i]);

@@ -60,11 +60,27 @@ static volatile sig_atomic_t g_atexit_done;
 static pid_t g_run_owner; /* the process of the current run (not a forked child) */
 static unsigned long g_tmp_counter;
 
+/* Room in *v (elem bytes each, *cap of them) for one more than n; 0 on success. */
+static int grow(void **v, size_t *cap, size_t n, size_t elem)
+{
+    if (n < *cap)
+    {
+        return 0;
+    }
+    const size_t new_cap = (*cap == 0) ? 8 : 2 * *cap;
+    void *g = realloc(*v, new_cap * elem);
+    if (g == NULL)
+    {
+        return -1;
+    }
+    *v = g;
+    *cap = new_cap;
+    return 0;
+}
+
 static int pending_add(char *tmp_path)
 {
     size_t i;
-    char **grown;
-    size_t new_cap;
     for (i = 0; i < g_pending_cap; ++i)
     {
         if (g_pending[i] == NULL)
@@ -73,19 +89,16 @@ static int pending_add(char *tmp_path)
             return 0;
         }
     }
-    new_cap = (g_pending_cap == 0) ? 8 : 2 * g_pending_cap;
-    grown = (char **)realloc(g_pending, new_cap * sizeof *grown);
-    if (grown == NULL)
+    const size_t old_cap = g_pending_cap; /* every slot is taken */
+    if (grow((void **)&g_pending, &g_pending_cap, old_cap, sizeof(*g_pending)) != 0)
     {
         return -1;
     }
-    for (i = g_pending_cap; i < new_cap; ++i)
+    for (i = old_cap; i < g_pending_cap; ++i)
     {
-        grown[i] = NULL;
+        g_pending[i] = NULL;
     }
-    grown[g_pending_cap] = tmp_path;
-    g_pending = grown;
-    g_pending_cap = new_cap;
+    g_pending[old_cap] = tmp_path;
     return 0;
 }
 
@@ -190,10 +203,11 @@ static void outfile_zero(aenl_outfile_t *of)
 
 /* ---- the run: its inputs, its outputs and what its outputs replaced ----------------------------
  * A run (aenl_outfile_run_begin) remembers every file it reads (aenl_input_note: device and
- * inode, so a hard or symbolic link to an input is the input) and every output it opens (the
- * canonical path: the folder's real path and the name), so that no output replaces one of the
+ * inode, so a hard or symbolic link to an input is the input) and every output it opens (its
+ * folder's device and inode, and its name), so that no output replaces one of the
  * run's inputs or another of its outputs. A commit inside a run keeps the file it replaces as a
- * hard link ".<name>.bak.<pid>.<n>" beside it and journals the replacement, so that when the run
+ * hard link ".<name>.bak.<pid>.<n>" beside it (or, where hard links fail, moves the file to that
+ * name) and journals the replacement, so that when the run
  * fails, aenl_outfile_abort_all puts every replaced file back and removes every new one: a run
  * that fails leaves the user's files as they were. aenl_outfile_run_keep ends a run that
  * succeeded and removes the kept copies. The rollback only calls rename() and unlink(), so a
@@ -223,21 +237,16 @@ static size_t g_journal_len;                 /* entries whose strings the journa
 static volatile sig_atomic_t g_journal_live; /* the first entries not yet rolled back */
 static size_t g_journal_cap;
 
-/* Room in *v (elem bytes each, *cap of them) for one more than n; 0 on success. */
-static int grow(void **v, size_t *cap, size_t n, size_t elem)
+/* 1 when the file of st is one the run has read. */
+static int noted_input(const struct stat *st)
 {
-    if (n < *cap)
+    for (size_t i = 0; i < g_n_inputs; ++i)
     {
-        return 0;
+        if (g_inputs[i].dev == st->st_dev && g_inputs[i].ino == st->st_ino)
+        {
+            return 1;
+        }
     }
-    const size_t new_cap = (*cap == 0) ? 8 : 2 * *cap;
-    void *g = realloc(*v, new_cap * elem);
-    if (g == NULL)
-    {
-        return -1;
-    }
-    *v = g;
-    *cap = new_cap;
     return 0;
 }
 
@@ -246,16 +255,9 @@ void aenl_input_note(const char *path)
     struct stat st;
     /* only inside a run: outside one a noted file may be deleted and its inode given to another */
     if (!g_run || path == NULL || strcmp(path, "-") == 0 || stat(path, &st) != 0 ||
-        !S_ISREG(st.st_mode))
+        !S_ISREG(st.st_mode) || noted_input(&st))
     {
         return;
-    }
-    for (size_t i = 0; i < g_n_inputs; ++i)
-    {
-        if (g_inputs[i].dev == st.st_dev && g_inputs[i].ino == st.st_ino)
-        {
-            return;
-        }
     }
     if (grow((void **)&g_inputs, &g_inputs_cap, g_n_inputs, sizeof(*g_inputs)) == 0)
     {
@@ -269,18 +271,7 @@ void aenl_input_note(const char *path)
 static int is_input(const char *path)
 {
     struct stat st;
-    if (!g_run || g_n_inputs == 0 || stat(path, &st) != 0)
-    {
-        return 0;
-    }
-    for (size_t i = 0; i < g_n_inputs; ++i)
-    {
-        if (g_inputs[i].dev == st.st_dev && g_inputs[i].ino == st.st_ino)
-        {
-            return 1;
-        }
-    }
-    return 0;
+    return g_run && g_n_inputs > 0 && stat(path, &st) == 0 && noted_input(&st);
 }
 
 /* final_path's identity as "device:inode of its folder/name" (malloc'd), the same for every
@@ -356,8 +347,8 @@ static aenl_status_t run_claim_output(const char *path, const char *final_path, 
 }
 
 /* Before a commit inside a run replaces target: room in the journal and, when a regular file is
- * there, a hard link to it beside it (kept until the run ends). Nonzero when memory is out. A
- * folder that refuses hard links leaves that replacement without a way back (backup NULL). */
+ * there, a hard link to it beside it (kept until the run ends), or the file itself moved to that
+ * name where no hard link can be made. Nonzero when memory is out. */
 static int journal_prepare(const char *target, journal_t *j)
 {
     struct stat st;
@@ -482,7 +473,6 @@ static void run_free(void)
     free(g_journal);
     g_journal = NULL;
     g_journal_len = 0;
-    g_journal_live = 0;
     g_journal_cap = 0;
     for (size_t i = 0; i < g_n_outputs; ++i)
     {
